@@ -1,0 +1,19 @@
+//! bkwaves-core: engines for the Burridge-Knopoff chain with Coulomb friction
+//! (C. B. Muratov, Phys. Rev. E 59, 3847 (1999)). Pure Rust, no Python.
+//!
+//! - [`speed`]: the front speed c(u_+) and the critical stress u_c(gamma);
+//! - [`wave`]: the traveling wave behind the front (App. B);
+//! - [`tip`]: the discrete tip problem (App. A) solved to machine precision;
+//! - [`linalg`]: banded LU and Chebyshev kernels used by the solvers.
+
+// Numerical kernels index several arrays with one loop variable; iterator chains
+// would hide the stencil structure.
+#![allow(clippy::needless_range_loop)]
+
+pub mod error;
+pub mod linalg;
+pub mod speed;
+pub mod tip;
+pub mod wave;
+
+pub use error::{Error, Result};

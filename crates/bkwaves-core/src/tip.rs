@@ -1,0 +1,396 @@
+//! The discrete problem at the tip of the wave (paper App. A), solved to machine precision.
+//!
+//! Rescale u_i = u_+ - u_+ dx^2 w_i and t = t_s + tau dx near the slip point. Then, exactly,
+//! sliding blocks obey  w_i'' = w_{i+1} + w_{i-1} - 2 w_i + 1 - dx^2 w_i - 2 gamma dx w_i',
+//! stuck blocks have w = 0, and a stuck block whose right neighbour is stuck slips when its
+//! left neighbour reaches w = theta = (1 - u_+)/u_+ (eq. slip). The continuum limit
+//! dx -> 0 drops the last two terms (eqs. elast1, elast2 with v_i = w_i - tau^2/2).
+//!
+//! A steady front slips one block every T = 1/c, so block s-k at time tau is the same
+//! block history g shifted: w_{s-k}(tau) = g(tau + kT). g(t) = 0 for t <= 0 and
+//!
+//! ```text
+//!   g''(t) = g(t+T) + g(t-T) - 2 g(t) + 1 - dx^2 g(t) - 2 gamma dx g'(t),   t > 0,
+//!   g(0) = g'(0) = 0,   theta = g(T),
+//! ```
+//!
+//! a linear differential equation with advanced and delayed arguments. On each interval
+//! [jT, (j+1)T] g is smooth (its derivatives jump only at multiples of T), so it is
+//! represented by Chebyshev collocation per interval; the intervals are coupled by value
+//! and slope continuity. Far behind the tip the exact solution approaches the smooth
+//! outer solution plus transients decaying like exp(-lambda t), with lambda the real root
+//! of lambda = 2 sinh(lambda T / 2); the last interval is closed by the outer equation
+//! (1 - T^2) g'' + 2 gamma dx g' + dx^2 g = 1 (for dx = 0: g = c^2 t^2 / (2(c^2 - 1)) + B t + C,
+//! the paper's matching condition), and enough intervals are kept for the transients to
+//! decay by `decay` e-folds. Given c the problem is linear: one banded solve gives theta and
+//! u_+ = 1/(1 + theta). The inverse c(u_+) is found by bracketed root finding.
+//! See docs/theory.md for the derivation and the convergence tables.
+
+use crate::error::{check_at_least, check_open, Error, Result};
+use crate::linalg::{chebyshev_lobatto, matmul, BandMatrix};
+
+/// Numerical settings of the tip solver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TipOptions {
+    /// Chebyshev polynomial degree per interval (nodes = degree + 1).
+    pub degree: usize,
+    /// E-folds of the slowest transient kept behind the tip (sets the number of intervals).
+    pub decay: f64,
+    /// Upper bound on the number of intervals (the solve fails beyond it).
+    pub max_intervals: usize,
+    /// Lattice spacing dx (0 = continuum limit).
+    pub dx: f64,
+    /// Viscous damping gamma (enters at order dx).
+    pub gamma: f64,
+}
+
+impl Default for TipOptions {
+    fn default() -> Self {
+        TipOptions {
+            degree: 16,
+            decay: 40.0,
+            max_intervals: 400_000,
+            dx: 0.0,
+            gamma: 0.0,
+        }
+    }
+}
+
+impl TipOptions {
+    fn validate(&self) -> Result<()> {
+        if self.degree < 4 || self.degree > 64 {
+            return Err(Error::InvalidParameter {
+                name: "degree",
+                value: self.degree as f64,
+                allowed: "4 <= degree <= 64",
+            });
+        }
+        check_open("decay", self.decay, 0.0, f64::INFINITY, "decay > 0")?;
+        check_at_least("dx", self.dx, 0.0, "dx >= 0 (0 = continuum limit)")?;
+        check_at_least("gamma", self.gamma, 0.0, "gamma >= 0")?;
+        Ok(())
+    }
+}
+
+/// The solved tip problem for one front speed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TipSolution {
+    /// Front speed c.
+    pub c: f64,
+    /// Slip threshold theta = g(T) = (1 - u_+)/u_+.
+    pub theta: f64,
+    /// Stress ahead of the front, u_+ = 1/(1 + theta).
+    pub u_plus: f64,
+    /// Number of intervals of length T kept behind the tip.
+    pub intervals: usize,
+    /// Slowest transient decay rate lambda (per unit tau).
+    pub decay_rate: f64,
+    /// Velocity g'(t) of the tip block at t = T (sanity: positive for a forward slip).
+    pub tip_velocity: f64,
+}
+
+/// Real positive root lambda of lambda = 2 sinh(lambda T/2), T = 1/c, c > 1: the decay
+/// rate of the slowest transient behind the tip. With y = lambda T/2: sinh(y)/y = c.
+pub fn slowest_decay_rate(c: f64) -> f64 {
+    // initial guess: small y: 1 + y^2/6 = c; large y: y - ln(2y) = ln c
+    let mut y = if c < 2.0 {
+        (6.0 * (c - 1.0)).sqrt()
+    } else {
+        (2.0 * c).ln() + (2.0 * c).ln().ln()
+    };
+    y = y.max(1e-300);
+    for _ in 0..100 {
+        // f(y) = ln(sinh y / y) - ln c, monotone increasing and nearly linear
+        let f = if y < 1e-4 {
+            (y * y / 6.0).ln_1p()
+        } else {
+            (y.sinh() / y).ln()
+        } - c.ln();
+        let fp = if y < 1e-4 {
+            y / 3.0
+        } else {
+            1.0 / y.tanh() - 1.0 / y
+        };
+        let step = f / fp;
+        let next = (y - step).max(0.5 * y);
+        if (next - y).abs() <= 1e-15 * y {
+            y = next;
+            break;
+        }
+        y = next;
+    }
+    2.0 * y * c
+}
+
+/// Solve the tip problem for front speed c > 1: returns theta = (1 - u_+)/u_+ and u_+.
+pub fn solve_for_speed(c: f64, opts: &TipOptions) -> Result<TipSolution> {
+    opts.validate()?;
+    let c = check_open("c", c, 1.0, f64::INFINITY, "c > 1 (fronts are supersonic)")?;
+    let t = 1.0 / c;
+    let lambda = slowest_decay_rate(c);
+    let per_interval = lambda * t;
+    let intervals_f = (opts.decay / per_interval).ceil() + 4.0;
+    if intervals_f.is_nan() || intervals_f > opts.max_intervals as f64 {
+        return Err(Error::NoConvergence {
+            what: "tip problem",
+            detail: format!(
+                "c = {c} needs {intervals_f} intervals (> max_intervals = {}); c is too close to 1",
+                opts.max_intervals
+            ),
+        });
+    }
+    let nint = intervals_f as usize;
+    let n = opts.degree;
+    let m = n + 1;
+    let (_, d) = chebyshev_lobatto(n, t);
+    let d2 = matmul(&d, &d, m);
+    let (eps, gam) = (opts.dx, opts.gamma);
+    let (e2, ge) = (eps * eps, 2.0 * gam * eps);
+    // g = A t^2 + h with A = 1/(2(1 - T^2)): A t^2 is the exact far-field growth of the
+    // continuum problem, so h stays small and theta = A T^2 + h(T) keeps its digits.
+    let amp = 0.5 / ((1.0 - t) * (1.0 + t));
+    let (tau, _) = chebyshev_lobatto(n, t);
+    let size = nint * m;
+    let mut a = BandMatrix::zeros(size, 2 * m - 1, 2 * m - 1);
+    let mut b = vec![0.0; size];
+    for j in 0..nint {
+        let o = j * m;
+        // value continuity h_j(0) = h_{j-1}(T)   (h_{-1} = 0: the block was stuck)
+        a.add(o, o, 1.0);
+        if j > 0 {
+            a.add(o, o - m + n, -1.0);
+        }
+        // slope continuity h_j'(0) = h_{j-1}'(T)
+        for k in 0..m {
+            a.add(o + n, o + k, d[k]);
+            if j > 0 {
+                a.add(o + n, o - m + k, -d[n * m + k]);
+            }
+        }
+        let last = j + 1 == nint;
+        let lead = if last { 1.0 - t * t } else { 1.0 };
+        for r in 1..n {
+            let row = o + r;
+            for k in 0..m {
+                a.add(row, o + k, lead * d2[r * m + k] + ge * d[r * m + k]);
+            }
+            let time = j as f64 * t + tau[r];
+            // residual forcing of the subtracted A t^2 (terms of order dx)
+            let mut rhs = -amp * time * (e2 * time + 4.0 * gam * eps);
+            if last {
+                // outer closure: (1 - T^2) g'' + 2 gamma dx g' + dx^2 g = 1
+                a.add(row, o + r, e2);
+            } else {
+                a.add(row, o + r, 2.0 + e2);
+                a.add(row, o + m + r, -1.0);
+                if j > 0 {
+                    a.add(row, o - m + r, -1.0);
+                } else {
+                    // first interval: the right neighbour is stuck, g(t - T) = 0
+                    rhs -= amp * (time - t) * (time - t);
+                }
+            }
+            b[row] = rhs;
+        }
+    }
+    a.solve_refined(&mut b, 3)?;
+    let theta = amp * t * t + b[n];
+    let tip_velocity: f64 = 2.0 * amp * t + (0..m).map(|k| d[n * m + k] * b[k]).sum::<f64>();
+    if !theta.is_finite() || theta <= 0.0 {
+        return Err(Error::NoConvergence {
+            what: "tip problem",
+            detail: format!("non-physical threshold theta = {theta} at c = {c}"),
+        });
+    }
+    Ok(TipSolution {
+        c,
+        theta,
+        u_plus: 1.0 / (1.0 + theta),
+        intervals: nint,
+        decay_rate: lambda,
+        tip_velocity,
+    })
+}
+
+/// The front speed c for stress u_+ ahead, by root finding on [`solve_for_speed`]
+/// in the variable ln(c - 1) (where ln theta is nearly linear at both ends).
+pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
+    let u = check_open("u_plus", u_plus, 0.0, 1.0, "0 < u_plus < 1")?;
+    opts.validate()?;
+    let target = ((1.0 - u) / u).ln();
+    let eval = |x: f64| -> Result<(f64, TipSolution)> {
+        let s = solve_for_speed(1.0 + x.exp(), opts)?;
+        Ok((s.theta.ln() - target, s))
+    };
+    // theta decreases with c. Crude start that has both limits right within a factor 2.
+    let x0 = (0.5 * u * u / (1.0 - u).sqrt()).ln();
+    let (mut xa, (mut fa, mut sa)) = (x0, eval(x0)?);
+    let mut step = 0.5;
+    let (mut xb, (mut fb, mut sb)) = loop {
+        let xn = if fa > 0.0 { xa + step } else { xa - step };
+        let (fn_, sn) = eval(xn)?;
+        if fn_ == 0.0 {
+            return Ok(sn);
+        }
+        if (fn_ > 0.0) != (fa > 0.0) {
+            break (xn, (fn_, sn));
+        }
+        xa = xn;
+        fa = fn_;
+        sa = sn;
+        step *= 2.0;
+        if step > 256.0 {
+            return Err(Error::NoConvergence {
+                what: "tip speed bracket",
+                detail: format!("no sign change found for u_plus = {u}"),
+            });
+        }
+    };
+    // Illinois (modified regula falsi): superlinear and always bracketed.
+    let mut side = 0i32;
+    for _ in 0..200 {
+        let xc = (xa * fb - xb * fa) / (fb - fa);
+        let (fc, sc) = eval(xc)?;
+        if fc == 0.0 || (xb - xa).abs() < 1e-15 * (1.0 + xc.abs()) || fc.abs() < 1e-15 {
+            return Ok(sc);
+        }
+        if (fc > 0.0) == (fb > 0.0) {
+            xb = xc;
+            fb = fc;
+            sb = sc;
+            if side == -1 {
+                fa *= 0.5;
+            }
+            side = -1;
+        } else {
+            xa = xc;
+            fa = fc;
+            sa = sc;
+            if side == 1 {
+                fb *= 0.5;
+            }
+            side = 1;
+        }
+        let _ = (&sa, &sb);
+    }
+    Err(Error::NoConvergence {
+        what: "tip speed root",
+        detail: format!("200 iterations for u_plus = {u}"),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::speed::{front_speed, u_plus_of_speed};
+
+    #[test]
+    fn decay_rate_solves_its_equation() {
+        for &c in &[1.0001, 1.05, 1.25, 2.0, 10.0, 1e4] {
+            let l = slowest_decay_rate(c);
+            let t = 1.0 / c;
+            assert!(
+                (l - 2.0 * (l * t / 2.0).sinh()).abs() < 1e-10 * l,
+                "c = {c}"
+            );
+        }
+    }
+
+    #[test]
+    fn continuum_tip_problem_gives_the_closed_form_speed() {
+        let o = TipOptions::default();
+        // round-off grows like 1/(c - 1)^2 as c -> 1 (see docs/theory.md)
+        for &(c, tol) in &[
+            (1.001, 2e-9),
+            (1.01, 1e-10),
+            (1.1, 1e-12),
+            (1.25, 1e-13),
+            (1.5, 1e-13),
+            (2.0, 1e-13),
+            (5.0, 1e-13),
+            (30.0, 1e-13),
+        ] {
+            let s = solve_for_speed(c, &o).unwrap();
+            let exact = u_plus_of_speed(c).unwrap();
+            let err = (s.u_plus - exact).abs() / exact;
+            assert!(err < tol, "c = {c}: {} vs {exact} ({err:e})", s.u_plus);
+            assert!(s.tip_velocity > 0.0);
+        }
+    }
+
+    #[test]
+    fn converged_in_degree_and_length() {
+        let base = solve_for_speed(1.2, &TipOptions::default()).unwrap();
+        let finer = solve_for_speed(
+            1.2,
+            &TipOptions {
+                degree: 24,
+                decay: 60.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!((base.theta - finer.theta).abs() < 1e-12 * base.theta);
+        let coarse = solve_for_speed(
+            1.2,
+            &TipOptions {
+                degree: 6,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        // a low degree shows a visible discretisation error (so the check can fail)
+        assert!((coarse.theta - finer.theta).abs() > 1e-9 * base.theta);
+        let short = solve_for_speed(
+            1.2,
+            &TipOptions {
+                decay: 1.0,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!((short.theta - finer.theta).abs() > 1e-9 * base.theta);
+    }
+
+    #[test]
+    fn inverse_finds_the_speed() {
+        for &u in &[0.05, 0.3, 0.6, 0.95] {
+            let s = solve_for_u_plus(u, &TipOptions::default()).unwrap();
+            let c = front_speed(u).unwrap();
+            assert!((s.c - c).abs() < 1e-10 * c, "u = {u}: {} vs {c}", s.c);
+        }
+    }
+
+    #[test]
+    fn finite_dx_approaches_the_continuum() {
+        let c0 = front_speed(0.6).unwrap();
+        let mut prev = f64::INFINITY;
+        for &dx in &[0.2, 0.1, 0.05, 0.025] {
+            let o = TipOptions {
+                dx,
+                gamma: 0.3,
+                ..Default::default()
+            };
+            let s = solve_for_u_plus(0.6, &o).unwrap();
+            let err = (s.c - c0).abs();
+            assert!(err < prev, "dx = {dx}: error {err} did not shrink");
+            prev = err;
+        }
+        assert!(prev < 0.05 * c0);
+    }
+
+    #[test]
+    fn bad_options_are_errors() {
+        assert!(solve_for_speed(0.9, &TipOptions::default()).is_err());
+        let o = TipOptions {
+            degree: 2,
+            ..Default::default()
+        };
+        assert!(solve_for_speed(1.5, &o).is_err());
+        let o = TipOptions {
+            max_intervals: 10,
+            ..Default::default()
+        };
+        assert!(solve_for_speed(1.000_001, &o).is_err());
+    }
+}

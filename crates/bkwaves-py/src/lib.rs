@@ -1,0 +1,19 @@
+//! The PyO3 binding of bkwaves-core, imported as `bkwaves._core`.
+//!
+//! Thin by design: convert arrays and errors, release the GIL around long calls.
+//! One file per engine area; this file registers them.
+
+use pyo3::prelude::*;
+
+mod errors;
+mod theory;
+mod tip;
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    errors::register(m)?;
+    theory::register(m)?;
+    tip::register(m)?;
+    Ok(())
+}

@@ -1,0 +1,67 @@
+//! The tip solver (paper App. A) exposed to Python.
+
+use crate::errors::to_py;
+use bkwaves_core::tip::{self, TipOptions, TipSolution};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+fn options(degree: usize, decay: f64, dx: f64, gamma: f64) -> TipOptions {
+    TipOptions {
+        degree,
+        decay,
+        dx,
+        gamma,
+        ..Default::default()
+    }
+}
+
+fn to_dict<'py>(py: Python<'py>, s: &TipSolution) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("c", s.c)?;
+    d.set_item("theta", s.theta)?;
+    d.set_item("u_plus", s.u_plus)?;
+    d.set_item("intervals", s.intervals)?;
+    d.set_item("decay_rate", s.decay_rate)?;
+    d.set_item("tip_velocity", s.tip_velocity)?;
+    Ok(d)
+}
+
+/// Solve the tip problem for a given front speed c.
+#[pyfunction]
+#[pyo3(signature = (c, degree=16, decay=40.0, dx=0.0, gamma=0.0))]
+fn tip_solve_speed<'py>(
+    py: Python<'py>,
+    c: f64,
+    degree: usize,
+    decay: f64,
+    dx: f64,
+    gamma: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let o = options(degree, decay, dx, gamma);
+    let s = py.detach(|| tip::solve_for_speed(c, &o)).map_err(to_py)?;
+    to_dict(py, &s)
+}
+
+/// Solve the tip problem for the front speed at stress u_plus ahead.
+#[pyfunction]
+#[pyo3(signature = (u_plus, degree=16, decay=40.0, dx=0.0, gamma=0.0))]
+fn tip_solve_u_plus<'py>(
+    py: Python<'py>,
+    u_plus: f64,
+    degree: usize,
+    decay: f64,
+    dx: f64,
+    gamma: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let o = options(degree, decay, dx, gamma);
+    let s = py
+        .detach(|| tip::solve_for_u_plus(u_plus, &o))
+        .map_err(to_py)?;
+    to_dict(py, &s)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(tip_solve_speed, m)?)?;
+    m.add_function(wrap_pyfunction!(tip_solve_u_plus, m)?)?;
+    Ok(())
+}

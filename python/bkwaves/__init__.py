@@ -1,0 +1,29 @@
+"""bkwaves: traveling slip waves in the Burridge-Knopoff chain with Coulomb friction.
+
+>>> import bkwaves as bk
+>>> bk.front_speed(0.6)
+1.25
+"""
+
+from . import _core
+from ._core import ConvergenceError, ParameterError
+
+__version__ = _core.__version__
+
+from . import presets, theory  # noqa: E402
+from .params import Params, PhysicalUnits  # noqa: E402
+from .waves import TravelingWave, front_speed, tip_solve, traveling_wave  # noqa: E402
+
+__all__ = [
+    "ConvergenceError",
+    "ParameterError",
+    "Params",
+    "PhysicalUnits",
+    "TravelingWave",
+    "__version__",
+    "front_speed",
+    "presets",
+    "theory",
+    "tip_solve",
+    "traveling_wave",
+]

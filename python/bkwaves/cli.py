@@ -1,0 +1,134 @@
+"""The ``bkwaves`` command line."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from . import __version__
+from ._core import ConvergenceError, ParameterError
+
+app = typer.Typer(
+    name="bkwaves",
+    help="Traveling slip waves in the Burridge-Knopoff chain with Coulomb friction "
+    "(C. B. Muratov, Phys. Rev. E 59, 3847, 1999).",
+    no_args_is_help=True,
+    rich_markup_mode="rich",
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object instead of text.")]
+PlotOpt = Annotated[
+    Path | None, typer.Option("--plot", help="Write a picture (png, svg or pdf by suffix).")
+]
+
+
+def _fail(err: Exception) -> None:
+    typer.echo(f"Error: {err}", err=True)
+    raise typer.Exit(2)
+
+
+def _json_value(x):
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x
+
+
+def _version(value: bool):
+    if value:
+        typer.echo(f"bkwaves {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(
+    version: Annotated[
+        bool,
+        typer.Option("--version", callback=_version, is_eager=True, help="Show the version."),
+    ] = False,
+):
+    """Simulate and analyse Burridge-Knopoff traveling waves."""
+
+
+@app.command()
+def wave(
+    u_plus: Annotated[float, typer.Option("--u-plus", help="Stress ahead of the wave, 0 < U < 1.")],
+    gamma: Annotated[float, typer.Option("--gamma", help="Viscous damping gamma >= 0.")],
+    json_out: JsonOpt = False,
+    plot: PlotOpt = None,
+):
+    """The traveling wave behind the front (paper App. B): speed, regime, width, u_-, slip.
+
+    The speed is c = 1/sqrt(1 - u_+^2), the exact solution of the paper's tip problem.
+    """
+    from .waves import traveling_wave
+
+    try:
+        w = traveling_wave(u_plus, gamma)
+    except (ParameterError, ConvergenceError) as e:
+        _fail(e)
+    d = {k: _json_value(v) for k, v in w.to_dict().items()}
+    if plot is not None:
+        from . import plot as bkplot
+
+        bkplot.save(bkplot.wave_profile(w), plot)
+    if json_out:
+        typer.echo(json.dumps(d))
+        return
+    typer.echo(f"u_plus  = {w.u_plus:.6g}   gamma = {w.gamma:.6g}")
+    typer.echo(f"c       = {w.c:.12g}   (exact tip-problem speed 1/sqrt(1 - u_plus^2))")
+    uc = "none (gamma >= 1: always creep)" if w.u_c is None else f"{w.u_c:.6g}"
+    typer.echo(f"regime  = {w.regime}   (u_c = {uc})")
+    if w.regime == "pulse":
+        typer.echo(f"w       = {w.w:.6g}   (width, eq. w)")
+        typer.echo(f"u_minus = {w.u_minus:.6g}   (stress behind, eq. um)")
+        typer.echo(f"A       = {w.A:.6g}   (total slip, eq. A)")
+    else:
+        typer.echo("blocks never re-stick at v = 0: u -> 0 behind the front (w infinite)")
+    if plot is not None:
+        typer.echo(f"plot    -> {plot}")
+
+
+@app.command()
+def speed(
+    u_plus: Annotated[list[float], typer.Argument(help="Stresses ahead, each 0 < U < 1.")],
+    method: Annotated[
+        str, typer.Option(help="'exact' closed form, or 'tip' to solve the tip problem.")
+    ] = "exact",
+    json_out: JsonOpt = False,
+    plot: PlotOpt = None,
+):
+    """Front speed c(u_+) from the tip problem (App. A), with the interpolation formula eq. (c)."""
+    from . import theory
+    from .waves import front_speed
+
+    try:
+        c = [float(x) for x in __import__("numpy").atleast_1d(front_speed(u_plus, method=method))]
+        ci = [float(x) for x in __import__("numpy").atleast_1d(theory.c_interpolation(u_plus))]
+    except (ParameterError, ConvergenceError) as e:
+        _fail(e)
+    if plot is not None:
+        from . import plot as bkplot
+
+        bkplot.save(bkplot.speed_curve(u_plus), plot)
+    if json_out:
+        typer.echo(json.dumps({"u_plus": list(u_plus), "c": c, "c_interpolation": ci}))
+        return
+    typer.echo(f"{'u_plus':>10} {'c':>20} {'c (eq. c)':>14} {'rel. diff':>10}")
+    for u, a, b in zip(u_plus, c, ci, strict=True):
+        typer.echo(f"{u:>10.6g} {a:>20.15g} {b:>14.8g} {b / a - 1:>10.2e}")
+    if plot is not None:
+        typer.echo(f"plot -> {plot}")
+
+
+def main():  # entry point
+    app()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,189 @@
+"""Dimensionless parameters of the model and their physical units (paper eq. dimless):
+x' = (x/a) sqrt(k_p/k_c), t' = t sqrt(k_p/m), u = -(k_p X + f_s)/(f_r - f_s), and
+gamma = alpha / (2 sqrt(k_p m)), v = V sqrt(k_p m)/(f_r - f_s), dx = sqrt(k_p/k_c).
+``beta = f_s/(f_r - f_s)`` sets the backward-slip threshold u - Lap u/dx^2 <= -(1 + 2 beta).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+from . import _validate as V
+
+__all__ = ["Params", "PhysicalUnits"]
+
+
+@dataclass(frozen=True)
+class PhysicalUnits:
+    """SI description of a chain and the scales that convert to and from the
+    dimensionless variables of the paper (eq. dimless). All inputs in SI units.
+
+    Conversions (prime = dimensionless):
+    ``x = x' * length_scale`` with ``length_scale = spacing / dx``;
+    ``t = t' * time_scale`` with ``time_scale = sqrt(mass / k_p)``;
+    ``X = -(f_kinetic + (f_static - f_kinetic) u) / k_p`` (block displacement, affine);
+    a slip or any displacement *difference* ``dX = -displacement_scale * du``;
+    block velocity ``dX/dt = -velocity_scale * du/dt'``;
+    force ``F = f_kinetic + force_scale * phi`` with ``phi = u - Lap u / dx^2``
+    (slip at phi = 1, i.e. F = f_static).
+    """
+
+    mass: float
+    k_c: float
+    k_p: float
+    f_static: float
+    f_kinetic: float
+    alpha: float
+    V: float
+    spacing: float
+
+    def __post_init__(self):
+        for name in ("mass", "k_c", "k_p", "spacing"):
+            V.number(name, getattr(self, name), lo=0.0, lo_open=True)
+        V.number("f_kinetic", self.f_kinetic, lo=0.0)
+        V.number("f_static", self.f_static, lo=0.0, lo_open=True)
+        if not self.f_kinetic < self.f_static:
+            V._fail(
+                "f_kinetic",
+                self.f_kinetic,
+                f"0 <= f_kinetic < f_static = {self.f_static} (static friction exceeds kinetic)",
+            )
+        V.number("alpha", self.alpha, lo=0.0)
+        V.number("V", self.V, lo=0.0)
+
+    # --- scales -----------------------------------------------------------------
+    @property
+    def force_scale(self) -> float:
+        """f_r - f_s [N]: the friction drop, unit of dimensionless force."""
+        return self.f_static - self.f_kinetic
+
+    @property
+    def time_scale(self) -> float:
+        """sqrt(m / k_p) [s]."""
+        return math.sqrt(self.mass / self.k_p)
+
+    @property
+    def length_scale(self) -> float:
+        """Distance along the chain per unit x' [m]: a sqrt(k_c / k_p)."""
+        return self.spacing * math.sqrt(self.k_c / self.k_p)
+
+    @property
+    def displacement_scale(self) -> float:
+        """(f_r - f_s)/k_p [m]: block displacement per unit u."""
+        return self.force_scale / self.k_p
+
+    @property
+    def velocity_scale(self) -> float:
+        """(f_r - f_s)/sqrt(k_p m) [m/s]: the characteristic sliding speed (Sec. VI)."""
+        return self.force_scale / math.sqrt(self.k_p * self.mass)
+
+    @property
+    def sound_speed(self) -> float:
+        """a sqrt(k_c/m) [m/s]; equals length_scale/time_scale (unit speed in x', t')."""
+        return self.spacing * math.sqrt(self.k_c / self.mass)
+
+    @property
+    def crit_velocity(self) -> float:
+        """(f_r - f_s)/sqrt(k_c m) [m/s], eq. (crit): a velocity-weakening law with
+        characteristic velocity V_f behaves like Coulomb friction when V_f << this."""
+        return self.force_scale / math.sqrt(self.k_c * self.mass)
+
+    # --- conversions ------------------------------------------------------------
+    def length(self, x):
+        """Dimensionless position x' -> metres."""
+        return x * self.length_scale
+
+    def length_to_dimless(self, x_m):
+        return x_m / self.length_scale
+
+    def time(self, t):
+        """Dimensionless time t' -> seconds."""
+        return t * self.time_scale
+
+    def time_to_dimless(self, t_s):
+        return t_s / self.time_scale
+
+    def displacement(self, u):
+        """Dimensionless u -> block displacement X [m] relative to its loader spring."""
+        return -(self.f_kinetic + self.force_scale * u) / self.k_p
+
+    def displacement_to_dimless(self, X):
+        return -(self.k_p * X + self.f_kinetic) / self.force_scale
+
+    def slip(self, du):
+        """A change of u (e.g. a total slip A = u_+ - u_-) -> forward block motion [m]."""
+        return du * self.displacement_scale
+
+    def velocity(self, u_t):
+        """du/dt' -> block velocity dX/dt [m/s] in the loader frame."""
+        return -u_t * self.velocity_scale
+
+    def velocity_to_dimless(self, Xdot):
+        return -Xdot / self.velocity_scale
+
+    def force(self, phi):
+        """Dimensionless phi = u - Lap u/dx^2 -> elastic force on a block [N]."""
+        return self.f_kinetic + self.force_scale * phi
+
+    def force_to_dimless(self, F):
+        return (F - self.f_kinetic) / self.force_scale
+
+
+@dataclass(frozen=True)
+class Params:
+    """Dimensionless parameters of the Burridge-Knopoff chain (frozen, validated).
+
+    gamma: viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    v: loading rate V sqrt(k_p m)/(f_r - f_s), >= 0.
+    dx: lattice spacing sqrt(k_p/k_c) in units of x', > 0.
+    beta: f_s/(f_r - f_s) >= 0, the backward-slip threshold.
+    units: the SI description when built by :meth:`from_physical`, else None.
+    """
+
+    gamma: float
+    v: float
+    dx: float
+    beta: float = 0.0
+    units: PhysicalUnits | None = field(default=None, compare=True)
+
+    def __post_init__(self):
+        object.__setattr__(self, "gamma", V.number("gamma", self.gamma, lo=0.0))
+        object.__setattr__(self, "v", V.number("v", self.v, lo=0.0))
+        object.__setattr__(self, "dx", V.number("dx", self.dx, lo=0.0, lo_open=True))
+        object.__setattr__(self, "beta", V.number("beta", self.beta, lo=0.0))
+        if self.units is not None and not isinstance(self.units, PhysicalUnits):
+            V._fail("units", self.units, "a PhysicalUnits instance or None")
+
+    @classmethod
+    def from_physical(
+        cls,
+        *,
+        mass: float,
+        k_c: float,
+        k_p: float,
+        f_static: float,
+        f_kinetic: float,
+        alpha: float,
+        V: float,
+        spacing: float,
+    ) -> Params:
+        """Build from SI inputs: block mass [kg], coupling and loader spring constants
+        [N/m], static and kinetic friction forces per block [N], viscous coefficient
+        alpha [kg/s], loader speed V [m/s] and block spacing a [m]."""
+        u = PhysicalUnits(mass, k_c, k_p, f_static, f_kinetic, alpha, V, spacing)
+        df = u.force_scale
+        sq = math.sqrt(k_p * mass)
+        return cls(
+            gamma=alpha / (2.0 * sq),
+            v=V * sq / df,
+            dx=math.sqrt(k_p / k_c),
+            beta=f_kinetic / df,
+            units=u,
+        )
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        if self.units is None:
+            d.pop("units")
+        return d

@@ -1,0 +1,310 @@
+"""The paper's closed forms, numpy-vectorised. Each docstring cites its equation of
+C. B. Muratov, Phys. Rev. E 59, 3847 (1999).
+
+Front speed: :func:`c_exact` is c(u_+) = 1/sqrt(1 - u_+^2), the solution of the tip
+problem of App. A found by bkwaves (docs/theory.md); the paper's approximations are
+:func:`c_interpolation` (eq. c), :func:`c_large` (eq. ca), :func:`c_small` (eq. c1),
+and :func:`c_formal_continuum` is the *wrong* continuum answer of Sec. VI.
+
+Functions taking ``c`` accept any speed (exact, interpolated or measured) so that the
+paper's formulas can be evaluated exactly as printed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+from . import _validate as V
+from .waves import front_speed
+
+__all__ = [
+    "c_exact",
+    "c_interpolation",
+    "u_plus_interpolation",
+    "c_large",
+    "c_small",
+    "c_formal_continuum",
+    "critical_stress",
+    "gamma_tilde",
+    "width",
+    "u_minus",
+    "amplitude",
+    "profile",
+    "wavelength",
+    "train_period",
+    "min_wavelength",
+    "sawtooth",
+    "source_b",
+    "kappa",
+    "u_minus_at_one",
+    "a_prime",
+    "a_max",
+    "iterate_map",
+    "a_n_asymptote",
+    "source_period",
+]
+
+PAPER_FOURTH_COEFFICIENT = 0.2719
+"""The coefficient of 1/c^8 in eq. (ca) quoted by the paper (the exact c gives 35/128)."""
+
+
+def _out(a):
+    a = np.asarray(a, dtype=float)
+    return a.item() if a.ndim == 0 else a
+
+
+def _u(u_plus):
+    return V.array("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+
+
+def _c(c):
+    return V.array("c", c, lo=1.0, lo_open=True)
+
+
+def _gamma(gamma):
+    return V.number("gamma", gamma, lo=0.0)
+
+
+def _v(v):
+    return V.number("v", v, lo=0.0, lo_open=True)
+
+
+# --------------------------------------------------------------------------- speed
+def c_exact(u_plus):
+    """c(u_+) = 1/sqrt(1 - u_+^2): the exact solution of the tip problem (App. A)."""
+    return front_speed(u_plus)
+
+
+def u_plus_interpolation(c):
+    """Eq. (c): u_+ = (1 + (2 + c^2 + 4c^4)/(8 c^5 sqrt(c^2 - 1)))^-1 for c > 1."""
+    c = _c(c)
+    return _out(1.0 / (1.0 + (2.0 + c**2 + 4.0 * c**4) / (8.0 * c**5 * np.sqrt(c**2 - 1.0))))
+
+
+def c_interpolation(u_plus):
+    """Eq. (c) solved for c (bisection in ln(c - 1); eq. (c) is monotone in c).
+
+    The paper says it is good to "a few per cent"; against the exact c it is within 2%.
+    """
+    u = _u(u_plus)
+    lo = np.full(u.shape, -80.0)
+    hi = np.full(u.shape, 40.0)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        c = 1.0 + np.exp(mid)
+        f = 1.0 / (1.0 + (2.0 + c**2 + 4.0 * c**4) / (8.0 * c**5 * np.sqrt((c - 1) * (c + 1))))
+        up = f < u
+        lo = np.where(up, mid, lo)
+        hi = np.where(up, hi, mid)
+    return _out(1.0 + np.exp(0.5 * (lo + hi)))
+
+
+def c_large(u_plus, *, fourth: float | None = None):
+    """Eq. (ca) solved for c: 1/(2c^2) + 3/(8c^4) + 5/(16c^6) [+ fourth/c^8] = (1-u_+)/u_+.
+
+    The large-c expansion; ``fourth=PAPER_FOURTH_COEFFICIENT`` adds the paper's 0.2719
+    term (the exact value is 35/128). Where the truncated series has no root with c > 1
+    (small u_+, outside its range of validity) the result is NaN.
+    """
+    u = _u(u_plus)
+    theta = (1.0 - u) / u
+    k4 = 0.0 if fourth is None else float(fourth)
+
+    def series(x):
+        return x * (0.5 + x * (0.375 + x * (0.3125 + x * k4)))
+
+    lo = np.zeros(u.shape)
+    hi = np.ones(u.shape)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        up = series(mid) < theta
+        lo = np.where(up, mid, lo)
+        hi = np.where(up, hi, mid)
+    x = 0.5 * (lo + hi)
+    valid = series(1.0) >= theta
+    return _out(np.where(valid, 1.0 / np.sqrt(x), np.nan))
+
+
+def c_small(u_plus):
+    """Eq. (c1): c = 1 + u_+^2 / 2, the small-u_+ limit."""
+    u = _u(u_plus)
+    return _out(1.0 + 0.5 * u**2)
+
+
+def c_formal_continuum(u_plus):
+    """WRONG on purpose: c = 1/sqrt(1 - u_+), the formal continuum answer the paper
+    warns against (Sec. VI). Provided only for comparison; never use it as c(u_+)."""
+    u = _u(u_plus)
+    return _out(1.0 / np.sqrt(1.0 - u))
+
+
+def critical_stress(gamma, speed=None):
+    """Eq. (gammac): u_c solves gamma = sqrt(c(u_c)^2 - 1)/c(u_c).
+
+    With the exact speed (default) u_c = gamma. ``speed`` may be another c(u_+) (e.g.
+    :func:`c_interpolation`), then the equation is solved by bisection. Returns None
+    for gamma >= 1 (no pulse exists: every wave creeps).
+    """
+    g = _gamma(gamma)
+    if speed is None:
+        return _core.critical_stress(g)
+    if g >= 1.0:
+        return None
+    if g == 0.0:
+        return 0.0
+    lo, hi = 1e-300, 1.0 - 1e-16
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        c = float(speed(mid))
+        if np.sqrt(c * c - 1.0) / c < g:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+# ------------------------------------------------------------- the wave (App. B)
+def gamma_tilde(c, gamma):
+    """App. B: gamma-tilde = c gamma / sqrt(c^2 - 1); < 1 pulse, >= 1 creep."""
+    c = _c(c)
+    return _out(c * _gamma(gamma) / np.sqrt((c - 1.0) * (c + 1.0)))
+
+
+def width(c, gamma):
+    """Eq. (w): w = pi (c^2 - 1)/sqrt(c^2 (1 - gamma^2) - 1); NaN in the creep regime."""
+    c = _c(c)
+    um, w = _core.wave_from_speed(np.full(c.shape, 0.5), c, _gamma(gamma))
+    return _out(w)
+
+
+def u_minus(u_plus, c, gamma):
+    """Eq. (um): u_- = -u_+ exp(-pi gamma c / sqrt(c^2 (1 - gamma^2) - 1)); NaN in creep."""
+    u, c = np.broadcast_arrays(_u(u_plus), _c(c))
+    um, _ = _core.wave_from_speed(np.ascontiguousarray(u), np.ascontiguousarray(c), _gamma(gamma))
+    return _out(um)
+
+
+def amplitude(u_plus, c, gamma):
+    """Eq. (A): total slip A = u_+ - u_-; NaN in the creep regime."""
+    return _out(np.asarray(u_plus, dtype=float) - np.asarray(u_minus(u_plus, c, gamma)))
+
+
+def profile(z, u_plus, gamma, c=None):
+    """App. B profile u(z), z = x - c t: eq. (complex) with (ab) for a pulse (u = u_- behind
+    z = -w), eq. (real) for creep, u_+ ahead of the front. Exact c unless given."""
+    u = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    z = np.asarray(z, dtype=float)
+    cc = None if c is None else V.number("c", c, lo=1.0, lo_open=True)
+    return _out(_core.wave_profile(u, _gamma(gamma), z, cc))
+
+
+# ------------------------------------------------------------ wave trains (Sec. V)
+def wavelength(u_plus, gamma, v, c=None):
+    """Eq. (L): spatial period L = c A / v of the periodic wave train."""
+    u = _u(u_plus)
+    c = front_speed(u) if c is None else _c(c)
+    return _out(np.asarray(c) * np.asarray(amplitude(u, c, gamma)) / _v(v))
+
+
+def train_period(u_plus, gamma, v, c=None):
+    """T = A / v: time period of the wave train (Sec. V)."""
+    u = _u(u_plus)
+    c = front_speed(u) if c is None else _c(c)
+    return _out(np.asarray(amplitude(u, c, gamma)) / _v(v))
+
+
+def min_wavelength(gamma, v, speed=None):
+    """Eq. (Lmin): L_min = c(u_c) u_c / v; trains exist only for L > L_min.
+    None for gamma >= 1 (no train exists)."""
+    uc = critical_stress(gamma, speed)
+    if uc is None:
+        return None
+    if uc == 0.0:
+        return 0.0
+    c = front_speed(uc) if speed is None else float(speed(uc))
+    return c * uc / _v(v)
+
+
+def sawtooth(x, t, u_plus, gamma, v, x0=0.0):
+    """The saw-tooth wave train moving right: a front at x0 + c t (mod L); behind each
+    front u recovers linearly from u_- to u_+ over one period L (Sec. V)."""
+    u = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    c = float(front_speed(u))
+    um = float(u_minus(u, c, gamma))
+    if np.isnan(um):
+        V._fail("u_plus", u_plus, f"u_plus > u_c = {critical_stress(gamma)} (pulse regime)")
+    L = c * (u - um) / _v(v)
+    z = np.mod(np.asarray(x, dtype=float) - x0 - c * np.asarray(t, dtype=float), L) - L
+    return _out(((z + L) * um - z * u) / L)
+
+
+# ------------------------------------------------------ sources (Sec. V, App. C)
+def source_b(a, v):
+    """Eq. (b): shocks born at a maximum u = 1 - a (x-x0)^2 + v t start as x0 +- sqrt(b t),
+    b = (v + sqrt(v^2 + 8a)) / (2a)."""
+    a = V.array("a", a, lo=0.0, lo_open=True)
+    v = V.number("v", v, lo=0.0)
+    return _out((v + np.sqrt(v * v + 8.0 * a)) / (2.0 * a))
+
+
+def _exponent(gamma):
+    g = V.number("gamma", gamma, lo=0.0, hi=1.0, hi_open=True)
+    return g, np.pi * g / np.sqrt(1.0 - g * g)
+
+
+def kappa(gamma):
+    """Eq. (kappa): kappa = -du_-/du_+ at u_+ = 1
+    = (1 + pi gamma/(1 - gamma^2)^{3/2}) exp(-pi gamma/sqrt(1 - gamma^2)), 0 <= gamma < 1."""
+    g, e = _exponent(gamma)
+    return (1.0 + np.pi * g / (1.0 - g * g) ** 1.5) * np.exp(-e)
+
+
+def u_minus_at_one(gamma):
+    """u_-(1) = -exp(-pi gamma / sqrt(1 - gamma^2)) (eq. um at u_+ = 1)."""
+    _, e = _exponent(gamma)
+    return -np.exp(-e)
+
+
+def a_prime(a, v, gamma):
+    """Eq. (ap): curvature after the shocks have passed,
+    a' = -a kappa + 2 a v (1 + kappa)/(v + sqrt(v^2 + 8a))."""
+    a = V.array("a", a, lo=0.0, lo_open=True)
+    v = V.number("v", v, lo=0.0)
+    k = kappa(gamma)
+    return _out(-a * k + 2.0 * a * v * (1.0 + k) / (v + np.sqrt(v * v + 8.0 * a)))
+
+
+def a_max(v, gamma):
+    """Eq. (amax): a' > 0 (the source survives) iff a < a_max = v^2 (1 + kappa)/(2 kappa^2)."""
+    v = V.number("v", v, lo=0.0)
+    k = kappa(gamma)
+    return v * v * (1.0 + k) / (2.0 * k * k)
+
+
+def iterate_map(a0, v, gamma, n: int):
+    """The map a -> a' of eq. (ap) iterated n times from a0: array a_0 .. a_n.
+    Iteration stops (NaN after) once a' <= 0, where the maximum is lost."""
+    n = int(V.number("n", n, lo=0))
+    out = np.full(n + 1, np.nan)
+    out[0] = V.number("a0", a0, lo=0.0, lo_open=True)
+    for i in range(n):
+        nxt = float(a_prime(out[i], v, gamma))
+        if nxt <= 0.0:
+            out[i + 1] = nxt
+            break
+        out[i + 1] = nxt
+    return out
+
+
+def a_n_asymptote(n, v, gamma):
+    """Sec. V: after n >> 1 iterations a_n ~ v^2 / (2 n (1 + kappa))."""
+    n = V.array("n", n, lo=0.0, lo_open=True)
+    v = V.number("v", v, lo=0.0)
+    return _out(v * v / (2.0 * n * (1.0 + kappa(gamma))))
+
+
+def source_period(v, gamma):
+    """Sec. V: period of a source T = (1 + exp(-pi gamma/sqrt(1 - gamma^2))) / v."""
+    _, e = _exponent(gamma)
+    return (1.0 + np.exp(-e)) / _v(v)
