@@ -181,7 +181,7 @@ def width(c, gamma):
 def u_minus(u_plus, c, gamma):
     """Eq. (um): u_- = -u_+ exp(-pi gamma c / sqrt(c^2 (1 - gamma^2) - 1)); NaN in creep."""
     u, c = np.broadcast_arrays(_u(u_plus), _c(c))
-    um, _ = _core.wave_from_speed(np.ascontiguousarray(u), np.ascontiguousarray(c), _gamma(gamma))
+    um, _ = _core.wave_from_speed(np.array(u), np.array(c), _gamma(gamma))
     return _out(um)
 
 

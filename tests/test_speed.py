@@ -1,0 +1,147 @@
+"""The front speed c(u_+): tip solver (App. A) vs closed form, convergence, the paper's limits,
+and an independent time-marching simulation of the tip lattice."""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import bkwaves as bk
+from bkwaves import theory as th
+
+
+def closed(u):
+    return 1.0 / np.sqrt(1.0 - np.asarray(u) ** 2)
+
+
+def test_tip_solver_matches_closed_form_across_the_range():
+    for u in np.linspace(0.05, 0.95, 19):
+        c = bk.tip_solve(u)["c"]
+        assert abs(c / closed(u) - 1) < 1e-9, u
+
+
+def test_tip_solver_converged_in_degree_and_lattice_length():
+    for u in (0.3, 0.8):
+        ref = bk.tip_solve(u, degree=24, decay=60.0)["c"]
+        for deg, decay in [(12, 40.0), (16, 40.0), (16, 25.0), (20, 50.0)]:
+            assert bk.tip_solve(u, degree=deg, decay=decay)["c"] == pytest.approx(ref, rel=1e-12)
+    # coarse settings do show errors (the checks above can fail)
+    assert abs(bk.tip_solve(c=1.2, degree=6)["theta"] / bk.tip_solve(c=1.2)["theta"] - 1) > 1e-9
+
+
+@pytest.mark.parametrize("u", [0.02, 0.999])
+def test_error_estimates_near_both_ends(u):
+    """Differences between settings bound the error where the problem is hardest:
+    c -> 1 (u -> 0, slow transients, long lattice) and c -> infinity (u -> 1)."""
+    a = bk.tip_solve(u, degree=12)
+    b = bk.tip_solve(u, degree=20, decay=60.0)
+    est = abs(a["c"] - b["c"]) / b["c"]
+    err = abs(b["c"] / closed(u) - 1)
+    assert est < 1e-9 and err < 1e-9
+    assert a["intervals"] > 0 and b["decay_rate"] > 0
+
+
+def test_c_above_one_and_diverging():
+    u = np.linspace(0.01, 0.999, 60)
+    c = np.array([bk.tip_solve(x)["c"] for x in u])
+    assert np.all(c > 1) and np.all(np.diff(c) > 0)
+    assert bk.tip_solve(0.99999)["c"] > 200
+
+
+def test_small_u_limit_eq_c1():
+    u = np.linspace(0.02, 0.08, 7)
+    c = np.array([bk.tip_solve(x)["c"] for x in u])
+    # (c - 1)/u^2 = a0 + a1 u^2 + ...
+    coef = np.polyfit(u**2, (c - 1) / u**2, 2)
+    assert coef[-1] == pytest.approx(0.5, abs=1e-3)
+
+
+def test_large_c_series_eq_ca_and_its_fourth_coefficient():
+    c = np.linspace(2.5, 40.0, 80)
+    theta = np.array([bk.tip_solve(c=x)["theta"] for x in c])
+    x = 1.0 / c**2
+    # theta = a1 x + a2 x^2 + ... : least squares with 8 terms
+    A = np.vstack([x**k for k in range(1, 9)]).T
+    a = np.linalg.lstsq(A, theta, rcond=None)[0]
+    assert a[0] == pytest.approx(1 / 2, abs=1e-4)
+    assert a[1] == pytest.approx(3 / 8, abs=1e-4)
+    assert a[2] == pytest.approx(5 / 16, abs=1e-4)
+    # the fourth coefficient is the binomial 35/128 = 0.27344, not the quoted 0.2719
+    assert a[3] == pytest.approx(35 / 128, abs=1e-3)
+    assert abs(a[3] - th.PAPER_FOURTH_COEFFICIENT) > 1e-3
+
+
+def test_interpolation_and_formal_continuum():
+    u = np.linspace(0.05, 0.95, 19)
+    c = bk.front_speed(u)
+    assert np.max(np.abs(th.c_interpolation(u) / c - 1)) < 0.03
+    assert np.max(np.abs(th.c_formal_continuum(u) / c - 1)) > 0.3
+    assert bk.tip_solve(0.6)["c"] != pytest.approx(float(th.c_formal_continuum(0.6)), rel=0.1)
+
+
+def test_front_speed_vectorised_and_methods_agree():
+    u = np.array([[0.1, 0.2], [0.6, 0.9]])
+    c = bk.front_speed(u)
+    assert c.shape == (2, 2)
+    np.testing.assert_allclose(bk.front_speed(u, method="tip"), c, rtol=1e-11)
+    assert isinstance(bk.front_speed(0.6), float) and bk.front_speed(0.6) == 1.25
+    with pytest.raises(bk.ParameterError, match="u_plus"):
+        bk.front_speed([0.5, np.nan])
+    with pytest.raises(bk.ParameterError, match="method"):
+        bk.front_speed(0.5, method="guess")
+    with pytest.raises(bk.ParameterError):
+        bk.tip_solve(0.5, c=1.2)
+
+
+def march_tip_lattice(u_plus, nblocks):
+    """Independent check: simulate the rescaled tip lattice (continuum limit) from a kick.
+    Sliding blocks: w'' = w_{i+1} + w_{i-1} - 2 w_i + 1 (free left end); stuck blocks w = 0;
+    block k slips when w_{k-1} reaches theta. Returns the slip times."""
+    theta = (1 - u_plus) / u_plus
+    w = np.zeros(nblocks)
+    wd = np.zeros(nblocks)
+    wd[0] = 10.0  # kick
+    t, times = 0.0, [0.0]
+    for k in range(1, nblocks):
+
+        def rhs(_t, y, k=k):
+            ww = y[:k]
+            left = np.concatenate([[ww[0]], ww[:-1]])
+            right = np.concatenate([ww[1:], [0.0]])
+            return np.concatenate([y[k:], left + right - 2 * ww + 1])
+
+        def slip(_t, y, k=k):
+            return y[k - 1] - theta
+
+        slip.terminal = True
+        slip.direction = 1
+        sol = solve_ivp(
+            rhs,
+            (t, t + 100),
+            np.concatenate([w[:k], wd[:k]]),
+            method="DOP853",
+            rtol=1e-12,
+            atol=1e-12,
+            events=slip,
+        )
+        t = sol.t_events[0][0]
+        y = sol.y_events[0][0]
+        w[:k], wd[:k] = y[:k], y[k:]
+        times.append(t)
+    return np.array(times)
+
+
+@pytest.mark.parametrize("u", [0.6, 0.85])
+def test_time_marching_converges_to_the_tip_solution(u):
+    times = march_tip_lattice(u, 70)
+    c_measured = 1.0 / np.diff(times)[-1]
+    assert c_measured == pytest.approx(bk.tip_solve(u)["c"], rel=1e-8)
+
+
+def test_finite_dx_approaches_the_continuum_with_its_order():
+    """c(u_+; dx, gamma) -> c(u_+) as dx -> 0: order 2 without damping, order 1 with it
+    (the damping term enters the tip problem at order dx)."""
+    for gamma, order in [(0.0, 2.0), (0.3, 1.0)]:
+        dxs = [0.1, 0.05, 0.025]
+        err = [bk.tip_solve(0.7, dx=h, gamma=gamma)["c"] - closed(0.7) for h in dxs]
+        p = np.log2(err[1] / err[2])
+        assert p == pytest.approx(order, abs=0.05)
