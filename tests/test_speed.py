@@ -145,3 +145,21 @@ def test_finite_dx_approaches_the_continuum_with_its_order():
         err = [bk.tip_solve(0.7, dx=h, gamma=gamma)["c"] - closed(0.7) for h in dxs]
         p = np.log2(err[1] / err[2])
         assert p == pytest.approx(order, abs=0.05)
+
+
+def test_lattice_speed_closed_form_at_gamma_zero():
+    """Wiener-Hopf closed form for the discrete chain without damping vs the numerical
+    finite-dx tip solver (two independent routes)."""
+    for u, dx in [(0.4, 0.1), (0.6, 0.3), (0.95, 0.05)]:
+        c = bk.front_speed(u, dx=dx)
+        assert c == pytest.approx(bk.tip_solve(u, dx=dx)["c"], rel=1e-11)
+        assert c == pytest.approx(bk.front_speed(u, dx=dx, method="tip"), rel=1e-11)
+        assert c < bk.front_speed(u)  # the lattice slows the front
+    # with damping the numerical tip solver is used
+    assert bk.front_speed(0.6, dx=0.05, gamma=0.3) == pytest.approx(
+        bk.tip_solve(0.6, dx=0.05, gamma=0.3)["c"], rel=1e-14
+    )
+    with pytest.raises(bk.ParameterError, match="u_plus"):
+        bk.front_speed(0.01, dx=1.0)
+    with pytest.raises(bk.ParameterError, match="dx"):
+        bk.front_speed(0.5, dx=-0.1)

@@ -16,21 +16,31 @@ def _scalar_or_array(a: np.ndarray):
     return a.item() if a.ndim == 0 else a
 
 
-def front_speed(u_plus, *, method: str = "exact"):
-    """Front speed c(u_+) of the traveling shock in the continuum limit (v = 0).
+def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "exact"):
+    """Front speed c(u_+) of the traveling shock at v = 0. Vectorised: scalars give
+    floats, arrays give arrays of the same shape.
 
-    ``method="exact"`` (default) returns c = 1/sqrt(1 - u_+^2), the solution of the
-    paper's tip problem (App. A) found by bkwaves; ``method="tip"`` solves that problem
-    numerically for every value (about a millisecond each) and agrees to ~1e-12.
-    Vectorised: scalars give floats, arrays give arrays of the same shape.
+    Continuum limit (``dx = 0``, the paper's c(u_+)): c = 1/sqrt(1 - u_+^2), the exact
+    solution of the tip problem of App. A (docs/theory.md); gamma drops out.
+    Discrete chain (``dx > 0``): with ``gamma = 0`` the closed form
+    c = dx / (2 u_+ asin(dx sqrt(1 - u_+^2) / (2 u_+))); with ``gamma > 0`` the finite-dx
+    tip problem is solved numerically (the damping enters at order dx).
+    ``method="tip"`` always solves the tip problem numerically (about a millisecond
+    per value); it agrees with the closed forms to ~1e-12.
     """
     u = V.array("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-    if method == "exact":
+    dx = V.number("dx", dx, lo=0.0)
+    gamma = V.number("gamma", gamma, lo=0.0)
+    if method not in ("exact", "tip"):
+        V._fail("method", method, "'exact' or 'tip'")
+    if method == "exact" and dx == 0.0:
         return _scalar_or_array(_core.front_speed(u))
-    if method == "tip":
-        out = np.array([_core.tip_solve_u_plus(float(x))["c"] for x in u.ravel()])
-        return _scalar_or_array(out.reshape(u.shape))
-    V._fail("method", method, "'exact' or 'tip'")
+    if method == "exact" and gamma == 0.0:
+        return _scalar_or_array(_core.lattice_front_speed(u, dx))
+    out = np.array(
+        [_core.tip_solve_u_plus(float(x), 16, 40.0, dx, gamma)["c"] for x in u.ravel()]
+    )
+    return _scalar_or_array(out.reshape(u.shape))
 
 
 def tip_solve(u_plus=None, *, c=None, degree=16, decay=40.0, dx=0.0, gamma=0.0) -> dict:

@@ -25,6 +25,32 @@ pub fn front_speed(u_plus: f64) -> Result<f64> {
     Ok(1.0 / ((1.0 - u) * (1.0 + u)).sqrt())
 }
 
+/// Front speed of the discrete chain at lattice spacing dx > 0 without damping
+/// (gamma = 0, v = 0):
+///
+/// ```text
+///     c(u_+; dx) = dx / (2 u_+ asin(dx sqrt(1 - u_+^2) / (2 u_+)))
+/// ```
+///
+/// from the Wiener-Hopf solution of the finite-dx tip problem (docs/theory.md): the
+/// slip threshold is set by the lattice mode that co-moves with the front. It tends to
+/// [`front_speed`] as dx -> 0 with a relative correction -dx^2 (1 - u_+^2)/(24 u_+^2).
+/// Returns an error when dx sqrt(1 - u_+^2) > 2 u_+ (no steady front of this kind: the
+/// continuum description fails for u_+ of order dx, as the paper notes).
+pub fn lattice_front_speed(u_plus: f64, dx: f64) -> Result<f64> {
+    let u = check_open("u_plus", u_plus, 0.0, 1.0, "0 < u_plus < 1")?;
+    let dx = check_open("dx", dx, 0.0, f64::INFINITY, "dx > 0")?;
+    let arg = dx * ((1.0 - u) * (1.0 + u)).sqrt() / (2.0 * u);
+    if arg > 1.0 {
+        return Err(Error::InvalidParameter {
+            name: "u_plus",
+            value: u,
+            allowed: "dx sqrt(1 - u_plus^2) <= 2 u_plus (a steady lattice front exists)",
+        });
+    }
+    Ok(dx / (2.0 * u * arg.asin()))
+}
+
 /// Inverse of [`front_speed`]: the stress u_+ ahead of a front moving at speed c > 1.
 pub fn u_plus_of_speed(c: f64) -> Result<f64> {
     let c = check_open("c", c, 1.0, f64::INFINITY, "c > 1 (fronts are supersonic)")?;
@@ -84,6 +110,19 @@ mod tests {
             let back = u_plus_of_speed(front_speed(u).unwrap()).unwrap();
             assert!((back - u).abs() < 1e-12 / u, "{u} {back}");
         }
+    }
+
+    #[test]
+    fn lattice_speed_tends_to_the_continuum_with_its_dx_squared_correction() {
+        for &u in &[0.2, 0.5, 0.9] {
+            let c0 = front_speed(u).unwrap();
+            let dx = 1e-3;
+            let c = lattice_front_speed(u, dx).unwrap();
+            let predicted = -dx * dx * (1.0 - u * u) / (24.0 * u * u);
+            assert!(((c / c0 - 1.0) / predicted - 1.0).abs() < 1e-3, "u = {u}");
+        }
+        assert!(lattice_front_speed(0.01, 1.0).is_err());
+        assert!(lattice_front_speed(0.5, 0.0).is_err());
     }
 
     #[test]

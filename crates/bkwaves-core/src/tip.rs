@@ -380,6 +380,23 @@ mod tests {
     }
 
     #[test]
+    fn finite_dx_without_damping_matches_the_wiener_hopf_closed_form() {
+        for &(u, dx) in &[(0.5, 0.1), (0.3, 0.05), (0.9, 0.2), (0.7, 0.4)] {
+            let o = TipOptions {
+                dx,
+                ..Default::default()
+            };
+            let s = solve_for_u_plus(u, &o).unwrap();
+            let c = crate::speed::lattice_front_speed(u, dx).unwrap();
+            assert!(
+                (s.c - c).abs() < 1e-11 * c,
+                "u = {u}, dx = {dx}: {} vs {c}",
+                s.c
+            );
+        }
+    }
+
+    #[test]
     fn bad_options_are_errors() {
         assert!(solve_for_speed(0.9, &TipOptions::default()).is_err());
         let o = TipOptions {

@@ -31,6 +31,16 @@ fn front_speed<'py>(
     map_array(py, u_plus, speed::front_speed)
 }
 
+/// c(u_+; dx) at gamma = 0 for the discrete chain (Wiener-Hopf closed form), elementwise.
+#[pyfunction]
+fn lattice_front_speed<'py>(
+    py: Python<'py>,
+    u_plus: PyReadonlyArrayDyn<'py, f64>,
+    dx: f64,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    map_array(py, u_plus, |u| speed::lattice_front_speed(u, dx))
+}
+
 /// u_+(c) = sqrt(1 - 1/c^2), elementwise.
 #[pyfunction]
 fn u_plus_of_speed<'py>(
@@ -130,6 +140,7 @@ fn ndarray_zip(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(front_speed, m)?)?;
     m.add_function(wrap_pyfunction!(u_plus_of_speed, m)?)?;
+    m.add_function(wrap_pyfunction!(lattice_front_speed, m)?)?;
     m.add_function(wrap_pyfunction!(critical_stress, m)?)?;
     m.add_function(wrap_pyfunction!(traveling_wave, m)?)?;
     m.add_function(wrap_pyfunction!(wave_profile, m)?)?;
