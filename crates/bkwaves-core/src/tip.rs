@@ -224,20 +224,19 @@ pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
     };
     // theta decreases with c. Crude start that has both limits right within a factor 2.
     let x0 = (0.5 * u * u / (1.0 - u).sqrt()).ln();
-    let (mut xa, (mut fa, mut sa)) = (x0, eval(x0)?);
+    let (mut xa, (mut fa, _)) = (x0, eval(x0)?);
     let mut step = 0.5;
-    let (mut xb, (mut fb, mut sb)) = loop {
+    let (mut xb, mut fb) = loop {
         let xn = if fa > 0.0 { xa + step } else { xa - step };
         let (fn_, sn) = eval(xn)?;
         if fn_ == 0.0 {
             return Ok(sn);
         }
         if (fn_ > 0.0) != (fa > 0.0) {
-            break (xn, (fn_, sn));
+            break (xn, fn_);
         }
         xa = xn;
         fa = fn_;
-        sa = sn;
         step *= 2.0;
         if step > 256.0 {
             return Err(Error::NoConvergence {
@@ -246,18 +245,24 @@ pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
             });
         }
     };
-    // Illinois (modified regula falsi): superlinear and always bracketed.
+    // Illinois (modified regula falsi): superlinear and always bracketed. Stop when the
+    // step in x = ln(c - 1) moves c by less than 1e-13 relative: dc/c = dx (c - 1)/c.
+    // (Near c = 1 the solver's theta carries ~1e-9 relative noise, which moves c by far
+    // less than that, so a tolerance on theta would never be met.)
     let mut side = 0i32;
+    let mut x_prev = f64::NAN;
     for _ in 0..200 {
         let xc = (xa * fb - xb * fa) / (fb - fa);
         let (fc, sc) = eval(xc)?;
-        if fc == 0.0 || (xb - xa).abs() < 1e-15 * (1.0 + xc.abs()) || fc.abs() < 1e-15 {
+        let c = 1.0 + xc.exp();
+        let tol = 1e-13 * c / (c - 1.0);
+        if fc == 0.0 || (xc - x_prev).abs() < tol || (xb - xa).abs() < tol {
             return Ok(sc);
         }
+        x_prev = xc;
         if (fc > 0.0) == (fb > 0.0) {
             xb = xc;
             fb = fc;
-            sb = sc;
             if side == -1 {
                 fa *= 0.5;
             }
@@ -265,13 +270,11 @@ pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
         } else {
             xa = xc;
             fa = fc;
-            sa = sc;
             if side == 1 {
                 fb *= 0.5;
             }
             side = 1;
         }
-        let _ = (&sa, &sb);
     }
     Err(Error::NoConvergence {
         what: "tip speed root",
