@@ -37,9 +37,7 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
         return _scalar_or_array(_core.front_speed(u))
     if method == "exact" and gamma == 0.0:
         return _scalar_or_array(_core.lattice_front_speed(u, dx))
-    out = np.array(
-        [_core.tip_solve_u_plus(float(x), 16, 40.0, dx, gamma)["c"] for x in u.ravel()]
-    )
+    out = np.array([_core.tip_solve_u_plus(float(x), 16, 40.0, dx, gamma)["c"] for x in u.ravel()])
     return _scalar_or_array(out.reshape(u.shape))
 
 
