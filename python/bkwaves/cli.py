@@ -126,6 +126,43 @@ def speed(
         typer.echo(f"plot -> {plot}")
 
 
+@app.command()
+def paper(
+    out: Annotated[Path, typer.Option("-o", "--out", help="Output directory.")] = Path(
+        "bkwaves-paper"
+    ),
+    quick: Annotated[
+        bool, typer.Option("--quick", help="Smaller runs (minutes -> seconds).")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
+    json_out: JsonOpt = False,
+):
+    """Regenerate the paper's figures and a claim-by-claim validation report in OUT."""
+    from .paper import reproduce
+
+    rep = reproduce(out, quick=quick, progress=not quiet and not json_out)
+    verdicts = {}
+    for c in rep.claims:
+        verdicts[c.verdict] = verdicts.get(c.verdict, 0) + 1
+    if json_out:
+        typer.echo(
+            json.dumps(
+                {
+                    "out": str(out),
+                    "seconds": rep.seconds,
+                    "figures": sorted(rep.figures),
+                    "claims": len(rep.claims),
+                    "verdicts": verdicts,
+                }
+            )
+        )
+        return
+    typer.echo(
+        f"{len(rep.figures)} figures and report.md/report.html in {out} ({rep.seconds:.1f} s)"
+    )
+    typer.echo(", ".join(f"{n} {k}" for k, n in sorted(verdicts.items())))
+
+
 def main():  # entry point
     app()
 
