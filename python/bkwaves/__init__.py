@@ -10,7 +10,7 @@ from ._core import ConvergenceError, ParameterError
 
 __version__ = _core.__version__
 
-from . import presets, theory  # noqa: E402
+from . import config, presets, stats, theory  # noqa: E402
 from .params import Params, PhysicalUnits  # noqa: E402
 from .waves import TravelingWave, front_speed, tip_solve, traveling_wave  # noqa: E402
 
@@ -21,6 +21,8 @@ __all__ = [
     "PhysicalUnits",
     "TravelingWave",
     "__version__",
+    "config",
+    "stats",
     "front_speed",
     "presets",
     "theory",
