@@ -86,3 +86,21 @@ def test_bad_input_exit_2_names_parameter(args, name):
 def test_typo_in_option_is_exit_2():
     r = run("wave", "--u-plus", "0.5", "--gama", "0.3")
     assert r.returncode == 2 and "Traceback" not in r.stderr
+
+
+def test_plot_command(tmp_path):
+    import numpy as np
+
+    from bkwaves.io import RunWriter
+
+    out = tmp_path / "r.zarr"
+    with RunWriter(out, np.linspace(0, 1, 5), {"u": ("1", "u", "f8")}) as w:
+        for k in range(3):
+            w.append(float(k), u=np.full(5, 0.1 * k))
+    r = run("plot", str(out), "--format", "svg")
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "r_spacetime_u.svg").exists() and (tmp_path / "r_profiles.svg").exists()
+    r = run("plot", str(tmp_path / "missing.nc"))
+    assert r.returncode == 2 and "not found" in r.stderr and "Traceback" not in r.stderr
+    r = run("plot", str(out), "--format", "bmp")
+    assert r.returncode == 2 and "fmt" in r.stderr

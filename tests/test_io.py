@@ -72,3 +72,28 @@ def test_bad_paths_and_missing_fields(tmp_path):
     with RunWriter(tmp_path / "r.nc", [0.0, 1.0], VARS) as w:
         with pytest.raises(bk.ParameterError, match="state"):
             w.append(0.0, u=[1.0, 2.0])
+
+
+def test_plot_run_renders_every_kind(tmp_path):
+    from bkwaves.plot import plot_run
+
+    out = tmp_path / "demo.nc"
+    x = np.linspace(0, 10, 101)
+    with RunWriter(out, x, VARS, coord_units=("1", "1")) as w:
+        for k in range(20):
+            front = 0.5 * k
+            w.append(k * 1.0, u=np.where(x < front, -0.2, 0.6), state=(np.abs(x - front) < 1))
+        rng = np.random.default_rng(0)
+        w.write_table("events", pd.DataFrame({"moment": rng.pareto(1.0, 200) + 1.0}))
+        w.write_table("fronts", pd.DataFrame({"t": np.arange(20.0), "x": 0.5 * np.arange(20.0)}))
+    for fmt in ("png", "svg", "pdf"):
+        files = plot_run(out, tmp_path / fmt, fmt=fmt)
+        names = {f.name for f in files}
+        assert names == {
+            f"demo_spacetime_u.{fmt}",
+            f"demo_spacetime_state.{fmt}",
+            f"demo_profiles.{fmt}",
+            f"demo_fronts.{fmt}",
+            f"demo_size_frequency.{fmt}",
+        }
+        assert all(f.stat().st_size > 3000 for f in files)

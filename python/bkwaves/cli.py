@@ -163,6 +163,25 @@ def paper(
     typer.echo(", ".join(f"{n} {k}" for k, n in sorted(verdicts.items())))
 
 
+@app.command("plot")
+def plot_cmd(
+    out: Annotated[Path, typer.Argument(help="A run output (.nc or .zarr).")],
+    outdir: Annotated[
+        Path | None, typer.Option("-o", "--outdir", help="Where to write (default: beside OUT).")
+    ] = None,
+    fmt: Annotated[str, typer.Option("--format", help="png, svg or pdf.")] = "png",
+):
+    """The standard pictures of a run: space-time diagrams, profiles, trajectories, catalog."""
+    from .plot import plot_run
+
+    try:
+        files = plot_run(out, outdir, fmt=fmt)
+    except (ParameterError, ConvergenceError) as e:
+        _fail(e)
+    for f in files:
+        typer.echo(str(f))
+
+
 def main():  # entry point
     app()
 

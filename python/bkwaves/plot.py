@@ -13,7 +13,27 @@ import numpy as np  # noqa: E402
 from . import theory  # noqa: E402
 from .waves import TravelingWave, front_speed  # noqa: E402
 
-__all__ = ["wave_profile", "speed_curve", "save"]
+__all__ = [
+    "wave_profile",
+    "speed_curve",
+    "spacetime",
+    "profiles",
+    "trajectories",
+    "size_frequency",
+    "plot_run",
+    "save",
+]
+
+plt.rcParams.update(
+    {
+        "figure.dpi": 110,
+        "savefig.dpi": 200,
+        "font.size": 10,
+        "axes.spines.top": False,
+        "axes.spines.right": False,
+        "savefig.bbox": "tight",
+    }
+)
 
 
 def wave_profile(wave: TravelingWave, ax=None):
@@ -63,6 +83,118 @@ def speed_curve(u_points=None, ax=None):
     ax.set_xlim(0.0, 1.0)
     ax.legend(fontsize=8, loc="upper left")
     return ax
+
+
+def _units(da) -> str:
+    u = da.attrs.get("units", "")
+    return f" [{u}]" if u and u != "1" else ""
+
+
+def spacetime(ds, var: str = "u", ax=None, cmap=None):
+    """Space-time diagram of ``ds[var]`` (dimensions t, x): slip fronts are the edges."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
+    da = ds[var]
+    discrete = da.dtype.kind in "iu"
+    if cmap is None:
+        cmap = "coolwarm" if discrete else "viridis"
+    m = ax.pcolormesh(
+        ds.x.values, ds.t.values, da.values, shading="nearest", cmap=cmap, rasterized=True
+    )
+    cb = ax.figure.colorbar(m, ax=ax)
+    cb.set_label(da.attrs.get("long_name", var) + _units(da))
+    ax.set_xlabel("x" + _units(ds.x))
+    ax.set_ylabel("t" + _units(ds.t))
+    ax.set_title(f"{var}(x, t)")
+    return ax
+
+
+def profiles(ds, var: str = "u", n: int = 6, ax=None):
+    """Profiles ``var(x)`` at ``n`` snapshots spread over the run."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 3.8), constrained_layout=True)
+    nt = ds.sizes["t"]
+    idx = np.unique(np.linspace(0, nt - 1, min(n, nt)).round().astype(int))
+    colors = plt.cm.viridis(np.linspace(0, 1, len(idx)))
+    for c, i in zip(colors, idx, strict=True):
+        ax.plot(
+            ds.x.values,
+            ds[var].values[i],
+            color=c,
+            lw=1.2,
+            label=f"t = {float(ds.t.values[i]):.4g}",
+        )
+    ax.set_xlabel("x" + _units(ds.x))
+    ax.set_ylabel(var + _units(ds[var]))
+    ax.legend(fontsize=7, ncols=2)
+    return ax
+
+
+def trajectories(df, *, x: str = "x", t: str = "t", by: str | None = None, ax=None):
+    """Front or shock trajectories x(t) from a table, one line per ``by`` group."""
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
+    groups = [(None, df)] if by is None or by not in df else df.groupby(by)
+    for _, g in groups:
+        g = g.sort_values(t)
+        ax.plot(g[x].values, g[t].values, lw=1.0)
+    units = df.attrs.get("units", {})
+    ax.set_xlabel(x + (f" [{units[x]}]" if units.get(x) else ""))
+    ax.set_ylabel(t + (f" [{units[t]}]" if units.get(t) else ""))
+    ax.set_title("trajectories")
+    return ax
+
+
+def size_frequency(sizes, ax=None, label: str = "event size"):
+    """Size-frequency (complementary cumulative) plot with the Aki b-value of the
+    amplitude magnitudes log10(size)."""
+    from . import stats
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5, 4), constrained_layout=True)
+    s = np.asarray(sizes, dtype=float)
+    s = s[np.isfinite(s) & (s > 0)]
+    x, ccdf = stats.size_frequency(s)
+    ax.loglog(x, ccdf, ".", ms=4, label="N(>= size) / N")
+    if s.size >= 2 and np.ptp(s) > 0:
+        b = stats.b_value(stats.magnitudes(s))
+        ax.set_title(f"b = {b.b:.2f} +- {b.sigma_aki:.2f} (n = {b.n})", fontsize=9)
+    ax.set_xlabel(label)
+    ax.set_ylabel("fraction of events >= size")
+    return ax
+
+
+def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
+    """The standard pictures of a run output (see :func:`bkwaves.io.load`): space-time
+    diagrams of every field, profiles, trajectories and the catalog's size-frequency."""
+    from .io import load
+
+    if fmt not in ("png", "svg", "pdf"):
+        from ._validate import _fail
+
+        _fail("fmt", fmt, "'png', 'svg' or 'pdf'")
+    out = Path(out)
+    ds, tables = load(out)
+    outdir = Path(outdir) if outdir is not None else out.parent
+    stem = out.name.rsplit(".", 1)[0]
+    written = []
+    for var in ds.data_vars:
+        if set(ds[var].dims) == {"t", "x"} and ds.sizes["t"] > 1:
+            written.append(save(spacetime(ds, var), outdir / f"{stem}_spacetime_{var}.{fmt}"))
+    if "u" in ds:
+        written.append(save(profiles(ds, "u"), outdir / f"{stem}_profiles.{fmt}"))
+    for name, df in tables.items():
+        if {"x", "t"} <= set(df.columns):
+            by = next((c for c in ("front", "shock", "event", "id") if c in df.columns), None)
+            written.append(save(trajectories(df, by=by), outdir / f"{stem}_{name}.{fmt}"))
+    ev = tables.get("events")
+    if ev is not None and len(ev) >= 2:
+        col = next((c for c in ("moment", "slip", "total_slip", "size") if c in ev.columns), None)
+        if col is not None:
+            written.append(
+                save(size_frequency(ev[col], label=col), outdir / f"{stem}_size_frequency.{fmt}")
+            )
+    return written
 
 
 def save(ax, path) -> Path:
