@@ -11,6 +11,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod error;
+pub mod free_boundary;
 pub mod linalg;
 pub mod speed;
 pub mod tip;

@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod errors;
+mod free_boundary;
 mod theory;
 mod tip;
 
@@ -13,6 +14,7 @@ mod tip;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
+    free_boundary::register(m)?;
     theory::register(m)?;
     tip::register(m)?;
     Ok(())

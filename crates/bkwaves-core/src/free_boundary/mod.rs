@@ -1,0 +1,1018 @@
+//! The free boundary problem of Sec. IV: shocks moving over a slowly loading field.
+//!
+//! For v << 1 and slowly varying u the chain reduces to (paper eqs. slow, fast):
+//!
+//! - a slow field u(x, t) that grows at rate v where no shock passes (eq. rest);
+//! - shocks i at x_i(t) with directions s_i = +-1 moving at dx_i/dt = s_i c(u_+),
+//!   u_+ = u just ahead, c(u) = 1/sqrt(1 - u^2) ([`crate::speed::front_speed`]);
+//! - as a shock passes, u jumps from u_+ to u_-(u_+) (eq. um,
+//!   [`crate::wave::u_minus_from_speed`]);
+//! - a pair of counter-propagating shocks is born where u reaches 1; shocks moving
+//!   towards each other annihilate when they meet; shocks leave through free ends or wrap
+//!   on a ring; a shock that meets u_+ <= 0 dies.
+//!
+//! The engine is event-driven with no global time step. The field lives on a grid
+//! ([`field`]); a shock is moved through one cell at a time by integrating the inverse
+//! speed dt/dx in position ([`shock`]), which removes the infinite speed at a birth. The
+//! next event is the earliest of: a shock reaching a node (reset the node, enter the next
+//! cell), two facing shocks meeting in a cell (root of t_1(x) = t_2(x) on their dense
+//! outputs), u_+ reaching the stopping threshold inside a cell, or the maximum of the field
+//! reaching 1 ([`births`]).
+//!
+//! Creep (u_+ < u_c = gamma) is outside the paper's theory (Sec. IV assumes it never
+//! happens). It is never silent: each node reset in creep is flagged in the path and
+//! counted in the event, and [`CreepRule`] decides what happens: `Zero` (default) keeps the
+//! shock running and leaves u_- = 0, the v -> 0 limit of the creep profile (App. B, eq.
+//! real: u -> 0 behind the front); `Stop` ends the shock where u_+ reaches u_c.
+
+pub mod births;
+pub mod catalog;
+pub mod field;
+pub mod shock;
+
+use crate::error::{check_at_least, Error, Result};
+use crate::speed::front_speed;
+use crate::wave::u_minus_from_speed;
+use births::{CellMax, MaxTree};
+use catalog::{FbEvent, PathKind, PathPoint};
+use field::{CellPoly, Field, NONE};
+use shock::{CellField, TrajEnd, TrajPoint, Trajectory};
+
+/// Ends of the domain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Boundary {
+    /// A segment [x_0, x_{n-1}]; shocks leave through the ends.
+    Free,
+    /// A ring of length n h; shocks wrap.
+    Periodic,
+}
+
+impl Boundary {
+    /// Parse "free" or "periodic".
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "free" => Ok(Boundary::Free),
+            "periodic" => Ok(Boundary::Periodic),
+            _ => Err(Error::InvalidParameter {
+                name: "boundary",
+                value: f64::NAN,
+                allowed: "\"free\" or \"periodic\"",
+            }),
+        }
+    }
+}
+
+/// What a shock does when u_+ falls below u_c = gamma (creep, outside the paper's theory).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CreepRule {
+    /// Keep running, leave u_- = 0 behind (v -> 0 limit of the creep profile); the shock
+    /// dies when u_+ reaches 0.
+    Zero,
+    /// End the shock where u_+ reaches u_c.
+    Stop,
+}
+
+impl CreepRule {
+    /// Parse "zero" or "stop".
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "zero" => Ok(CreepRule::Zero),
+            "stop" => Ok(CreepRule::Stop),
+            _ => Err(Error::InvalidParameter {
+                name: "creep",
+                value: f64::NAN,
+                allowed: "\"zero\" or \"stop\"",
+            }),
+        }
+    }
+}
+
+/// Settings of a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Damping gamma, 0 <= gamma < 1.
+    pub gamma: f64,
+    /// Loading rate v >= 0.
+    pub v: f64,
+    /// Ends of the domain.
+    pub boundary: Boundary,
+    /// Creep rule.
+    pub creep: CreepRule,
+    /// Local error per integration step in t, relative to the grid spacing.
+    pub tol: f64,
+    /// Record every node crossing of every shock (else only births and ends).
+    pub record_path: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            gamma: 0.3,
+            v: 1e-3,
+            boundary: Boundary::Free,
+            creep: CreepRule::Zero,
+            tol: 1e-12,
+            record_path: true,
+        }
+    }
+}
+
+/// Why [`FreeBoundary::advance`] returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// The requested time was reached.
+    Time,
+    /// The step budget of this call was used (call again to continue).
+    Steps,
+    /// The requested number of completed events was reached.
+    Events,
+}
+
+#[derive(Debug, Clone)]
+struct ShockState {
+    id: usize,
+    dir: i8,
+    cell: usize,
+    traj: Trajectory,
+    cf: CellField,
+    event: usize,
+    partner: usize,
+    born: bool,
+    stamp: u64,
+    /// Unwrapped position of the left node of the current cell.
+    xl_unw: f64,
+    last_x_unw: f64,
+    last_a: f64,
+}
+
+/// A shock as seen from outside at the current time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShockView {
+    /// Shock id.
+    pub id: usize,
+    /// Event id.
+    pub event: usize,
+    /// Position.
+    pub x: f64,
+    /// Direction.
+    pub dir: i8,
+    /// Stress just ahead.
+    pub u_plus: f64,
+}
+
+/// The free boundary engine.
+#[derive(Debug, Clone)]
+pub struct FreeBoundary {
+    opts: Options,
+    u_stop: f64,
+    field: Field,
+    reset_stamp: Vec<u64>,
+    stamp: u64,
+    shocks: Vec<ShockState>,
+    next_id: usize,
+    now: f64,
+    cellmax: Vec<CellMax>,
+    tree: MaxTree,
+    events: Vec<FbEvent>,
+    open: Option<usize>,
+    path: Vec<PathPoint>,
+    steps: u64,
+}
+
+enum Next {
+    None,
+    Birth,
+    ShockEnd(usize),
+    Collision(usize, usize, f64),
+}
+
+impl FreeBoundary {
+    /// A run on nodes x_k = x0 + k h with initial field u0 (all < 1) and optional initial
+    /// shocks (position, direction +-1).
+    pub fn new(x0: f64, h: f64, u0: &[f64], opts: Options, initial: &[(f64, i8)]) -> Result<Self> {
+        if !(opts.gamma.is_finite() && (0.0..1.0).contains(&opts.gamma)) {
+            return Err(Error::InvalidParameter {
+                name: "gamma",
+                value: opts.gamma,
+                allowed:
+                    "0 <= gamma < 1 (for gamma >= 1 every wave creeps: no free boundary problem)",
+            });
+        }
+        check_at_least("v", opts.v, 0.0, "v >= 0")?;
+        crate::error::check_open("h", h, 0.0, f64::INFINITY, "grid spacing h > 0")?;
+        crate::error::check_open("x0", x0, f64::NEG_INFINITY, f64::INFINITY, "finite x0")?;
+        crate::error::check_open("tol", opts.tol, 0.0, 1e-3, "0 < tol < 1e-3")?;
+        if u0.len() < 5 {
+            return Err(Error::InvalidParameter {
+                name: "n_nodes",
+                value: u0.len() as f64,
+                allowed: "at least 5 grid nodes",
+            });
+        }
+        for &u in u0 {
+            if !(u.is_finite() && u < 1.0) {
+                return Err(Error::InvalidParameter {
+                    name: "u0",
+                    value: u,
+                    allowed: "finite u0 < 1 everywhere (u = 1 starts a slip at t = 0)",
+                });
+            }
+        }
+        let periodic = opts.boundary == Boundary::Periodic;
+        let field = Field::new(x0, h, u0, periodic, opts.v);
+        let u_stop = match opts.creep {
+            CreepRule::Zero => 0.0,
+            CreepRule::Stop => opts.gamma,
+        };
+        let nc = field.n_cells();
+        let mut fb = FreeBoundary {
+            opts,
+            u_stop,
+            reset_stamp: vec![0; field.n],
+            stamp: 0,
+            shocks: Vec::new(),
+            next_id: 0,
+            now: 0.0,
+            cellmax: vec![CellMax::NONE; nc],
+            tree: MaxTree::new(nc),
+            events: Vec::new(),
+            open: None,
+            path: Vec::new(),
+            steps: 0,
+            field,
+        };
+        // initial shocks
+        for &(x, dir) in initial {
+            if dir != 1 && dir != -1 {
+                return Err(Error::InvalidParameter {
+                    name: "shock direction",
+                    value: f64::from(dir),
+                    allowed: "+1 or -1",
+                });
+            }
+            let mut r = (x - x0) / h;
+            if periodic {
+                r = r.rem_euclid(nc as f64);
+            } else if !(x.is_finite() && r > 0.0 && r < nc as f64) {
+                return Err(Error::InvalidParameter {
+                    name: "shock position",
+                    value: x,
+                    allowed: "strictly inside the domain [x_0, x_{n-1}]",
+                });
+            }
+            if !r.is_finite() {
+                return Err(Error::InvalidParameter {
+                    name: "shock position",
+                    value: x,
+                    allowed: "finite",
+                });
+            }
+            let cell = (r.floor() as usize).min(nc - 1);
+            let s = r - cell as f64;
+            let ev = match fb.open {
+                Some(e) => e,
+                None => {
+                    let id = fb.events.len();
+                    fb.events.push(FbEvent::new(id, 0.0, x0 + r * h, f64::NAN));
+                    fb.open = Some(id);
+                    id
+                }
+            };
+            fb.events[ev].n_shocks += 1;
+            let id = fb.next_id;
+            fb.next_id += 1;
+            let mut traj = Trajectory::new();
+            traj.s_start = s;
+            traj.dir = dir;
+            traj.pts.push(TrajPoint {
+                y: 0.0,
+                t: 0.0,
+                f: 0.0,
+            });
+            let xl = fb.field.node_x(cell);
+            fb.shocks.push(ShockState {
+                id,
+                dir,
+                cell,
+                traj,
+                cf: CellField {
+                    poly: CellPoly::through(0, &[0.0]),
+                    h,
+                    v: opts.v,
+                    epoch: 0.0,
+                },
+                event: ev,
+                partner: NONE,
+                born: false,
+                stamp: 0,
+                xl_unw: xl,
+                last_x_unw: xl + s * h,
+                last_a: f64::NAN,
+            });
+        }
+        for i in 0..fb.shocks.len() {
+            let poly = fb.gather_for_shock(i);
+            let (s, dir) = (fb.shocks[i].traj.s_start, fb.shocks[i].dir);
+            fb.start_trajectory(i, poly, s, dir)?;
+            let up = fb.shocks[i].cf.u(s, 0.0);
+            let (um, creep) = fb.u_minus(up);
+            fb.shocks[i].last_a = up - um;
+            let x = fb.field.node_x(fb.shocks[i].cell) + s * h;
+            fb.record(i, x, up, um, PathKind::Initial, creep);
+        }
+        for j in 0..nc {
+            fb.refresh_cell(j);
+        }
+        Ok(fb)
+    }
+
+    // ------------------------------------------------------------------ accessors
+    /// Current time.
+    pub fn time(&self) -> f64 {
+        self.now
+    }
+
+    /// The grid field.
+    pub fn field(&self) -> &Field {
+        &self.field
+    }
+
+    /// u at the nodes at the current time.
+    pub fn u_nodes(&self) -> Vec<f64> {
+        (0..self.field.n)
+            .map(|k| self.field.u_node(k, self.now))
+            .collect()
+    }
+
+    /// The live shocks at the current time.
+    pub fn shocks(&self) -> Vec<ShockView> {
+        (0..self.shocks.len())
+            .map(|i| {
+                let sh = &self.shocks[i];
+                let s = self.shock_s(i);
+                ShockView {
+                    id: sh.id,
+                    event: sh.event,
+                    x: self.field.node_x(sh.cell) + s * self.field.h,
+                    dir: sh.dir,
+                    u_plus: sh.cf.u(s, self.now),
+                }
+            })
+            .collect()
+    }
+
+    /// The event catalog (the last one may still be running: t_end NaN).
+    pub fn events(&self) -> &[FbEvent] {
+        &self.events
+    }
+
+    /// Completed events.
+    pub fn completed_events(&self) -> usize {
+        self.events.len() - usize::from(self.open.is_some())
+    }
+
+    /// Recorded shock path points.
+    pub fn path(&self) -> &[PathPoint] {
+        &self.path
+    }
+
+    /// Engine events processed so far (node crossings, births, collisions, ends).
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Options of the run.
+    pub fn options(&self) -> &Options {
+        &self.opts
+    }
+
+    // ------------------------------------------------------------------ physics
+    /// u_- for a given u_+, and whether the creep rule was applied.
+    fn u_minus(&self, u_plus: f64) -> (f64, bool) {
+        let g = self.opts.gamma;
+        let u = u_plus.min(1.0 - 1e-16);
+        if u > g {
+            if let Ok(c) = front_speed(u) {
+                if let Some(um) = u_minus_from_speed(u, c, g) {
+                    return (um, false);
+                }
+            }
+        }
+        // creep (u_+ <= u_c): both rules leave u_- = 0 where a reset happens at all
+        (0.0, true)
+    }
+
+    // ------------------------------------------------------------------ geometry
+    fn shock_s(&self, i: usize) -> f64 {
+        let tr = &self.shocks[i].traj;
+        tr.s_at(tr.y_at(self.now), self.field.h)
+    }
+
+    fn shock_x(&self, i: usize) -> f64 {
+        self.field.node_x(self.shocks[i].cell) + self.shock_s(i) * self.field.h
+    }
+
+    /// Signed distance from a to b along +x, wrapped to (-L/2, L/2] on a ring.
+    fn rel(&self, a: f64, b: f64) -> f64 {
+        let mut d = b - a;
+        if self.field.periodic {
+            let l = self.field.length();
+            d = (d + 0.5 * l).rem_euclid(l) - 0.5 * l;
+        }
+        d
+    }
+
+    /// The value shock `i` saw (or would see) at node k behind it, if known.
+    fn behind_value(&self, i: usize, k: usize) -> Option<f64> {
+        let sh = &self.shocks[i];
+        let f = &self.field;
+        if f.reset_by[k] == sh.id {
+            return Some(f.prev[k]);
+        }
+        if sh.born {
+            if self.reset_stamp[k] <= sh.stamp {
+                return Some(f.b[k]);
+            }
+            if sh.partner != NONE && f.reset_by[k] == sh.partner {
+                return Some(f.prev[k]);
+            }
+        }
+        None
+    }
+
+    /// The interpolant of the field seen by shock i in its current cell.
+    fn gather_for_shock(&self, i: usize) -> CellPoly {
+        let sh = &self.shocks[i];
+        let h = self.field.h;
+        let j = sh.cell;
+        let dirf = f64::from(sh.dir);
+        let s_now = self.shock_s(i);
+        let xs = self.field.node_x(j) + s_now * h;
+        let others: Vec<(f64, usize)> = (0..self.shocks.len())
+            .filter(|&q| q != i)
+            .map(|q| (dirf * self.rel(xs, self.shock_x(q)), q))
+            .collect();
+        let mut vals = [f64::NAN; 8];
+        let mut ok = [false; 8];
+        for (idx, o) in (-3i64..=4).enumerate() {
+            let Some(k) = self.field.node_at(j, o) else {
+                continue;
+            };
+            let d_node = dirf * (o as f64 - s_now) * h;
+            let v = if d_node > 1e-12 * h {
+                let between: Vec<&(f64, usize)> = others
+                    .iter()
+                    .filter(|(d, _)| *d > 0.0 && *d <= d_node + 1e-12 * h)
+                    .collect();
+                match between.len() {
+                    0 => Some(self.field.b[k]),
+                    1 if self.shocks[between[0].1].dir == -sh.dir => {
+                        self.behind_value(between[0].1, k)
+                    }
+                    _ => None,
+                }
+            } else {
+                self.behind_value(i, k)
+            };
+            if let Some(v) = v {
+                vals[idx] = v;
+                ok[idx] = true;
+            }
+        }
+        let ahead = if sh.dir > 0 { 1 } else { 0 };
+        choose_window(&vals, &ok, &[ahead])
+    }
+
+    /// The interpolant of the current field in cell j on one side of every shock, or
+    /// None when a shock touches the cell.
+    fn gather_for_cell(&self, j: usize, upto: usize) -> Option<CellPoly> {
+        let h = self.field.h;
+        let xj = self.field.node_x(j);
+        let eps = 1e-12;
+        let rs: Vec<f64> = (0..upto)
+            .map(|q| self.rel(xj, self.shock_x(q)) / h)
+            .collect();
+        if rs.iter().any(|&r| r >= -eps && r <= 1.0 + eps) {
+            return None;
+        }
+        let mut vals = [f64::NAN; 8];
+        let mut ok = [false; 8];
+        for (idx, o) in (-3i64..=4).enumerate() {
+            let Some(k) = self.field.node_at(j, o) else {
+                continue;
+            };
+            let of = o as f64;
+            let blocked = if o < 0 {
+                rs.iter().any(|&r| r >= of - eps && r <= eps)
+            } else if o > 1 {
+                rs.iter().any(|&r| r >= 1.0 - eps && r <= of + eps)
+            } else {
+                false
+            };
+            if !blocked {
+                vals[idx] = self.field.b[k];
+                ok[idx] = true;
+            }
+        }
+        Some(choose_window(&vals, &ok, &[0, 1]))
+    }
+
+    fn refresh_cell(&mut self, j: usize) {
+        let cm = match self.gather_for_cell(j, self.shocks.len()) {
+            Some(p) => {
+                let (value, s) = p.max_on_unit();
+                let h = self.field.h;
+                CellMax {
+                    value,
+                    s,
+                    a: -p.deriv2(s) / (2.0 * h * h),
+                }
+            }
+            None => CellMax::NONE,
+        };
+        self.cellmax[j] = cm;
+        self.tree.set(j, cm.value);
+    }
+
+    fn refresh_around(&mut self, k: usize) {
+        let nc = self.field.n_cells() as i64;
+        for o in -5i64..=5 {
+            let j = k as i64 + o;
+            let j = if self.field.periodic {
+                j.rem_euclid(nc)
+            } else if j < 0 || j >= nc {
+                continue;
+            } else {
+                j
+            };
+            self.refresh_cell(j as usize);
+        }
+    }
+
+    fn start_trajectory(&mut self, i: usize, poly: CellPoly, s: f64, dir: i8) -> Result<()> {
+        let cf = CellField {
+            poly,
+            h: self.field.h,
+            v: self.field.v,
+            epoch: self.field.epoch,
+        };
+        let (now, u_stop, tol) = (self.now, self.u_stop, self.opts.tol);
+        let sh = &mut self.shocks[i];
+        sh.cf = cf;
+        shock::integrate(&cf, s, dir, now, u_stop, tol, &mut sh.traj)
+    }
+
+    fn record(&mut self, i: usize, x: f64, u_plus: f64, u_minus: f64, kind: PathKind, creep: bool) {
+        let keep = self.opts.record_path || kind != PathKind::Node;
+        if keep {
+            let sh = &self.shocks[i];
+            let l = self.field.length();
+            let x = if self.field.periodic {
+                self.field.x0 + (x - self.field.x0).rem_euclid(l)
+            } else {
+                x
+            };
+            self.path.push(PathPoint {
+                shock: sh.id,
+                event: sh.event,
+                t: self.now,
+                x,
+                dir: sh.dir,
+                u_plus,
+                u_minus,
+                kind,
+                creep,
+            });
+        }
+    }
+
+    /// Add the slip between the shock's last recorded point and x_unw (slip density a).
+    fn accumulate(&mut self, i: usize, x_unw: f64, a: f64, creep: bool) {
+        let sh = &mut self.shocks[i];
+        let dxl = (x_unw - sh.last_x_unw).abs();
+        let ev = &mut self.events[sh.event];
+        if sh.last_a.is_finite() {
+            ev.moment += 0.5 * (sh.last_a + a) * dxl;
+        }
+        ev.swept += dxl;
+        ev.x_min = ev.x_min.min(x_unw);
+        ev.x_max = ev.x_max.max(x_unw);
+        if creep {
+            ev.n_creep += 1;
+        }
+        sh.last_x_unw = x_unw;
+        sh.last_a = a;
+    }
+
+    fn remove_shock(&mut self, i: usize) {
+        self.shocks.swap_remove(i);
+        if self.shocks.is_empty() {
+            if let Some(e) = self.open.take() {
+                self.events[e].t_end = self.now;
+            }
+        }
+    }
+
+    // ------------------------------------------------------------------ the run
+    /// Advance to `t_stop` at most, processing at most `max_steps` engine events and
+    /// stopping once `max_events` events are complete.
+    pub fn advance(&mut self, t_stop: f64, max_steps: u64, max_events: usize) -> Result<Stop> {
+        if t_stop.is_nan() {
+            return Err(Error::InvalidParameter {
+                name: "t_end",
+                value: t_stop,
+                allowed: "a time >= the current time",
+            });
+        }
+        let mut done = 0u64;
+        loop {
+            if self.completed_events() >= max_events {
+                return Ok(Stop::Events);
+            }
+            if done >= max_steps {
+                return Ok(Stop::Steps);
+            }
+            let (t, next) = self.next_event(t_stop);
+            if let Next::None = next {
+                if t_stop > self.now {
+                    self.now = t_stop;
+                }
+                return Ok(Stop::Time);
+            }
+            self.now = t.max(self.now);
+            match next {
+                Next::Birth => self.birth()?,
+                Next::ShockEnd(i) => self.shock_end(i)?,
+                Next::Collision(a, b, s) => self.collision(a, b, s),
+                Next::None => unreachable!(),
+            }
+            self.steps += 1;
+            done += 1;
+            if self.field.v * (self.now - self.field.epoch) > 1.0 {
+                self.rebase();
+            }
+        }
+    }
+
+    fn rebase(&mut self) {
+        let d = self.field.v * (self.now - self.field.epoch);
+        self.field.rebase(self.now);
+        for j in 0..self.cellmax.len() {
+            if self.cellmax[j].value.is_finite() {
+                self.cellmax[j].value += d;
+                self.tree.set(j, self.cellmax[j].value);
+            }
+        }
+    }
+
+    fn next_event(&self, t_stop: f64) -> (f64, Next) {
+        let mut best_t = t_stop;
+        let mut best = Next::None;
+        if self.field.v > 0.0 {
+            let (m, _) = self.tree.max();
+            if m.is_finite() {
+                let tb = (self.field.epoch + (1.0 - m) / self.field.v).max(self.now);
+                if tb <= best_t {
+                    best_t = tb;
+                    best = Next::Birth;
+                }
+            }
+        }
+        for i in 0..self.shocks.len() {
+            let te = self.shocks[i].traj.t_end();
+            if te < best_t || (te == best_t && matches!(best, Next::None)) {
+                best_t = te;
+                best = Next::ShockEnd(i);
+            }
+        }
+        for a in 0..self.shocks.len() {
+            if self.shocks[a].dir < 0 {
+                continue;
+            }
+            for b in 0..self.shocks.len() {
+                if self.shocks[b].dir > 0 || self.shocks[b].cell != self.shocks[a].cell {
+                    continue;
+                }
+                if let Some((tc, s)) = self.meeting(a, b) {
+                    if tc <= best_t {
+                        best_t = tc;
+                        best = Next::Collision(a, b, s);
+                    }
+                }
+            }
+        }
+        (best_t, best)
+    }
+
+    /// Meeting of right-moving a and left-moving b in the same cell: (time, s).
+    fn meeting(&self, a: usize, b: usize) -> Option<(f64, f64)> {
+        let h = self.field.h;
+        let (ta, tb) = (&self.shocks[a].traj, &self.shocks[b].traj);
+        let sa = self.shock_s(a);
+        let sb = self.shock_s(b);
+        if sa >= sb {
+            return None;
+        }
+        let a_hi = ta.s_start + ta.y_end() / h;
+        let b_lo = tb.s_start - tb.y_end() / h;
+        let lo = sa.max(b_lo);
+        let hi = sb.min(a_hi);
+        if lo > hi {
+            return None;
+        }
+        let f = |s: f64| {
+            ta.t_at(((s - ta.s_start) * h).max(0.0)) - tb.t_at(((tb.s_start - s) * h).max(0.0))
+        };
+        if f(lo) > 0.0 || f(hi) < 0.0 {
+            return None;
+        }
+        let (mut l, mut r) = (lo, hi);
+        for _ in 0..200 {
+            let m = 0.5 * (l + r);
+            if f(m) < 0.0 {
+                l = m;
+            } else {
+                r = m;
+            }
+            if r - l <= 1e-15 {
+                break;
+            }
+        }
+        let s = 0.5 * (l + r);
+        Some((ta.t_at(((s - ta.s_start) * h).max(0.0)), s))
+    }
+
+    fn birth(&mut self) -> Result<()> {
+        let (_, j) = self.tree.max();
+        let cm = self.cellmax[j];
+        let h = self.field.h;
+        let n = self.field.n;
+        let free = !self.field.periodic;
+        let x = self.field.node_x(j) + cm.s * h;
+        // (cell, s, dir) of each new shock; node reset at a node birth
+        let mut starts: Vec<(usize, f64, i8)> = Vec::new();
+        let mut node: Option<usize> = None;
+        let mut curvature = cm.a;
+        if cm.s == 0.0 || cm.s == 1.0 {
+            let k = if cm.s == 0.0 {
+                j
+            } else {
+                self.field.node_at(j, 1).unwrap_or(j)
+            };
+            node = Some(k);
+            if free && k == 0 {
+                starts.push((0, 0.0, 1));
+            } else if free && k == n - 1 {
+                starts.push((n - 2, 1.0, -1));
+            } else {
+                let left = self.field.node_at(k, -1).unwrap_or(0);
+                starts.push((k, 0.0, 1));
+                starts.push((left, 1.0, -1));
+                // curvature at a node: from the two neighbours (second difference)
+                let km = self.field.node_at(k, -1);
+                let kp = self.field.node_at(k, 1);
+                if let (Some(km), Some(kp)) = (km, kp) {
+                    let f = &self.field;
+                    curvature = -(f.b[km] - 2.0 * f.b[k] + f.b[kp]) / (2.0 * h * h);
+                }
+            }
+        } else {
+            starts.push((j, cm.s, 1));
+            starts.push((j, cm.s, -1));
+        }
+        let ev = match self.open {
+            Some(e) => e,
+            None => {
+                let id = self.events.len();
+                self.events.push(FbEvent::new(id, self.now, x, curvature));
+                self.open = Some(id);
+                id
+            }
+        };
+        self.events[ev].n_births += 1;
+        self.events[ev].n_shocks += starts.len();
+        let first = self.shocks.len();
+        let ids: Vec<usize> = (0..starts.len()).map(|q| self.next_id + q).collect();
+        for (q, &(cell, s, dir)) in starts.iter().enumerate() {
+            let mut traj = Trajectory::new();
+            traj.s_start = s;
+            traj.dir = dir;
+            traj.pts.push(TrajPoint {
+                y: 0.0,
+                t: self.now,
+                f: 0.0,
+            });
+            let xl = self.field.node_x(cell);
+            let partner = if ids.len() == 2 { ids[1 - q] } else { NONE };
+            self.shocks.push(ShockState {
+                id: ids[q],
+                dir,
+                cell,
+                traj,
+                cf: CellField {
+                    poly: CellPoly::through(0, &[1.0]),
+                    h,
+                    v: self.field.v,
+                    epoch: self.field.epoch,
+                },
+                event: ev,
+                partner,
+                born: true,
+                stamp: self.stamp,
+                xl_unw: xl,
+                last_x_unw: xl + s * h,
+                last_a: f64::NAN,
+            });
+        }
+        self.next_id += starts.len();
+        // interpolants before any node is reset
+        let polys: Vec<CellPoly> = (0..starts.len())
+            .map(|q| {
+                if node.is_none() {
+                    self.gather_for_cell_ignoring_new(j, first)
+                } else {
+                    self.gather_for_shock(first + q)
+                }
+            })
+            .collect();
+        let u_b = 1.0;
+        let (um_b, _) = self.u_minus(u_b);
+        if let Some(k) = node {
+            let u_plus = self.field.u_node(k, self.now);
+            let (um, _) = self.u_minus(u_plus);
+            let f = &mut self.field;
+            f.prev[k] = f.b[k];
+            f.b[k] = um - f.v * (self.now - f.epoch);
+            f.reset_by[k] = ids[0];
+            self.stamp += 1;
+            self.reset_stamp[k] = self.stamp;
+        }
+        for (q, &(_, s, dir)) in starts.iter().enumerate() {
+            let i = first + q;
+            self.start_trajectory(i, polys[q], s, dir)?;
+            self.shocks[i].last_a = u_b - um_b;
+            let xu = self.shocks[i].last_x_unw;
+            self.accumulate(i, xu, u_b - um_b, false);
+            self.record(i, x, u_b, um_b, PathKind::Birth, false);
+        }
+        self.refresh_around(node.unwrap_or(j));
+        Ok(())
+    }
+
+    /// The birth-cell interpolant, ignoring the shocks just created (index >= first).
+    fn gather_for_cell_ignoring_new(&self, j: usize, first: usize) -> CellPoly {
+        self.gather_for_cell(j, first)
+            .unwrap_or_else(|| CellPoly::through(0, &[self.field.b[j]]))
+    }
+
+    fn shock_end(&mut self, i: usize) -> Result<()> {
+        let h = self.field.h;
+        let end = self.shocks[i].traj.end;
+        let dir = self.shocks[i].dir;
+        let cell = self.shocks[i].cell;
+        if end == TrajEnd::Threshold {
+            let y = self.shocks[i].traj.y_end();
+            let s = self.shocks[i].traj.s_at(y, h);
+            let x = self.field.node_x(cell) + s * h;
+            let xu = self.shocks[i].xl_unw + s * h;
+            let up = self.u_stop;
+            let kind = if self.opts.creep == CreepRule::Stop && self.opts.gamma > 0.0 {
+                PathKind::CreepStop
+            } else {
+                PathKind::Death
+            };
+            let a = if kind == PathKind::CreepStop { up } else { 0.0 };
+            self.accumulate(i, xu, a, false);
+            self.record(i, x, up, f64::NAN, kind, kind == PathKind::CreepStop);
+            let ev = self.shocks[i].event;
+            self.events[ev].n_deaths += 1;
+            self.remove_shock(i);
+            self.refresh_around(cell);
+            return Ok(());
+        }
+        let k = if dir > 0 {
+            self.field.node_at(cell, 1).unwrap_or(cell)
+        } else {
+            cell
+        };
+        let u_plus = self.field.u_node(k, self.now);
+        let x_unw = self.shocks[i].xl_unw + if dir > 0 { h } else { 0.0 };
+        let xk = self.field.node_x(k);
+        if u_plus <= self.u_stop {
+            let kind = if self.opts.creep == CreepRule::Stop && self.opts.gamma > 0.0 {
+                PathKind::CreepStop
+            } else {
+                PathKind::Death
+            };
+            self.accumulate(i, x_unw, 0.0_f64.max(u_plus), false);
+            self.record(i, xk, u_plus, f64::NAN, kind, kind == PathKind::CreepStop);
+            let ev = self.shocks[i].event;
+            self.events[ev].n_deaths += 1;
+            self.remove_shock(i);
+            self.refresh_around(k);
+            return Ok(());
+        }
+        let (um, creep) = self.u_minus(u_plus);
+        {
+            let id = self.shocks[i].id;
+            let f = &mut self.field;
+            f.prev[k] = f.b[k];
+            f.b[k] = um - f.v * (self.now - f.epoch);
+            f.reset_by[k] = id;
+            self.stamp += 1;
+            self.reset_stamp[k] = self.stamp;
+        }
+        self.accumulate(i, x_unw, u_plus - um, creep);
+        let n = self.field.n;
+        let exits = !self.field.periodic && ((dir > 0 && k == n - 1) || (dir < 0 && k == 0));
+        if exits {
+            self.record(i, xk, u_plus, um, PathKind::Exit, creep);
+            let ev = self.shocks[i].event;
+            self.events[ev].n_exits += 1;
+            self.remove_shock(i);
+            self.refresh_around(k);
+            return Ok(());
+        }
+        self.record(i, xk, u_plus, um, PathKind::Node, creep);
+        let (new_cell, s0) = if dir > 0 {
+            (k, 0.0)
+        } else {
+            (self.field.node_at(k, -1).unwrap_or(0), 1.0)
+        };
+        {
+            let sh = &mut self.shocks[i];
+            sh.xl_unw += if dir > 0 { h } else { -h };
+            sh.cell = new_cell;
+            sh.traj.s_start = s0;
+            sh.traj.pts.clear();
+            sh.traj.pts.push(TrajPoint {
+                y: 0.0,
+                t: self.now,
+                f: 0.0,
+            });
+        }
+        let poly = self.gather_for_shock(i);
+        self.start_trajectory(i, poly, s0, dir)?;
+        self.refresh_around(k);
+        Ok(())
+    }
+
+    fn collision(&mut self, a: usize, b: usize, s: f64) {
+        let h = self.field.h;
+        let cell = self.shocks[a].cell;
+        let x = self.field.node_x(cell) + s * h;
+        let up = self.shocks[a].cf.u(s, self.now);
+        let (um, creep) = self.u_minus(up);
+        for &i in &[a, b] {
+            let xu = self.shocks[i].xl_unw + s * h;
+            self.accumulate(i, xu, up - um, creep);
+            self.record(i, x, up, um, PathKind::Annihilation, creep);
+        }
+        let ev = self.shocks[a].event;
+        self.events[ev].n_annihilations += 1;
+        // if the two shocks belong to different events (cannot happen: events are
+        // defined by overlap in time), merge nothing.
+        let (hi, lo) = if a > b { (a, b) } else { (b, a) };
+        self.shocks.swap_remove(hi);
+        self.remove_shock(lo);
+        self.refresh_around(cell);
+    }
+}
+
+/// Pick the most centred window of contiguous valid nodes (offsets -3..=4 at indices
+/// 0..8) that contains the required offsets, with up to four points.
+fn choose_window(vals: &[f64; 8], ok: &[bool; 8], need: &[i64]) -> CellPoly {
+    for m in (1..=4usize).rev() {
+        let mut best: Option<(f64, usize)> = None;
+        for start in 0..=(8 - m) {
+            if !(start..start + m).all(|q| ok[q]) {
+                continue;
+            }
+            let o0 = start as i64 - 3;
+            if !need.iter().all(|&o| o >= o0 && o < o0 + m as i64) {
+                continue;
+            }
+            let centre = o0 as f64 + (m as f64 - 1.0) / 2.0;
+            let score = (centre - 0.5).abs();
+            if best.is_none_or(|(b, _)| score < b) {
+                best = Some((score, start));
+            }
+        }
+        if let Some((_, start)) = best {
+            return CellPoly::through(start as i32 - 3, &vals[start..start + m]);
+        }
+        if m == 1 {
+            break;
+        }
+    }
+    // the required node itself is always valid in practice; fall back to any valid node
+    for (q, &good) in ok.iter().enumerate() {
+        if good {
+            return CellPoly::through(q as i32 - 3, &vals[q..q + 1]);
+        }
+    }
+    CellPoly::through(0, &[0.0])
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,200 @@
+//! The free boundary engine (paper Sec. IV) exposed to Python as `FreeBoundaryEngine`.
+//! The Python class `bkwaves.FreeBoundary` drives it in chunks (progress, Ctrl-C).
+
+use crate::errors::to_py;
+use bkwaves_core::free_boundary::{Boundary, CreepRule, FreeBoundary, Options, Stop};
+use numpy::{IntoPyArray, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+#[pyclass(name = "FreeBoundaryEngine", module = "bkwaves._core")]
+pub struct PyFreeBoundary {
+    inner: FreeBoundary,
+}
+
+#[pymethods]
+impl PyFreeBoundary {
+    #[new]
+    #[pyo3(signature = (x0, h, u0, gamma, v, boundary="free", creep="zero",
+                        shock_x=None, shock_dir=None, tol=1e-12, record_path=true))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        x0: f64,
+        h: f64,
+        u0: PyReadonlyArray1<'_, f64>,
+        gamma: f64,
+        v: f64,
+        boundary: &str,
+        creep: &str,
+        shock_x: Option<PyReadonlyArray1<'_, f64>>,
+        shock_dir: Option<PyReadonlyArray1<'_, i64>>,
+        tol: f64,
+        record_path: bool,
+    ) -> PyResult<Self> {
+        let opts = Options {
+            gamma,
+            v,
+            boundary: Boundary::parse(boundary).map_err(to_py)?,
+            creep: CreepRule::parse(creep).map_err(to_py)?,
+            tol,
+            record_path,
+        };
+        let mut initial = Vec::new();
+        if let (Some(xs), Some(ds)) = (shock_x, shock_dir) {
+            let (xs, ds) = (xs.as_array(), ds.as_array());
+            if xs.len() != ds.len() {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "shock_x and shock_dir must have the same length",
+                ));
+            }
+            for (x, d) in xs.iter().zip(ds.iter()) {
+                let d = i8::try_from(*d).unwrap_or(0);
+                initial.push((*x, d));
+            }
+        }
+        let u0 = u0.as_array().to_vec();
+        let inner = FreeBoundary::new(x0, h, &u0, opts, &initial).map_err(to_py)?;
+        Ok(PyFreeBoundary { inner })
+    }
+
+    /// Advance to t_stop at most, with at most max_steps engine events in this call,
+    /// stopping once max_events events are complete. Returns "time", "steps" or "events".
+    fn advance(
+        &mut self,
+        py: Python<'_>,
+        t_stop: f64,
+        max_steps: u64,
+        max_events: usize,
+    ) -> PyResult<&'static str> {
+        let inner = &mut self.inner;
+        let r = py
+            .detach(|| inner.advance(t_stop, max_steps, max_events))
+            .map_err(to_py)?;
+        Ok(match r {
+            Stop::Time => "time",
+            Stop::Steps => "steps",
+            Stop::Events => "events",
+        })
+    }
+
+    #[getter]
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.inner.steps()
+    }
+
+    #[getter]
+    fn completed_events(&self) -> usize {
+        self.inner.completed_events()
+    }
+
+    #[getter]
+    fn n_shocks(&self) -> usize {
+        self.inner.shocks().len()
+    }
+
+    /// u at the grid nodes at the current time.
+    fn u_nodes<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        self.inner.u_nodes().into_pyarray(py)
+    }
+
+    /// Live shocks at the current time: dict of arrays id, event, x, dir, u_plus.
+    fn shocks<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.inner.shocks();
+        let d = PyDict::new(py);
+        d.set_item(
+            "id",
+            s.iter()
+                .map(|q| q.id as i64)
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )?;
+        d.set_item(
+            "event",
+            s.iter()
+                .map(|q| q.event as i64)
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )?;
+        d.set_item(
+            "x",
+            s.iter().map(|q| q.x).collect::<Vec<_>>().into_pyarray(py),
+        )?;
+        d.set_item(
+            "dir",
+            s.iter()
+                .map(|q| i64::from(q.dir))
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )?;
+        d.set_item(
+            "u_plus",
+            s.iter()
+                .map(|q| q.u_plus)
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )?;
+        Ok(d)
+    }
+
+    /// The event catalog as a dict of arrays.
+    fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let e = self.inner.events();
+        let d = PyDict::new(py);
+        macro_rules! col {
+            ($name:expr, $f:expr) => {
+                d.set_item($name, e.iter().map($f).collect::<Vec<_>>().into_pyarray(py))?;
+            };
+        }
+        col!("id", |q| q.id as i64);
+        col!("t_start", |q| q.t_start);
+        col!("t_end", |q| q.t_end);
+        col!("x_start", |q| q.x_start);
+        col!("curvature", |q| q.curvature);
+        col!("x_min", |q| q.x_min);
+        col!("x_max", |q| q.x_max);
+        col!("moment", |q| q.moment);
+        col!("swept", |q| q.swept);
+        col!("stress_drop", |q| q.stress_drop());
+        col!("n_births", |q| q.n_births as i64);
+        col!("n_shocks", |q| q.n_shocks as i64);
+        col!("n_annihilations", |q| q.n_annihilations as i64);
+        col!("n_exits", |q| q.n_exits as i64);
+        col!("n_deaths", |q| q.n_deaths as i64);
+        col!("n_creep", |q| q.n_creep as i64);
+        Ok(d)
+    }
+
+    /// Recorded shock path points as a dict of arrays (kind as a list of str).
+    fn path<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let p = self.inner.path();
+        let d = PyDict::new(py);
+        macro_rules! col {
+            ($name:expr, $f:expr) => {
+                d.set_item($name, p.iter().map($f).collect::<Vec<_>>().into_pyarray(py))?;
+            };
+        }
+        col!("shock", |q| q.shock as i64);
+        col!("event", |q| q.event as i64);
+        col!("t", |q| q.t);
+        col!("x", |q| q.x);
+        col!("dir", |q| i64::from(q.dir));
+        col!("u_plus", |q| q.u_plus);
+        col!("u_minus", |q| q.u_minus);
+        col!("creep", |q| q.creep);
+        d.set_item(
+            "kind",
+            p.iter().map(|q| q.kind.as_str()).collect::<Vec<_>>(),
+        )?;
+        Ok(d)
+    }
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyFreeBoundary>()?;
+    Ok(())
+}

@@ -1,0 +1,341 @@
+"""The free boundary problem (paper Sec. IV): shocks over a slowly loading field.
+
+For v << 1 and slowly varying u the Burridge-Knopoff chain reduces to moving shocks
+(dx_i/dt = s_i c(u_+), eq. fast, with the exact c(u) = 1/sqrt(1 - u^2)) that reset u from
+u_+ to u_-(u_+) (eqs. slow, um) over a field loading at rate v; pairs are born where u
+reaches 1, facing shocks annihilate. The engine (Rust, ``bkwaves._core``) is event-driven
+with no time step, and independent of the lattice spacing dx: the cost of an event is set
+by the grid of the slow field, not by the number of blocks. See docs/free_boundary.md.
+
+>>> import numpy as np, bkwaves as bk
+>>> p = bk.Params(gamma=0.3, v=1e-2, dx=1e-2)
+>>> x = np.linspace(-10, 10, 201)
+>>> fb = bk.FreeBoundary(p, x, 0.99 - 1e-3 * x**2)
+>>> r = fb.run(max_events=1)
+>>> r.events[["t_start", "x_start", "n_exits"]].round(6).values.tolist()
+[[1.0, 0.0, 2.0]]
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+from . import _validate as V
+from .params import Params
+
+__all__ = ["FreeBoundary", "FreeBoundaryResult", "NoCreepWarning"]
+
+BOUNDARIES = ("free", "periodic")
+CREEP_RULES = ("zero", "stop")
+
+
+class NoCreepWarning(UserWarning):
+    """The initial state violates the no-creep condition |u_x| < v / c(u_c) (eq. nocreep):
+    shocks may reach u_+ < u_c, outside the paper's theory (the creep rule then applies)."""
+
+
+def _version() -> str:
+    return _core.__version__
+
+
+@dataclass
+class FreeBoundaryResult:
+    """What :meth:`FreeBoundary.run` returns (everything since the engine was built).
+
+    events: pandas DataFrame, one row per event (first birth to the disappearance of the
+        last shock): ``id, t_start, t_end, duration, x_start, curvature, x_min, x_max,
+        extent, moment, swept, stress_drop, n_births, n_shocks, n_annihilations, n_exits,
+        n_deaths, n_creep, complete``. ``moment`` = int A dx over the ruptured length
+        (total slip; the chain's ``moment`` times dx), ``stress_drop`` = moment / swept.
+    shocks: pandas DataFrame of shock path points: ``shock, event, t, x, dir, u_plus,
+        u_minus, kind, creep`` (kind: initial, birth, node, annihilation, exit, death,
+        creep_stop; ``creep`` marks resets done with u_+ < u_c under the creep rule).
+    snapshots: xarray Dataset ``u(t, x)`` on the grid, with ``n_shocks(t)``; attrs hold
+        params, units, version, boundary, creep rule.
+    interrupted: True when the run was stopped by Ctrl-C (the result is what was computed).
+    """
+
+    events: object
+    shocks: object
+    snapshots: object
+    interrupted: bool = False
+    steps: int = 0
+    meta: dict = field(default_factory=dict)
+
+
+class FreeBoundary:
+    """The free boundary engine on grid ``x`` (uniform, increasing) with initial field
+    ``u0`` (< 1 everywhere).
+
+    params: :class:`bkwaves.Params` (gamma < 1 and v are used; the model is the dx -> 0
+        continuum, so dx only matters for comparisons with the chain).
+    boundary: ``"free"`` (shocks leave at the ends) or ``"periodic"`` (a ring of length
+        n h, node n coinciding with node 0).
+    shocks: optional initial shocks as ``[(x, direction), ...]`` with direction +1 / -1
+        (e.g. the front of a saw-tooth train).
+    creep: what a shock does where u_+ < u_c = gamma (outside the paper's theory):
+        ``"zero"`` keeps it running and leaves u_- = 0 (the v -> 0 limit of the creep
+        profile), ``"stop"`` ends it at u_+ = u_c. Either way it is recorded.
+    tol: local error per integration step (relative to the grid spacing).
+    record_path: record every node crossing in ``result.shocks`` (else births and ends).
+    """
+
+    def __init__(
+        self,
+        params: Params,
+        x,
+        u0,
+        boundary: str = "free",
+        *,
+        shocks=None,
+        creep: str = "zero",
+        tol: float = 1e-12,
+        record_path: bool = True,
+    ):
+        if not isinstance(params, Params):
+            V._fail("params", params, "a bkwaves.Params instance")
+        if params.gamma >= 1.0:
+            V._fail(
+                "gamma",
+                params.gamma,
+                "0 <= gamma < 1 (for gamma >= 1 every wave creeps: no free boundary problem)",
+            )
+        if boundary not in BOUNDARIES:
+            V._fail("boundary", boundary, " or ".join(repr(b) for b in BOUNDARIES))
+        if creep not in CREEP_RULES:
+            V._fail("creep", creep, " or ".join(repr(b) for b in CREEP_RULES))
+        x = V.array("x", x)
+        if x.ndim != 1 or x.size < 5:
+            V._fail("x", f"array of shape {x.shape}", "a 1-d grid of at least 5 nodes")
+        dxs = np.diff(x)
+        h = (x[-1] - x[0]) / (x.size - 1)
+        if not (h > 0 and np.all(np.abs(dxs - h) <= 1e-9 * h)):
+            V._fail("x", "non-uniform grid", "uniformly spaced, increasing nodes")
+        u0 = V.array("u0", u0, hi=1.0, hi_open=True)
+        if u0.shape != x.shape:
+            V._fail("u0", f"array of shape {u0.shape}", f"the shape of x, {x.shape}")
+        sx, sd = [], []
+        for item in shocks or []:
+            try:
+                xs, d = item
+            except (TypeError, ValueError):
+                V._fail("shocks", item, "pairs (x, direction) with direction +1 or -1")
+            sx.append(V.number("shock x", xs))
+            if d not in (1, -1):
+                V._fail("shock direction", d, "+1 or -1")
+            sd.append(int(d))
+        V.number("tol", tol, lo=0.0, hi=1e-3, lo_open=True, hi_open=True)
+        self.params = params
+        self.x = x
+        self.h = float(h)
+        self.boundary = boundary
+        self.creep = creep
+        self._check_no_creep(u0, np.array(sx, dtype=float))
+        self._engine = _core.FreeBoundaryEngine(
+            float(x[0]),
+            self.h,
+            np.ascontiguousarray(u0),
+            float(params.gamma),
+            float(params.v),
+            boundary,
+            creep,
+            np.array(sx, dtype=float) if sx else None,
+            np.array(sd, dtype=np.int64) if sd else None,
+            float(tol),
+            bool(record_path),
+        )
+        self._snap_t: list[float] = []
+        self._snap_u: list[np.ndarray] = []
+        self._snap_n: list[int] = []
+        self._take_snapshot()
+
+    # ------------------------------------------------------------------ checks
+    def _check_no_creep(self, u0, shock_x):
+        """Warn when |u0_x| >= v / c(u_c) somewhere (eq. nocreep), away from given shocks."""
+        v, g = self.params.v, self.params.gamma
+        if v <= 0 or g <= 0:
+            return
+        bound = v * math.sqrt(1.0 - g * g)  # v / c(u_c), c(u_c) = 1/sqrt(1 - gamma^2)
+        slope = np.abs(np.diff(u0)) / self.h
+        mid = 0.5 * (self.x[:-1] + self.x[1:])
+        if shock_x.size:
+            near = np.min(np.abs(mid[:, None] - shock_x[None, :]), axis=1) < self.h
+            slope = np.where(near, 0.0, slope)
+        # only where u is below u_c can the condition matter; the paper states it globally
+        worst = float(slope.max()) if slope.size else 0.0
+        if worst >= bound:
+            i = int(np.argmax(slope))
+            warnings.warn(
+                f"the initial state violates the no-creep condition |u_x| < v/c(u_c) = "
+                f"{bound:.4g} (eq. nocreep): |u_x| = {worst:.4g} at x = {mid[i]:.4g}; shocks "
+                f"may reach u_+ < u_c = {g} (creep rule {self.creep!r} applies, recorded "
+                f"in the results)",
+                NoCreepWarning,
+                stacklevel=3,
+            )
+
+    # ------------------------------------------------------------------ state
+    @property
+    def time(self) -> float:
+        """Current time of the engine."""
+        return self._engine.time
+
+    def u(self) -> np.ndarray:
+        """u at the grid nodes now."""
+        return self._engine.u_nodes()
+
+    def current_shocks(self):
+        """Live shocks now, as a DataFrame (id, event, x, dir, u_plus)."""
+        import pandas as pd
+
+        return pd.DataFrame(self._engine.shocks())
+
+    def _take_snapshot(self):
+        t = self._engine.time
+        if self._snap_t and self._snap_t[-1] == t:
+            return
+        self._snap_t.append(t)
+        self._snap_u.append(np.asarray(self._engine.u_nodes()))
+        self._snap_n.append(self._engine.n_shocks)
+
+    # ------------------------------------------------------------------ run
+    def run(
+        self,
+        t_end: float | None = None,
+        *,
+        max_events: int | None = None,
+        snapshots=None,
+        progress: bool = False,
+        chunk: int = 20000,
+    ) -> FreeBoundaryResult:
+        """Advance to ``t_end`` or until ``max_events`` more events are complete, whichever
+        comes first. ``snapshots``: an int n (n evenly spaced times up to a finite t_end)
+        or an array of times; the state is always recorded at the start and the end.
+        ``progress`` shows a progress bar. Ctrl-C stops the run and returns what was
+        computed (``result.interrupted``). Calling ``run`` again continues the run."""
+        if t_end is None and max_events is None:
+            V._fail("t_end", None, "a finite end time, or max_events")
+        t0 = self.time
+        t_end = math.inf if t_end is None else V.number("t_end", t_end, lo=t0)
+        target_events = (
+            2**62
+            if max_events is None
+            else self._engine.completed_events + int(V.number("max_events", max_events, lo=1))
+        )
+        if snapshots is None:
+            times = np.array([], dtype=float)
+        elif np.isscalar(snapshots) and float(snapshots).is_integer():
+            n = int(snapshots)
+            if not math.isfinite(t_end):
+                V._fail("snapshots", snapshots, "an array of times when t_end is not given")
+            times = np.linspace(t0, t_end, max(n, 1))
+        else:
+            times = np.sort(V.array("snapshots", snapshots, lo=t0))
+            if math.isfinite(t_end):
+                times = times[times <= t_end]
+        chunk = int(V.number("chunk", chunk, lo=1))
+        interrupted = False
+        bar = _Progress(progress, t0, t_end, max_events)
+        try:
+            for target in [*times.tolist(), t_end]:
+                while True:
+                    status = self._engine.advance(float(target), chunk, target_events)
+                    bar.update(self._engine.time, self._engine.completed_events)
+                    if status != "steps":
+                        break
+                if status == "events":
+                    break
+                if math.isfinite(target):
+                    self._take_snapshot()
+        except KeyboardInterrupt:
+            interrupted = True
+            warnings.warn(
+                f"free boundary run interrupted at t = {self.time:.6g}; returning the "
+                "results computed so far",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+        finally:
+            bar.close()
+        self._take_snapshot()
+        return self.result(interrupted=interrupted)
+
+    # ------------------------------------------------------------------ results
+    def result(self, interrupted: bool = False) -> FreeBoundaryResult:
+        """The results recorded since the engine was built."""
+        import pandas as pd
+        import xarray as xr
+
+        ev = pd.DataFrame(self._engine.events())
+        ev["complete"] = np.isfinite(ev["t_end"]) if len(ev) else np.array([], dtype=bool)
+        ev.insert(3, "duration", ev["t_end"] - ev["t_start"])
+        ev.insert(ev.columns.get_loc("x_max") + 1, "extent", ev["x_max"] - ev["x_min"])
+        sh = pd.DataFrame(self._engine.path())
+        meta = {
+            "engine": "free_boundary",
+            "params": json.dumps(self.params.to_dict(), default=str),
+            "units": "dimensionless (paper eq. dimless)"
+            if self.params.units is None
+            else json.dumps(self.params.units.__dict__),
+            "bkwaves_version": _version(),
+            "boundary": self.boundary,
+            "creep_rule": self.creep,
+            "grid_spacing": self.h,
+        }
+        ds = xr.Dataset(
+            {
+                "u": (("t", "x"), np.array(self._snap_u), {"long_name": "slow field u"}),
+                "n_shocks": (("t",), np.array(self._snap_n), {"long_name": "live shocks"}),
+            },
+            coords={
+                "t": ("t", np.array(self._snap_t), {"long_name": "time", "units": "1"}),
+                "x": ("x", self.x, {"long_name": "position", "units": "1"}),
+            },
+            attrs=meta,
+        )
+        return FreeBoundaryResult(
+            events=ev,
+            shocks=sh,
+            snapshots=ds,
+            interrupted=interrupted,
+            steps=self._engine.steps,
+            meta=meta,
+        )
+
+
+class _Progress:
+    """A rich progress bar over time (or events when the end time is open)."""
+
+    def __init__(self, enabled, t0, t_end, max_events):
+        self.p = None
+        if not enabled:
+            return
+        from rich.progress import Progress
+
+        self.by_time = math.isfinite(t_end)
+        self.t0 = t0
+        total = (t_end - t0) if self.by_time else float(max_events or 1)
+        self.p = Progress(transient=True)
+        self.p.start()
+        self.task = self.p.add_task("free boundary", total=total)
+        self.ev0 = None
+
+    def update(self, t, events):
+        if self.p is None:
+            return
+        if self.by_time:
+            self.p.update(self.task, completed=t - self.t0)
+        else:
+            if self.ev0 is None:
+                self.ev0 = events
+            self.p.update(self.task, completed=events - self.ev0)
+
+    def close(self):
+        if self.p is not None:
+            self.p.stop()

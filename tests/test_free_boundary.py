@@ -1,0 +1,273 @@
+"""The free boundary engine (paper Sec. IV-V, App. C) against theory and known answers."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import bkwaves as bk
+from bkwaves import theory
+
+G, V = 0.3, 1e-2
+
+
+def params(gamma=G, v=V):
+    return bk.Params(gamma=gamma, v=v, dx=1e-3)
+
+
+def quiet(*args, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", bk.NoCreepWarning)
+        return bk.FreeBoundary(*args, **kw)
+
+
+# ----------------------------------------------------------------- wave trains
+@pytest.mark.parametrize("teeth", [1, 2])
+def test_sawtooth_train_keeps_period_L_and_T(teeth):
+    """Eq. (L): a saw-tooth train on a ring stays a train, L = c A / v, T = A / v."""
+    up = 0.7
+    c = bk.front_speed(up)
+    A = theory.amplitude(up, c, G)
+    L = theory.wavelength(up, G, V)
+    T = theory.train_period(up, G, V)
+    assert L == pytest.approx(c * A / V, rel=1e-14)
+    n = 150 * teeth
+    x = np.arange(n) * (teeth * L / n)
+    xf = 0.37 * (x[1] - x[0])
+    u0 = theory.sawtooth(x, 0.0, up, G, V, x0=xf)
+    fronts = [(xf + k * L, 1) for k in range(teeth)]
+    fb = bk.FreeBoundary(params(), x, u0, "periodic", shocks=fronts)
+    r = fb.run(t_end=3.3 * T, snapshots=[1.1 * T, 2.7 * T])
+    s = r.shocks
+    nodes = s[s.kind == "node"]
+    # u_+ stays u_+ and u_- stays u_-(u_+)
+    assert np.allclose(nodes.u_plus, up, atol=1e-9)
+    assert np.allclose(nodes.u_minus, up - A, atol=1e-9)
+    # time period at a node
+    k = x[n // 3]
+    tk = nodes[np.isclose(nodes.x, k)].t.to_numpy()
+    assert len(tk) >= 3
+    per = np.diff(tk)  # one front passes every T = L / c whatever the number of teeth
+    assert np.allclose(per / T, 1.0, rtol=1e-6, atol=0)
+    # spatial period: the snapshots are the saw-tooth translated at speed c
+    for t in (1.1 * T, 2.7 * T):
+        u = r.snapshots.u.sel(t=t).to_numpy()
+        exact = theory.sawtooth(x, t, up, G, V, x0=xf)
+        # nodes within one cell of a front may sit on either side of the jump
+        zf = np.mod(x - xf - c * t, L)
+        far = (zf > 2 * (x[1] - x[0])) & (zf < L - 2 * (x[1] - x[0]))
+        assert np.max(np.abs(u - exact)[far]) < 1e-6 * A
+    assert r.events.n_shocks.sum() == teeth
+
+
+def test_a_single_shock_on_a_ring_selects_the_train_with_L_equal_c_A_over_v():
+    """Beyond a given saw-tooth: from a uniform state one shock on a ring of length L'
+    converges to the train whose u_+ solves c(u_+) A(u_+) / v = L' (eq. L)."""
+    Lp, n = 150.0, 150
+    x = np.arange(n) * Lp / n
+    fb = bk.FreeBoundary(params(), x, np.full(n, 0.5), "periodic", shocks=[(0.1, 1)])
+    r = fb.run(t_end=8000.0)
+    nodes = r.shocks[r.shocks.kind == "node"]
+    us = brentq(
+        lambda u: bk.front_speed(u) * theory.amplitude(u, bk.front_speed(u), G) / V - Lp,
+        G + 1e-6,
+        1 - 1e-9,
+    )
+    late = nodes[nodes.t > 7000]
+    assert np.allclose(late.u_plus, us, rtol=1e-6)
+    tk = late[np.isclose(late.x, x[40])].t.to_numpy()
+    assert np.allclose(np.diff(tk), theory.train_period(us, G, V), rtol=1e-6)
+
+
+# ----------------------------------------------------------------- sources
+def source(a, n=801, X=40.0, x0_frac=0.3, du=1e-3, v=V, gamma=G):
+    x = np.linspace(-X, X, n)
+    h = x[1] - x[0]
+    x0 = x0_frac * h
+    return quiet(params(gamma, v), x, 1 - du - a * (x - x0) ** 2), x0, du / v
+
+
+def test_birth_starts_as_square_root_of_time():
+    """Eq. (b): right after the birth the shocks are at x0 +- sqrt(b t)."""
+    a = 1e-3
+    fb, x0, tb = source(a, n=4001)
+    r = fb.run(max_events=1)
+    ev = r.events.iloc[0]
+    assert ev.t_start == pytest.approx(tb, rel=1e-12)
+    assert ev.x_start == pytest.approx(x0, abs=1e-9)
+    assert ev.curvature == pytest.approx(a, rel=1e-9)
+    b = theory.source_b(a, V)
+    s = r.shocks
+    errs = []
+    for d in (1, -1):
+        p = s[(s.dir == d) & (s.kind == "node")]
+        dist = np.abs(p.x.to_numpy() - x0)
+        tt = p.t.to_numpy() - tb
+        errs.append(np.abs(dist / np.sqrt(b * tt) - 1.0))
+    for e, d in zip(errs, (1, -1), strict=True):
+        p = s[(s.dir == d) & (s.kind == "node")]
+        dist = np.abs(p.x.to_numpy() - x0)
+        # the relative deviation vanishes as the shock leaves x0 (u_+ -> 1, eq. cc exact)
+        assert e[dist < 0.05].max() < 2e-4
+        assert e[(dist > 0.5) & (dist < 1)].max() > e[dist < 0.05].max()
+
+
+def test_curvature_after_passage_is_a_prime_and_follows_the_map():
+    """Eq. (ap) and the map a -> a': the curvature at x0 found at each new birth equals
+    the iterates of the map (eq. ap is exact for the curvature *at* x0: the Taylor
+    expansions of App. C become exact there), with period T (Sec. V)."""
+    a = 1e-4
+    assert a < theory.a_max(V, G)
+    fb, x0, tb = source(a)
+    r = fb.run(max_events=8)
+    e = r.events
+    expect = theory.iterate_map(a, V, G, len(e) - 1)
+    assert np.allclose(e.curvature, expect, rtol=1e-5)
+    assert np.allclose(e.x_start, x0, atol=1e-6)
+    assert np.allclose(np.diff(e.t_start), theory.source_period(V, G), rtol=1e-9)
+
+
+def test_map_approaches_the_a_n_asymptote():
+    """Sec. V: a_n ~ v^2 / (2 n (1 + kappa)) for n >> 1, followed by the engine."""
+    a = 1e-4
+    fb, x0, tb = source(a, n=401)
+    r = fb.run(max_events=41)
+    e = r.events
+    n = np.arange(len(e))
+    ratio = e.curvature.to_numpy()[1:] / theory.a_n_asymptote(n[1:], V, G)
+    # the ratio tends to 1 (slowly: corrections ~ log n / n)
+    assert abs(ratio[-1] - 1) < 0.1
+    assert abs(ratio[-1] - 1) < abs(ratio[4] - 1) < abs(ratio[0] - 1)
+
+
+def test_above_a_max_the_maximum_at_x0_is_lost():
+    """Eq. (amax): for a > a_max the field after the shocks has a minimum at x0 (a' < 0),
+    and the next births are elsewhere."""
+    a = 4 * theory.a_max(V, G)
+    ap = theory.a_prime(a, V, G)
+    assert ap < 0
+    fb, x0, tb = source(a)
+    fb.run(max_events=1)
+    near = np.abs(fb.x - x0) < 0.5
+    curv = -np.polyfit(fb.x[near] - x0, fb.u()[near], 2)[0]
+    assert curv == pytest.approx(ap, rel=1e-3)
+    r = fb.run(max_events=1)
+    later = r.shocks[(r.shocks.event == 1) & (r.shocks.kind == "birth")]
+    assert len(later) >= 2
+    assert np.all(np.abs(later.x - x0) > 1.0)
+
+
+# ----------------------------------------------------------------- single shocks
+def _int_sqrt(w0, w1):
+    F = lambda w: 0.5 * (w * np.sqrt(1 - w * w) + np.arcsin(w))  # noqa: E731
+    return F(w1) - F(w0)
+
+
+def test_shock_dies_where_u_plus_reaches_zero():
+    """v = 0, gamma = 0: a shock into u = 0.5 - 0.1 x dies at x = 5 at
+    t = int sqrt(1 - u^2) dx = 10 int_0^0.5 sqrt(1 - w^2) dw."""
+    x = np.linspace(0, 10, 101)
+    fb = bk.FreeBoundary(params(0.0, 0.0), x, 0.5 - 0.1 * x, shocks=[(1e-9, 1)])
+    r = fb.run(t_end=100.0)
+    end = r.shocks[r.shocks.kind == "death"].iloc[0]
+    assert end.x == pytest.approx(5.0, abs=1e-9)
+    # (the shock starts at x = 1e-9, where u = 0.5 - 1e-10)
+    assert end.t == pytest.approx(10 * _int_sqrt(0.0, 0.5 - 1e-10), rel=1e-12)
+    # total slip: int_0^5 A dx with A = 2 u (gamma = 0: u_- = -u_+) = 2 * 0.5 * 5 / 2
+    assert r.events.moment.iloc[0] == pytest.approx(2.5, rel=1e-6)
+
+
+@pytest.mark.parametrize("rule", ["zero", "stop"])
+def test_creep_is_recorded_and_follows_the_rule(rule):
+    """u_+ < u_c = gamma: outside the paper's theory, handled by a documented rule."""
+    x = np.linspace(0, 10, 101)
+    with pytest.warns(bk.NoCreepWarning):
+        fb = bk.FreeBoundary(params(0.3, 1e-4), x, 0.5 - 0.1 * x, shocks=[(1e-9, 1)], creep=rule)
+    r = fb.run(t_end=100.0)
+    s = r.shocks
+    ev = r.events.iloc[0]
+    if rule == "stop":
+        end = s[s.kind == "creep_stop"].iloc[0]
+        assert end.u_plus == 0.3
+        # u_+ = 0.5 - 0.1 x + v t = 0.3 with v t ~ 2e-4: x = 2 + 10 v t
+        assert end.x == pytest.approx(2.0 + 10 * 1e-4 * end.t, abs=1e-9)
+        assert ev.n_creep == 0
+    else:
+        crept = s[s.creep & (s.kind == "node")]
+        assert len(crept) > 0 and np.all(crept.u_minus == 0.0)
+        assert np.all(crept.u_plus <= 0.3)
+        assert ev.n_creep == len(crept)
+        assert s[s.kind == "death"].x.iloc[0] == pytest.approx(5.0, abs=1e-2)
+
+
+def test_free_ends_and_annihilation():
+    """Two sources: the inner shocks annihilate midway, the outer ones leave."""
+    x = np.linspace(-20, 20, 401)
+    u0 = 0.9 - 2e-3 * (np.abs(x) - 10.0) ** 2
+    r = quiet(params(0.2), x, u0).run(max_events=1)
+    ev = r.events.iloc[0]
+    assert (ev.n_births, ev.n_annihilations, ev.n_exits) == (2, 1, 2)
+    ann = r.shocks[r.shocks.kind == "annihilation"]
+    assert np.allclose(ann.x, 0.0, atol=1e-9)
+    assert ev.extent == pytest.approx(40.0)
+    assert ev.swept == pytest.approx(40.0)
+
+
+# ----------------------------------------------------------------- API
+def test_validation_errors_name_the_parameter():
+    x = np.linspace(0, 1, 11)
+    u = np.full(11, 0.5)
+    p = params()
+    cases = [
+        (lambda: bk.FreeBoundary(p, x, u, "fixed"), "boundary"),
+        (lambda: bk.FreeBoundary(p, x, u, creep="x"), "creep"),
+        (lambda: bk.FreeBoundary(params(1.2), x, u), "gamma"),
+        (lambda: bk.FreeBoundary(p, x[:4], u[:4]), "x"),
+        (lambda: bk.FreeBoundary(p, x**2, u), "x"),
+        (lambda: bk.FreeBoundary(p, x, np.full(11, 1.0)), "u0"),
+        (lambda: bk.FreeBoundary(p, x, u[:5]), "u0"),
+        (lambda: bk.FreeBoundary(p, x, u, shocks=[(0.5, 2)]), "direction"),
+        (lambda: bk.FreeBoundary(p, x, u, shocks=[(5.0, 1)]), "shock position"),
+        (lambda: bk.FreeBoundary("p", x, u), "params"),
+        (lambda: bk.FreeBoundary(p, x, u).run(), "t_end"),
+    ]
+    for f, name in cases:
+        with pytest.raises(bk.ParameterError, match=name):
+            f()
+
+
+def test_no_creep_warning():
+    x = np.linspace(0, 10, 101)
+    with pytest.warns(bk.NoCreepWarning, match="nocreep"):
+        bk.FreeBoundary(params(), x, 0.5 - 0.05 * x)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        bk.FreeBoundary(params(), x, 0.5 - 0.005 * x)
+
+
+def test_run_continues_snapshots_and_ctrl_c(monkeypatch):
+    fb, x0, tb = source(1e-4, n=201)
+    r1 = fb.run(t_end=50.0, snapshots=5)
+    assert list(r1.snapshots.t.values) == pytest.approx(np.linspace(0, 50, 5))
+    assert r1.snapshots.attrs["engine"] == "free_boundary"
+    assert "gamma" in r1.snapshots.attrs["params"]
+    r2 = fb.run(t_end=300.0)
+    assert fb.time == 300.0 and r2.snapshots.t.values[-1] == 300.0
+    assert len(r2.events) >= 2 and bool(r2.events.complete.iloc[0])
+
+    engine = fb._engine
+
+    class Boom:
+        def __getattr__(self, k):
+            return getattr(engine, k)
+
+        def advance(self, *a):
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(fb, "_engine", Boom())
+    with pytest.warns(RuntimeWarning, match="interrupted"):
+        r3 = fb.run(t_end=1000.0, progress=True)
+    assert r3.interrupted and len(r3.events) == len(r2.events)
