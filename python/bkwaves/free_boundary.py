@@ -9,7 +9,7 @@ by the grid of the slow field, not by the number of blocks. See docs/free_bounda
 
 >>> import numpy as np, bkwaves as bk
 >>> p = bk.Params(gamma=0.3, v=1e-2, dx=1e-2)
->>> x = np.linspace(-10, 10, 201)
+>>> x = np.linspace(-4, 4, 81)
 >>> fb = bk.FreeBoundary(p, x, 0.99 - 1e-3 * x**2)
 >>> r = fb.run(max_events=1)
 >>> r.events[["t_start", "x_start", "n_exits"]].round(6).values.tolist()
