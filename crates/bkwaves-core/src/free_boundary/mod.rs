@@ -143,6 +143,8 @@ struct ShockState {
     xl_unw: f64,
     last_x_unw: f64,
     last_a: f64,
+    /// Cell coordinate at the engine's current time (updated once per engine event).
+    s_now: f64,
 }
 
 /// A shock as seen from outside at the current time.
@@ -308,6 +310,7 @@ impl FreeBoundary {
                 xl_unw: xl,
                 last_x_unw: xl + s * h,
                 last_a: f64::NAN,
+                s_now: s,
             });
         }
         for i in 0..fb.shocks.len() {
@@ -349,7 +352,7 @@ impl FreeBoundary {
         (0..self.shocks.len())
             .map(|i| {
                 let sh = &self.shocks[i];
-                let s = self.shock_s(i);
+                let s = self.traj_s(i);
                 ShockView {
                     id: sh.id,
                     event: sh.event,
@@ -403,9 +406,21 @@ impl FreeBoundary {
     }
 
     // ------------------------------------------------------------------ geometry
-    fn shock_s(&self, i: usize) -> f64 {
+    /// Cell coordinate of shock i now, from its trajectory.
+    fn traj_s(&self, i: usize) -> f64 {
         let tr = &self.shocks[i].traj;
         tr.s_at(tr.y_at(self.now), self.field.h)
+    }
+
+    /// Cell coordinate of shock i now (cached once per engine event).
+    fn shock_s(&self, i: usize) -> f64 {
+        self.shocks[i].s_now
+    }
+
+    fn update_positions(&mut self) {
+        for i in 0..self.shocks.len() {
+            self.shocks[i].s_now = self.traj_s(i);
+        }
     }
 
     fn shock_x(&self, i: usize) -> f64 {
@@ -536,7 +551,8 @@ impl FreeBoundary {
 
     fn refresh_around(&mut self, k: usize) {
         let nc = self.field.n_cells() as i64;
-        for o in -5i64..=5 {
+        // cells whose stencil (offsets -3..=4) contains node k
+        for o in -4i64..=3 {
             let j = k as i64 + o;
             let j = if self.field.periodic {
                 j.rem_euclid(nc)
@@ -632,6 +648,7 @@ impl FreeBoundary {
             if done >= max_steps {
                 return Ok(Stop::Steps);
             }
+            self.update_positions();
             let (t, next) = self.next_event(t_stop);
             if let Next::None = next {
                 if t_stop > self.now {
@@ -640,6 +657,7 @@ impl FreeBoundary {
                 return Ok(Stop::Time);
             }
             self.now = t.max(self.now);
+            self.update_positions();
             match next {
                 Next::Birth => self.birth()?,
                 Next::ShockEnd(i) => self.shock_end(i)?,
@@ -822,6 +840,7 @@ impl FreeBoundary {
                 xl_unw: xl,
                 last_x_unw: xl + s * h,
                 last_a: f64::NAN,
+                s_now: s,
             });
         }
         self.next_id += starts.len();
@@ -943,6 +962,7 @@ impl FreeBoundary {
             let sh = &mut self.shocks[i];
             sh.xl_unw += if dir > 0 { h } else { -h };
             sh.cell = new_cell;
+            sh.s_now = s0;
             sh.traj.s_start = s0;
             sh.traj.pts.clear();
             sh.traj.pts.push(TrajPoint {

@@ -281,6 +281,20 @@ pub fn hermite(p0: &TrajPoint, p1: &TrajPoint, y: f64) -> f64 {
         + (th3 - th2) * d * p1.f
 }
 
+/// dt/dy of the cubic Hermite interpolant.
+#[inline]
+fn hermite_slope(p0: &TrajPoint, p1: &TrajPoint, y: f64) -> f64 {
+    let d = p1.y - p0.y;
+    if d <= 0.0 {
+        return p0.f;
+    }
+    let th = (y - p0.y) / d;
+    let th2 = th * th;
+    ((6.0 * th2 - 6.0 * th) * p0.t + (-6.0 * th2 + 6.0 * th) * p1.t) / d
+        + (3.0 * th2 - 4.0 * th + 1.0) * p0.f
+        + (3.0 * th2 - 2.0 * th) * p1.f
+}
+
 impl Trajectory {
     /// An empty trajectory.
     pub fn new() -> Self {
@@ -326,19 +340,34 @@ impl Trajectory {
             return pts[pts.len() - 1].y;
         }
         let (p0, p1) = (&pts[i - 1], &pts[i]);
+        // Safeguarded Newton on the Hermite cubic (monotone in practice), from the
+        // linear guess; bisection steps keep it inside the bracket.
         let (mut lo, mut hi) = (p0.y, p1.y);
+        let mut y = if p1.t > p0.t {
+            p0.y + (p1.y - p0.y) * (t - p0.t) / (p1.t - p0.t)
+        } else {
+            0.5 * (lo + hi)
+        };
+        let tol = 1e-15 * (1.0 + hi.abs());
         for _ in 0..100 {
-            let mid = 0.5 * (lo + hi);
-            if hermite(p0, p1, mid) < t {
-                lo = mid;
+            let g = hermite(p0, p1, y) - t;
+            if g < 0.0 {
+                lo = y;
             } else {
-                hi = mid;
+                hi = y;
             }
-            if hi - lo <= 1e-15 * (1.0 + hi.abs()) {
+            let d = hermite_slope(p0, p1, y);
+            let mut next = if d > 0.0 { y - g / d } else { f64::NAN };
+            if !(next > lo && next < hi) {
+                next = 0.5 * (lo + hi);
+            }
+            let done = (next - y).abs() <= tol || hi - lo <= tol;
+            y = next;
+            if done {
                 break;
             }
         }
-        0.5 * (lo + hi)
+        y
     }
 
     /// Cell coordinate s at distance y.
