@@ -160,6 +160,32 @@ def test_above_a_max_the_maximum_at_x0_is_lost():
     assert np.all(np.abs(later.x - x0) > 1.0)
 
 
+def test_birth_on_a_grid_node_follows_the_same_map():
+    """A maximum exactly on a node (a kink-free maximum seen from two cells)."""
+    a = 1e-4
+    fb, x0, tb = source(a, x0_frac=0.0)
+    e = fb.run(max_events=4).events
+    assert np.allclose(e.x_start, 0.0, atol=1e-9)
+    assert np.allclose(e.curvature, theory.iterate_map(a, V, G, 3), rtol=1e-4)
+
+
+def test_birth_at_a_free_end_starts_one_shock_as_t_to_the_two_thirds():
+    """u reaching 1 at a free end with slope s: one shock runs inward; from
+    dy/dt = 1/sqrt(2 (s y - v t)) (eq. cc) its distance is y = (9 t^2 / (8 s))^(1/3)
+    as t -> 0 (the analogue of eq. b at a sloped end; not in the paper)."""
+    slope = 5e-3
+    x = np.linspace(0, 20, 401)
+    r = quiet(params(), x, 0.99 - slope * (20 - x)).run(max_events=1)
+    ev = r.events.iloc[0]
+    assert ev.x_start == pytest.approx(20.0) and (ev.n_shocks, ev.n_exits) == (1, 1)
+    s = r.shocks[r.shocks.kind == "node"]
+    y = 20 - s.x.to_numpy()
+    t = s.t.to_numpy() - ev.t_start
+    dev = np.abs(y / (9 * t**2 / (8 * slope)) ** (1 / 3) - 1)
+    assert dev[0] < 1e-2
+    assert np.all(np.diff(dev[:40]) > 0)  # vanishes as y -> 0 (like sqrt(y))
+
+
 # ----------------------------------------------------------------- single shocks
 def _int_sqrt(w0, w1):
     F = lambda w: 0.5 * (w * np.sqrt(1 - w * w) + np.arcsin(w))  # noqa: E731
