@@ -297,3 +297,27 @@ def test_run_continues_snapshots_and_ctrl_c(monkeypatch):
     with pytest.warns(RuntimeWarning, match="interrupted"):
         r3 = fb.run(t_end=1000.0, progress=True)
     assert r3.interrupted and len(r3.events) == len(r2.events)
+
+
+@pytest.mark.parametrize("boundary", ["free", "periodic"])
+@pytest.mark.parametrize("gamma", [0.0, 0.3])
+def test_random_fields_keep_the_books(boundary, gamma):
+    """Many births, collisions of crowded shocks (gamma = 0 synchronises the chain, so
+    pairs are born everywhere at once): every shock created is accounted for, no shock
+    dies on a node another shock just reset, u_+ never exceeds 1."""
+    rng = np.random.default_rng(3)
+    x = np.linspace(0, 200.0, 1001)[: (1000 if boundary == "periodic" else 1001)]
+    k = np.arange(1, 20)
+    ph = rng.uniform(0, 2 * np.pi, k.size)
+    u0 = 0.5 + sum(
+        0.05 / kk * np.sin(2 * np.pi * kk * x / 200.0 + p) for kk, p in zip(k, ph, strict=True)
+    )
+    r = quiet(params(gamma, 1e-2), x, np.minimum(u0, 0.99), boundary).run(max_events=20)
+    e = r.events[r.events.complete]
+    assert len(e) == 20
+    assert (e.n_shocks == 2 * e.n_annihilations + e.n_exits + e.n_deaths).all()
+    s = r.shocks
+    assert (s[s.kind == "death"].u_plus >= -1e-12).all()
+    assert s.u_plus.max() <= 1 + 1e-4
+    assert (s[s.kind == "node"].u_plus > 0).all()
+    assert e.n_births.sum() > 40

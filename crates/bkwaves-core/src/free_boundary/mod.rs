@@ -35,7 +35,7 @@ use crate::speed::front_speed;
 use crate::wave::u_minus_from_speed;
 use births::{CellMax, MaxTree};
 use catalog::{FbEvent, PathKind, PathPoint};
-use field::{CellPoly, Field, NONE};
+use field::{CellPoly, Field};
 use shock::{CellField, TrajEnd, TrajPoint, Trajectory};
 
 /// Ends of the domain.
@@ -136,7 +136,6 @@ struct ShockState {
     traj: Trajectory,
     cf: CellField,
     event: usize,
-    partner: usize,
     born: bool,
     stamp: u64,
     /// Unwrapped position of the left node of the current cell.
@@ -169,6 +168,8 @@ pub struct FreeBoundary {
     u_stop: f64,
     field: Field,
     reset_stamp: Vec<u64>,
+    /// reset_stamp before the last reset (when `prev` was written).
+    prev_stamp: Vec<u64>,
     stamp: u64,
     shocks: Vec<ShockState>,
     next_id: usize,
@@ -231,6 +232,7 @@ impl FreeBoundary {
             opts,
             u_stop,
             reset_stamp: vec![0; field.n],
+            prev_stamp: vec![0; field.n],
             stamp: 0,
             shocks: Vec::new(),
             next_id: 0,
@@ -304,7 +306,6 @@ impl FreeBoundary {
                     epoch: 0.0,
                 },
                 event: ev,
-                partner: NONE,
                 born: false,
                 stamp: 0,
                 xl_unw: xl,
@@ -445,10 +446,13 @@ impl FreeBoundary {
             return Some(f.prev[k]);
         }
         if sh.born {
+            // untouched since the birth: the field the pair was born in
             if self.reset_stamp[k] <= sh.stamp {
                 return Some(f.b[k]);
             }
-            if sh.partner != NONE && f.reset_by[k] == sh.partner {
+            // reset once since the birth (by the partner, or by a shock that met it):
+            // the value before that reset is still the field of the birth
+            if self.prev_stamp[k] <= sh.stamp {
                 return Some(f.prev[k]);
             }
         }
@@ -475,16 +479,17 @@ impl FreeBoundary {
             };
             let d_node = dirf * (o as f64 - s_now) * h;
             let v = if d_node > 1e-12 * h {
-                let between: Vec<&(f64, usize)> = others
+                // the nearest shock between S and the node, if any
+                let nearest = others
                     .iter()
                     .filter(|(d, _)| *d > 0.0 && *d <= d_node + 1e-12 * h)
-                    .collect();
-                match between.len() {
-                    0 => Some(self.field.b[k]),
-                    1 if self.shocks[between[0].1].dir == -sh.dir => {
-                        self.behind_value(between[0].1, k)
-                    }
-                    _ => None,
+                    .min_by(|p, q| p.0.total_cmp(&q.0));
+                match nearest {
+                    None => Some(self.field.b[k]),
+                    // a facing shock: beyond it, the field it saw continues the field S
+                    // sees (they meet first); its partner and stamps are checked there
+                    Some(&(_, q)) if self.shocks[q].dir == -sh.dir => self.behind_value(q, k),
+                    Some(_) => None,
                 }
             } else {
                 self.behind_value(i, k)
@@ -495,7 +500,17 @@ impl FreeBoundary {
             }
         }
         let ahead = if sh.dir > 0 { 1 } else { 0 };
+        // If the node ahead is not known (several shocks crowd the cell), extrapolate the
+        // field the shock saw from behind it.
+        let behind = 1 - ahead;
         choose_window(&vals, &ok, &[ahead])
+            .or_else(|| choose_window(&vals, &ok, &[behind]))
+            .unwrap_or_else(|| {
+                CellPoly::through(
+                    0,
+                    &[self.field.b[self.field.node_at(j, ahead).unwrap_or(j)]],
+                )
+            })
     }
 
     /// The interpolant of the current field in cell j on one side of every shock, or
@@ -529,7 +544,17 @@ impl FreeBoundary {
                 ok[idx] = true;
             }
         }
-        Some(choose_window(&vals, &ok, &[0, 1]))
+        choose_window(&vals, &ok, &[0, 1])
+    }
+
+    /// Does a shock lie in the closed span of cell c?
+    fn cell_touches_shock(&self, c: usize) -> bool {
+        let h = self.field.h;
+        let xc = self.field.node_x(c);
+        (0..self.shocks.len()).any(|q| {
+            let r = self.rel(xc, self.shock_x(q)) / h;
+            (-1e-12..=1.0 + 1e-12).contains(&r)
+        })
     }
 
     fn refresh_cell(&mut self, j: usize) {
@@ -537,10 +562,28 @@ impl FreeBoundary {
             Some(p) => {
                 let (value, s) = p.max_on_unit();
                 let h = self.field.h;
-                CellMax {
-                    value,
-                    s,
-                    a: -p.deriv2(s) / (2.0 * h * h),
+                // A maximum at a node next to a cell a shock is crossing is the edge of the
+                // field ahead of that shock, which sweeps it: not a birth.
+                let across = if s == 0.0 {
+                    self.field
+                        .node_at(j, -1)
+                        .filter(|_| self.field.periodic || j > 0)
+                } else if s == 1.0 {
+                    self.field
+                        .node_at(j, 1)
+                        .filter(|&k| k < self.field.n_cells() || self.field.periodic)
+                } else {
+                    None
+                };
+                let blocked = across.is_some_and(|c| self.cell_touches_shock(c));
+                if blocked {
+                    CellMax::NONE
+                } else {
+                    CellMax {
+                        value,
+                        s,
+                        a: -p.deriv2(s) / (2.0 * h * h),
+                    }
                 }
             }
             None => CellMax::NONE,
@@ -696,27 +739,57 @@ impl FreeBoundary {
                 }
             }
         }
-        for i in 0..self.shocks.len() {
-            let te = self.shocks[i].traj.t_end();
-            if te < best_t || (te == best_t && matches!(best, Next::None)) {
-                best_t = te;
-                best = Next::ShockEnd(i);
-            }
-        }
+        // Facing shocks in one cell that meet do so before either reaches its far node
+        // (the meeting point lies between them), so their own ends are not candidates;
+        // where u_+ >= 1 the paths are flat in t and the times agree only to rounding.
+        let mut paired = vec![false; self.shocks.len()];
         for a in 0..self.shocks.len() {
             if self.shocks[a].dir < 0 {
                 continue;
             }
+            // the nearest shock ahead of a in its cell (a left-mover wins a tie: the
+            // left shock of a pair born at one point is the one facing a)
+            let (ca, sa) = (self.shocks[a].cell, self.shocks[a].s_now);
+            let mut near: Option<(f64, usize)> = None;
             for b in 0..self.shocks.len() {
-                if self.shocks[b].dir > 0 || self.shocks[b].cell != self.shocks[a].cell {
+                let sb = self.shocks[b].s_now;
+                if b == a || self.shocks[b].cell != ca || sb <= sa {
                     continue;
                 }
-                if let Some((tc, s)) = self.meeting(a, b) {
-                    if tc <= best_t {
-                        best_t = tc;
-                        best = Next::Collision(a, b, s);
+                let better = match near {
+                    None => true,
+                    Some((s0, b0)) => {
+                        sb < s0 || (sb == s0 && self.shocks[b].dir < 0 && self.shocks[b0].dir > 0)
                     }
+                };
+                if better {
+                    near = Some((sb, b));
                 }
+            }
+            let Some((_, b)) = near else { continue };
+            if self.shocks[b].dir > 0 {
+                continue;
+            }
+            if let Some((tc, s)) = self.meeting(a, b) {
+                paired[a] = true;
+                paired[b] = true;
+                let tc = tc
+                    .min(self.shocks[a].traj.t_end())
+                    .min(self.shocks[b].traj.t_end());
+                if tc <= best_t {
+                    best_t = tc;
+                    best = Next::Collision(a, b, s);
+                }
+            }
+        }
+        for i in 0..self.shocks.len() {
+            if paired[i] {
+                continue;
+            }
+            let te = self.shocks[i].traj.t_end();
+            if te < best_t || (te == best_t && matches!(best, Next::None)) {
+                best_t = te;
+                best = Next::ShockEnd(i);
             }
         }
         (best_t, best)
@@ -821,7 +894,6 @@ impl FreeBoundary {
                 f: 0.0,
             });
             let xl = self.field.node_x(cell);
-            let partner = if ids.len() == 2 { ids[1 - q] } else { NONE };
             self.shocks.push(ShockState {
                 id: ids[q],
                 dir,
@@ -834,7 +906,6 @@ impl FreeBoundary {
                     epoch: self.field.epoch,
                 },
                 event: ev,
-                partner,
                 born: true,
                 stamp: self.stamp,
                 xl_unw: xl,
@@ -864,6 +935,7 @@ impl FreeBoundary {
             f.b[k] = um - f.v * (self.now - f.epoch);
             f.reset_by[k] = ids[0];
             self.stamp += 1;
+            self.prev_stamp[k] = self.reset_stamp[k];
             self.reset_stamp[k] = self.stamp;
         }
         for (q, &(_, s, dir)) in starts.iter().enumerate() {
@@ -939,6 +1011,7 @@ impl FreeBoundary {
             f.b[k] = um - f.v * (self.now - f.epoch);
             f.reset_by[k] = id;
             self.stamp += 1;
+            self.prev_stamp[k] = self.reset_stamp[k];
             self.reset_stamp[k] = self.stamp;
         }
         self.accumulate(i, x_unw, u_plus - um, creep);
@@ -981,8 +1054,16 @@ impl FreeBoundary {
         let h = self.field.h;
         let cell = self.shocks[a].cell;
         let x = self.field.node_x(cell) + s * h;
-        let up = self.shocks[a].cf.u(s, self.now);
-        let (um, creep) = self.u_minus(up);
+        // u_+ at the meeting point from both interpolants (they may differ where the cell
+        // is crowded with shocks); u <= 1 wherever blocks are stuck
+        let up =
+            (0.5 * (self.shocks[a].cf.u(s, self.now) + self.shocks[b].cf.u(s, self.now))).min(1.0);
+        // (u_+ <= 0 can only be a rounding-level overshoot of a death threshold here)
+        let (um, creep) = if up > 0.0 {
+            self.u_minus(up)
+        } else {
+            (up, false)
+        };
         for &i in &[a, b] {
             let xu = self.shocks[i].xl_unw + s * h;
             self.accumulate(i, xu, up - um, creep);
@@ -1001,7 +1082,7 @@ impl FreeBoundary {
 
 /// Pick the most centred window of contiguous valid nodes (offsets -3..=4 at indices
 /// 0..8) that contains the required offsets, with up to four points.
-fn choose_window(vals: &[f64; 8], ok: &[bool; 8], need: &[i64]) -> CellPoly {
+fn choose_window(vals: &[f64; 8], ok: &[bool; 8], need: &[i64]) -> Option<CellPoly> {
     for m in (1..=4usize).rev() {
         let mut best: Option<(f64, usize)> = None;
         for start in 0..=(8 - m) {
@@ -1019,19 +1100,10 @@ fn choose_window(vals: &[f64; 8], ok: &[bool; 8], need: &[i64]) -> CellPoly {
             }
         }
         if let Some((_, start)) = best {
-            return CellPoly::through(start as i32 - 3, &vals[start..start + m]);
-        }
-        if m == 1 {
-            break;
+            return Some(CellPoly::through(start as i32 - 3, &vals[start..start + m]));
         }
     }
-    // the required node itself is always valid in practice; fall back to any valid node
-    for (q, &good) in ok.iter().enumerate() {
-        if good {
-            return CellPoly::through(q as i32 - 3, &vals[q..q + 1]);
-        }
-    }
-    CellPoly::through(0, &[0.0])
+    None
 }
 
 #[cfg(test)]
