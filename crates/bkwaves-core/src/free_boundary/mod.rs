@@ -684,6 +684,8 @@ impl FreeBoundary {
             });
         }
         let mut done = 0u64;
+        // positions are kept current after every engine event below
+        self.update_positions();
         loop {
             if self.completed_events() >= max_events {
                 return Ok(Stop::Events);
@@ -691,7 +693,6 @@ impl FreeBoundary {
             if done >= max_steps {
                 return Ok(Stop::Steps);
             }
-            self.update_positions();
             let (t, next) = self.next_event(t_stop);
             if let Next::None = next {
                 if t_stop > self.now {

@@ -348,9 +348,12 @@ impl Trajectory {
         } else {
             0.5 * (lo + hi)
         };
-        let tol = 1e-15 * (1.0 + hi.abs());
+        let tol = 1e-14 * (1.0 + hi.abs());
         for _ in 0..100 {
             let g = hermite(p0, p1, y) - t;
+            if g == 0.0 {
+                break;
+            }
             if g < 0.0 {
                 lo = y;
             } else {
