@@ -4,14 +4,19 @@
 //! - [`speed`]: the front speed c(u_+) and the critical stress u_c(gamma);
 //! - [`wave`]: the traveling wave behind the front (App. B);
 //! - [`tip`]: the discrete tip problem (App. A) solved to machine precision;
-//! - [`linalg`]: banded LU and Chebyshev kernels used by the solvers.
+//! - [`linalg`]: banded LU and Chebyshev kernels used by the solvers;
+//! - [`chain`]: the discrete chain simulated event by event, with [`friction`] laws
+//!   and [`boundary`] conditions behind traits.
 
 // Numerical kernels index several arrays with one loop variable; iterator chains
 // would hide the stencil structure.
 #![allow(clippy::needless_range_loop)]
 
+pub mod boundary;
+pub mod chain;
 pub mod error;
 pub mod free_boundary;
+pub mod friction;
 pub mod linalg;
 pub mod speed;
 pub mod tip;

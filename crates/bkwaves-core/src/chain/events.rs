@@ -1,0 +1,270 @@
+//! Locating stick and slip in time, and the queue of slip times of quiet blocks.
+//!
+//! Within a step [t0, t0 + h] every event function g (u_t - v for a sliding block, the
+//! distance of phi to a static threshold for a stuck neighbour of a sliding block) is
+//! known through its values and time derivatives at both ends: the cubic Hermite
+//! interpolant is the integrator's dense output. Its first root in (0, 1] is found
+//! exactly: the cubic is split into monotone pieces at the roots of its derivative and
+//! the sign change is bisected to the last bit.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// Hermite data of one function over a step: value and derivative at both ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hermite {
+    /// g(t0)
+    pub g0: f64,
+    /// g'(t0)
+    pub m0: f64,
+    /// g(t0 + h)
+    pub g1: f64,
+    /// g'(t0 + h)
+    pub m1: f64,
+}
+
+impl Hermite {
+    /// Value at s = (t - t0)/h in [0, 1].
+    #[inline]
+    pub fn eval(&self, s: f64, h: f64) -> f64 {
+        let c = self.coefficients(h);
+        ((c[3] * s + c[2]) * s + c[1]) * s + c[0]
+    }
+
+    /// Time derivative at s (per unit time).
+    #[inline]
+    pub fn deriv(&self, s: f64, h: f64) -> f64 {
+        let c = self.coefficients(h);
+        if h == 0.0 {
+            return self.m0;
+        }
+        ((3.0 * c[3] * s + 2.0 * c[2]) * s + c[1]) / h
+    }
+
+    #[inline]
+    fn coefficients(&self, h: f64) -> [f64; 4] {
+        let (g0, g1, d0, d1) = (self.g0, self.g1, h * self.m0, h * self.m1);
+        [
+            g0,
+            d0,
+            -3.0 * g0 - 2.0 * d0 + 3.0 * g1 - d1,
+            2.0 * g0 + d0 - 2.0 * g1 + d1,
+        ]
+    }
+
+    /// A linear combination a * self + b * other.
+    #[inline]
+    pub fn combine(&self, a: f64, other: &Hermite, b: f64) -> Hermite {
+        Hermite {
+            g0: a * self.g0 + b * other.g0,
+            m0: a * self.m0 + b * other.m0,
+            g1: a * self.g1 + b * other.g1,
+            m1: a * self.m1 + b * other.m1,
+        }
+    }
+
+    /// The first s in (0, 1] where the interpolant reaches g >= 0, the function being
+    /// inside (g < 0, or g = 0 and decreasing) at s = 0. Returns the smallest s (to the
+    /// last bit) at which the interpolant is >= 0.
+    pub fn first_crossing(&self, h: f64) -> Option<f64> {
+        // cheap rejection: |h10|, |h11| <= 4/27 on [0, 1]
+        let bound = self.g0.max(self.g1) + 0.1482 * h * (self.m0.abs() + self.m1.abs());
+        if bound < 0.0 {
+            return None;
+        }
+        let c = self.coefficients(h);
+        let q = |s: f64| ((c[3] * s + c[2]) * s + c[1]) * s + c[0];
+        // critical points: 3 c3 s^2 + 2 c2 s + c1 = 0
+        let mut cuts = [0.0, 1.0, 1.0, 1.0];
+        let mut nc = 1;
+        let (qa, qb, qc) = (3.0 * c[3], 2.0 * c[2], c[1]);
+        let mut add = |s: f64| {
+            if s > 0.0 && s < 1.0 {
+                cuts[nc] = s;
+                nc += 1;
+            }
+        };
+        if qa != 0.0 {
+            let disc = qb * qb - 4.0 * qa * qc;
+            if disc >= 0.0 {
+                let sq = disc.sqrt();
+                let r = -0.5 * (qb + qb.signum() * sq);
+                if r != 0.0 {
+                    add(r / qa);
+                    add(qc / r);
+                } else {
+                    add(0.0);
+                }
+            }
+        } else if qb != 0.0 {
+            add(-qc / qb);
+        }
+        cuts[nc] = 1.0;
+        let pts = &mut cuts[..=nc];
+        pts.sort_by(|a, b| a.total_cmp(b));
+        for k in 0..nc {
+            let (mut lo, mut hi) = (pts[k], pts[k + 1]);
+            if hi <= lo {
+                continue;
+            }
+            if q(hi) < 0.0 {
+                continue;
+            }
+            // q(lo) < 0 here (or lo = 0, the inside start); bisect to the last bit
+            if lo > 0.0 && q(lo) >= 0.0 {
+                return Some(lo);
+            }
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                if q(mid) >= 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return Some(hi);
+        }
+        None
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    t: f64,
+    block: usize,
+    version: u32,
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == Ordering::Equal
+    }
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Entry {
+    // min-heap on time, ties broken by block index
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.t.total_cmp(&self.t).then(o.block.cmp(&self.block))
+    }
+}
+
+/// Slip times of stuck blocks whose neighbours are stuck too: their phi rises at the
+/// exact rate v, so the time it reaches the threshold is known in closed form.
+/// Entries are invalidated lazily by a per-block version number: O(log N) per change.
+#[derive(Debug, Clone, Default)]
+pub struct SlipQueue {
+    heap: BinaryHeap<Entry>,
+    version: Vec<u32>,
+}
+
+impl SlipQueue {
+    /// A queue for blocks with padded indices 0..len.
+    pub fn new(len: usize) -> Self {
+        SlipQueue {
+            heap: BinaryHeap::new(),
+            version: vec![0; len],
+        }
+    }
+
+    /// Schedule block p to slip at time t (replacing any earlier entry).
+    pub fn push(&mut self, p: usize, t: f64) {
+        self.version[p] = self.version[p].wrapping_add(1);
+        self.heap.push(Entry {
+            t,
+            block: p,
+            version: self.version[p],
+        });
+    }
+
+    /// Forget block p's entry.
+    pub fn invalidate(&mut self, p: usize) {
+        self.version[p] = self.version[p].wrapping_add(1);
+    }
+
+    /// Earliest valid (time, block).
+    pub fn peek(&mut self) -> Option<(f64, usize)> {
+        while let Some(e) = self.heap.peek() {
+            if self.version[e.block] == e.version {
+                return Some((e.t, e.block));
+            }
+            self.heap.pop();
+        }
+        None
+    }
+
+    /// Remove the earliest valid entry.
+    pub fn pop(&mut self) -> Option<(f64, usize)> {
+        let top = self.peek()?;
+        self.heap.pop();
+        self.invalidate(top.1);
+        Some(top)
+    }
+
+    /// Number of stored entries (valid or stale).
+    pub fn len(&self) -> usize {
+        self.heap.len()
+    }
+
+    /// True when nothing is stored.
+    pub fn is_empty(&self) -> bool {
+        self.heap.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crossing_of_a_cubic_is_exact() {
+        // g(t) = t^3 - 0.125 on [0, 1]: root at 0.5, data from the exact cubic
+        let g = Hermite {
+            g0: -0.125,
+            m0: 0.0,
+            g1: 0.875,
+            m1: 3.0,
+        };
+        let s = g.first_crossing(1.0).unwrap();
+        assert!((s - 0.5).abs() < 1e-15, "{s}");
+        assert!(g.eval(s, 1.0) >= 0.0);
+        // a dip below and back: g = -(t - 0.5)^2 + 0.01 on [0, 1], h = 2
+        // in s: t = 2 s; g(s) = -(2 s - 0.5)^2 + 0.01, roots 2 s = 0.4, 0.6
+        let g = Hermite {
+            g0: -0.24,
+            m0: 1.0,
+            g1: -2.24,
+            m1: -3.0,
+        };
+        let s = g.first_crossing(2.0).unwrap();
+        assert!((s - 0.2).abs() < 1e-14, "{s}");
+        // starts at zero going down: no crossing
+        let g = Hermite {
+            g0: 0.0,
+            m0: -1.0,
+            g1: -0.5,
+            m1: 0.0,
+        };
+        assert_eq!(g.first_crossing(1.0), None);
+    }
+
+    #[test]
+    fn queue_is_ordered_and_lazy() {
+        let mut q = SlipQueue::new(5);
+        q.push(1, 3.0);
+        q.push(2, 1.0);
+        q.push(3, 2.0);
+        q.push(2, 4.0); // reschedule: the old entry is stale
+        q.invalidate(3);
+        assert_eq!(q.pop(), Some((3.0, 1)));
+        assert_eq!(q.pop(), Some((4.0, 2)));
+        assert_eq!(q.pop(), None);
+    }
+}

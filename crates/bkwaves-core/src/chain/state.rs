@@ -1,0 +1,195 @@
+//! The state of the chain: positions, velocities and the stick/slide mode of each block,
+//! plus the runs of consecutive sliding blocks the integrator works on.
+//!
+//! Arrays are padded with one ghost cell at each end: block i (0-based) lives at index
+//! p = i + 1, the ghosts at 0 and n + 1. A stuck block is never stepped: its `u` holds
+//! the value at time `tref` and it drifts exactly, u(t) = u + v (t - tref), u_t = v.
+
+use crate::boundary::Ghost;
+
+/// Chain state (padded indices, see the module docs).
+#[derive(Debug, Clone)]
+pub struct State {
+    /// Number of blocks.
+    pub n: usize,
+    /// Loading rate v.
+    pub v: f64,
+    /// 1 / dx^2.
+    pub inv_dx2: f64,
+    /// Displacement u (sliding: at the current time; stuck: at `tref`).
+    pub u: Vec<f64>,
+    /// Velocity u_t (stuck: v).
+    pub w: Vec<f64>,
+    /// Time at which a stuck block's `u` is valid.
+    pub tref: Vec<f64>,
+    /// Mode: 0 stuck, +1 sliding forward (u_t < v), -1 sliding backward (u_t > v).
+    pub dir: Vec<f64>,
+    /// Maximal runs [a, b) of consecutive sliding blocks (padded indices), sorted.
+    pub runs: Vec<(usize, usize)>,
+    /// Ghost beyond the left end.
+    pub left: Ghost,
+    /// Ghost beyond the right end.
+    pub right: Ghost,
+    /// Number of sliding blocks.
+    pub n_active: usize,
+}
+
+impl State {
+    /// All blocks stuck at time 0 with displacements `u0` (0-based, length n).
+    pub fn new(u0: &[f64], v: f64, dx: f64, left: Ghost, right: Ghost) -> State {
+        let n = u0.len();
+        let mut u = vec![0.0; n + 2];
+        u[1..=n].copy_from_slice(u0);
+        State {
+            n,
+            v,
+            inv_dx2: 1.0 / (dx * dx),
+            u,
+            w: vec![v; n + 2],
+            tref: vec![0.0; n + 2],
+            dir: vec![0.0; n + 2],
+            runs: Vec::new(),
+            left,
+            right,
+            n_active: 0,
+        }
+    }
+
+    /// Is real block p (padded) sliding?
+    #[inline]
+    pub fn sliding(&self, p: usize) -> bool {
+        self.dir[p] != 0.0
+    }
+
+    /// The real block (padded index) that padded index q stands for, if any:
+    /// itself for 1..=n, the far end for a periodic ghost, None for other ghosts.
+    #[inline]
+    pub fn resolve(&self, q: usize) -> Option<usize> {
+        if q == 0 {
+            matches!(self.left, Ghost::Wrap).then_some(self.n)
+        } else if q == self.n + 1 {
+            matches!(self.right, Ghost::Wrap).then_some(1)
+        } else {
+            Some(q)
+        }
+    }
+
+    /// Exact displacement of stuck block p at time t.
+    #[inline]
+    pub fn stuck_u(&self, p: usize, t: f64) -> f64 {
+        self.u[p] + self.v * (t - self.tref[p])
+    }
+
+    /// Displacement of real block p at time t, the state being current at t.
+    #[inline]
+    pub fn value(&self, p: usize, t: f64) -> f64 {
+        if self.sliding(p) {
+            self.u[p]
+        } else {
+            self.stuck_u(p, t)
+        }
+    }
+
+    /// Displacement of the neighbour at padded index q of real block p, at time t.
+    #[inline]
+    pub fn neighbour(&self, q: usize, p: usize, t: f64) -> f64 {
+        if q == 0 || q == self.n + 1 {
+            let g = if q == 0 { self.left } else { self.right };
+            match g {
+                Ghost::Mirror => self.value(p, t),
+                Ghost::Held(g0) => g0 + self.v * t,
+                Ghost::Wrap => self.value(self.resolve(q).unwrap_or(p), t),
+            }
+        } else {
+            self.value(q, t)
+        }
+    }
+
+    /// phi = u - Lap u / dx^2 of real block p at time t (state current at t).
+    pub fn phi(&self, p: usize, t: f64) -> f64 {
+        let up = self.value(p, t);
+        let l = self.neighbour(p - 1, p, t);
+        let r = self.neighbour(p + 1, p, t);
+        up - (l + r - 2.0 * up) * self.inv_dx2
+    }
+
+    /// Does real block p have a sliding neighbour?
+    pub fn has_sliding_neighbour(&self, p: usize) -> bool {
+        [p - 1, p + 1]
+            .iter()
+            .any(|&q| self.resolve(q).is_some_and(|r| self.sliding(r)))
+    }
+
+    /// Real neighbours of real block p (resolved through a periodic ghost).
+    pub fn real_neighbours(&self, p: usize) -> [Option<usize>; 2] {
+        [self.resolve(p - 1), self.resolve(p + 1)]
+    }
+
+    /// Insert sliding block p into the runs (merging with neighbours).
+    pub fn add_to_runs(&mut self, p: usize) {
+        let k = self.runs.partition_point(|r| r.0 <= p);
+        let joins_left = k > 0 && self.runs[k - 1].1 == p;
+        let joins_right = k < self.runs.len() && self.runs[k].0 == p + 1;
+        match (joins_left, joins_right) {
+            (true, true) => {
+                self.runs[k - 1].1 = self.runs[k].1;
+                self.runs.remove(k);
+            }
+            (true, false) => self.runs[k - 1].1 = p + 1,
+            (false, true) => self.runs[k].0 = p,
+            (false, false) => self.runs.insert(k, (p, p + 1)),
+        }
+        self.n_active += 1;
+    }
+
+    /// Remove block p (which must be in a run) from the runs (splitting its run).
+    pub fn remove_from_runs(&mut self, p: usize) {
+        let k = self.runs.partition_point(|r| r.0 <= p) - 1;
+        let (a, b) = self.runs[k];
+        debug_assert!(a <= p && p < b);
+        match (p == a, p + 1 == b) {
+            (true, true) => {
+                self.runs.remove(k);
+            }
+            (true, false) => self.runs[k].0 = p + 1,
+            (false, true) => self.runs[k].1 = p,
+            (false, false) => {
+                self.runs[k].1 = p;
+                self.runs.insert(k + 1, (p + 1, b));
+            }
+        }
+        self.n_active -= 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_merge_and_split() {
+        let mut s = State::new(&[0.0; 8], 0.0, 0.1, Ghost::Mirror, Ghost::Mirror);
+        for p in [3, 5, 4, 1, 8] {
+            s.dir[p] = 1.0;
+            s.add_to_runs(p);
+        }
+        assert_eq!(s.runs, vec![(1, 2), (3, 6), (8, 9)]);
+        s.remove_from_runs(4);
+        assert_eq!(s.runs, vec![(1, 2), (3, 4), (5, 6), (8, 9)]);
+        s.remove_from_runs(1);
+        s.remove_from_runs(8);
+        assert_eq!(s.runs, vec![(3, 4), (5, 6)]);
+        assert_eq!(s.n_active, 2);
+    }
+
+    #[test]
+    fn ghosts_resolve() {
+        let s = State::new(&[0.1, 0.2, 0.3], 0.5, 0.1, Ghost::Held(1.0), Ghost::Wrap);
+        assert_eq!(s.resolve(0), None);
+        assert_eq!(s.resolve(4), Some(1));
+        // held ghost drifts with the ground: 1 + v t
+        assert!((s.neighbour(0, 1, 2.0) - 2.0).abs() < 1e-15);
+        // phi of the middle block at t = 0: 0.2 - (0.1 + 0.3 - 0.4)/dx^2
+        assert!((s.phi(2, 0.0) - 0.2).abs() < 1e-12);
+    }
+}

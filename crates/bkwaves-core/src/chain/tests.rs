@@ -1,0 +1,233 @@
+//! Tests of the chain engine against exact solutions and symmetries.
+
+use super::*;
+use crate::boundary::{Fixed, Free, Periodic};
+use crate::friction::Coulomb;
+
+fn cfg(dx: f64, v: f64, step: f64) -> ChainConfig {
+    ChainConfig { dx, v, step }
+}
+
+/// Exact single block sliding forward from u(0) = y0 + 2 gamma v... : returns u(t), u_t(t)
+/// for u'' = -u + 2 gamma (v - u'), u(0) = a, u'(0) = b (underdamped, gamma < 1).
+fn oscillator(a: f64, b: f64, gamma: f64, v: f64, t: f64) -> (f64, f64) {
+    let om = (1.0 - gamma * gamma).sqrt();
+    let y0 = a - 2.0 * gamma * v;
+    let (ca, cb) = (y0, (b + gamma * y0) / om);
+    let e = (-gamma * t).exp();
+    let (c, s) = ((om * t).cos(), (om * t).sin());
+    let y = e * (ca * c + cb * s);
+    let yp = e * ((-gamma * ca + om * cb) * c + (-gamma * cb - om * ca) * s);
+    (y + 2.0 * gamma * v, yp)
+}
+
+/// First t > 0 where the exact u_t returns to v from below (Newton on a bracket).
+fn exact_stick(a: f64, b: f64, gamma: f64, v: f64) -> f64 {
+    let om = (1.0 - gamma * gamma).sqrt();
+    let f = |t: f64| oscillator(a, b, gamma, v, t).1 - v;
+    // bracket by scanning
+    let (mut lo, mut hi) = (1e-9, 1e-9);
+    let dt = 0.01;
+    while f(hi) < 0.0 || hi < 1e-3 {
+        lo = hi;
+        hi += dt;
+        assert!(hi < 4.0 * std::f64::consts::PI / om);
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[test]
+fn single_block_matches_the_damped_oscillator_to_round_off() {
+    for &(gamma, v, beta) in &[
+        (0.0, 0.0, 0.0),
+        (0.3, 0.0, 0.5),
+        (0.3, 0.1, 0.5),
+        (0.7, 0.02, 1.0),
+    ] {
+        // one block, free ends: Lap = 0, phi = u. h = 0.05 * 0.002 = 1e-4.
+        let fr = Coulomb::new(gamma, beta).unwrap();
+        let u0 = if v > 0.0 { 0.7 } else { 0.8 };
+        let mut ch = Chain::new(cfg(0.002, v, 0.05), fr, &Free, &[u0], None).unwrap();
+        if v == 0.0 {
+            ch.add_trigger(Trigger {
+                t: 0.0,
+                block: 0,
+                kind: TriggerKind::Release { dir: 1 },
+            })
+            .unwrap();
+        }
+        ch.run(1e4, 2, u64::MAX).unwrap();
+        let slips = &ch.catalog.slips;
+        assert!(!slips.is_empty(), "no slip");
+        // first slip: exact loading time
+        let t_slip = if v > 0.0 { (1.0 - u0) / v } else { 0.0 };
+        assert!((slips[0].t_start - t_slip).abs() < 1e-12 * (1.0 + t_slip));
+        let a = if v > 0.0 { 1.0 } else { u0 };
+        let ts = exact_stick(a, v, gamma, v);
+        let (u_exact, _) = oscillator(a, v, gamma, v, ts);
+        let r = slips[0];
+        let err_t = (r.t_end - t_slip - ts).abs();
+        let err_u = (r.u_end - u_exact).abs();
+        // the stick time is conditioned by the acceleration there, u_tt = -u
+        // (h = 1e-4: truncation ~1e-16; what is left is round-off over ~4e4 steps)
+        let tol_t = 5e-12 * (1.0 / u_exact.abs()).max(1.0);
+        assert!(
+            err_t < tol_t,
+            "gamma {gamma} v {v}: stick time error {err_t:e}"
+        );
+        assert!(
+            err_u < 5e-12,
+            "gamma {gamma} v {v}: stick u error {err_u:e}"
+        );
+        if v > 0.0 {
+            // reloads exactly: next slip when u = 1 again
+            let t2 = r.t_end + (1.0 - r.u_end) / v;
+            assert!(
+                (slips[1].t_start - t2).abs() < 1e-12 * t2,
+                "{} vs {t2}",
+                slips[1].t_start
+            );
+            assert_eq!(ch.catalog.finished(), 2);
+        }
+    }
+}
+
+#[test]
+fn single_block_error_is_fourth_order_in_the_step() {
+    let (gamma, v) = (0.3, 0.0);
+    let ts = exact_stick(0.8, 0.0, gamma, v);
+    let mut errs = Vec::new();
+    for &step in &[0.4, 0.2, 0.1] {
+        // dx = 1: h = step
+        let fr = Coulomb::new(gamma, 0.0).unwrap();
+        let mut ch = Chain::new(cfg(1.0, v, step), fr, &Free, &[0.8], None).unwrap();
+        ch.add_trigger(Trigger {
+            t: 0.0,
+            block: 0,
+            kind: TriggerKind::Release { dir: 1 },
+        })
+        .unwrap();
+        ch.run(10.0, 1, u64::MAX).unwrap();
+        errs.push((ch.catalog.slips[0].t_end - ts).abs());
+    }
+    for k in 0..2 {
+        let order = (errs[k] / errs[k + 1]).log2();
+        assert!(order > 3.5 && order < 5.5, "errors {errs:?}");
+    }
+}
+
+fn smooth_stress(n: usize, seed: u64) -> Vec<f64> {
+    // deterministic smooth random profile in (0.2, 0.95)
+    let mut x = seed;
+    let mut rnd = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let modes: Vec<(f64, f64, f64)> = (1..6).map(|k| (k as f64, rnd(), rnd())).collect();
+    (0..n)
+        .map(|i| {
+            let xi = i as f64 / n as f64;
+            let s: f64 = modes
+                .iter()
+                .map(|&(k, a, ph)| a / k * (2.0 * std::f64::consts::PI * (k * xi + ph)).sin())
+                .sum();
+            0.6 + 0.12 * s
+        })
+        .collect()
+}
+
+fn balance(ch: &Chain<Coulomb>, e0: f64) -> (f64, f64) {
+    let (k, c, l) = ch.energy();
+    let e1 = k + c + l;
+    let lg = ch.ledger;
+    let resid = (e1 - e0) - (lg.load - lg.dry - lg.viscous - lg.projection + lg.injected);
+    (resid, lg.dry + lg.viscous)
+}
+
+#[test]
+fn energy_balance_closes_to_the_integration_order() {
+    for (bname, b) in [
+        ("free", Box::new(Free) as Box<dyn Boundary>),
+        ("fixed", Box::new(Fixed::new(0.5, 0.4).unwrap())),
+        ("periodic", Box::new(Periodic)),
+    ] {
+        let mut res = Vec::new();
+        for &step in &[0.2, 0.1, 0.05, 0.025, 0.0125] {
+            let fr = Coulomb::new(0.3, 0.5).unwrap();
+            let u0 = smooth_stress(60, 7);
+            let mut ch = Chain::new(cfg(0.2, 1e-2, step), fr, b.as_ref(), &u0, None).unwrap();
+            let (k, c, l) = ch.energy();
+            let e0 = k + c + l;
+            // a fixed time: on the ring a pulse can circulate for ever (re-entry)
+            ch.run(120.0, usize::MAX, u64::MAX).unwrap();
+            assert!(ch.catalog.events.len() >= 3, "{bname}");
+            let (r, diss) = balance(&ch, e0);
+            assert!(diss > 0.1, "{bname}: dissipation {diss}");
+            res.push((r / diss).abs());
+        }
+        // the residual is the integration error of the books: it falls like h^4 or
+        // faster (the event sequences differ a little between steps)
+        for k in 0..4 {
+            assert!(res[k + 1] < res[k] / 5.0, "{bname}: {res:?}");
+        }
+        assert!(res[4] < 1e-10, "{bname}: {res:?}");
+    }
+}
+
+#[test]
+fn mirror_symmetry_of_a_front() {
+    let n = 120;
+    let run = |block: usize| {
+        let fr = Coulomb::new(0.3, 0.0).unwrap();
+        let mut ch = Chain::new(cfg(0.1, 0.0, 0.05), fr, &Free, &vec![0.6; n], None).unwrap();
+        ch.add_trigger(Trigger {
+            t: 0.0,
+            block,
+            kind: TriggerKind::Release { dir: 1 },
+        })
+        .unwrap();
+        ch.run(30.0, 1, u64::MAX).unwrap();
+        let mut first = vec![f64::NAN; n];
+        for r in &ch.catalog.slips {
+            if first[r.block].is_nan() {
+                first[r.block] = r.t_start;
+            }
+        }
+        first
+    };
+    let left = run(0);
+    let right = run(n - 1);
+    for i in 0..n {
+        assert!(left[i].is_finite());
+        assert!((left[i] - right[n - 1 - i]).abs() < 1e-12, "block {i}");
+    }
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    let fr = Coulomb::new(0.3, 0.0).unwrap();
+    assert!(Chain::new(cfg(0.1, 0.0, 0.05), fr, &Free, &[], None).is_err());
+    assert!(Chain::new(cfg(-0.1, 0.0, 0.05), fr, &Free, &[0.1], None).is_err());
+    assert!(Chain::new(cfg(0.1, -1.0, 0.05), fr, &Free, &[0.1], None).is_err());
+    assert!(Chain::new(cfg(0.1, 0.0, 2.0), fr, &Free, &[0.1], None).is_err());
+    assert!(Chain::new(cfg(0.1, 0.0, 0.05), fr, &Free, &[f64::NAN], None).is_err());
+    let mut ch = Chain::new(cfg(0.1, 0.0, 0.05), fr, &Free, &[0.1], None).unwrap();
+    assert!(ch
+        .add_trigger(Trigger {
+            t: 0.0,
+            block: 3,
+            kind: TriggerKind::Release { dir: 1 }
+        })
+        .is_err());
+    assert!(ch.run(-1.0, 1, 10).is_err());
+}
