@@ -17,7 +17,25 @@ def test_reproduce_quick(tmp_path):
     bad = [c for c in rep.claims if c.verdict not in ("confirmed", "corrected", "refined")]
     assert not bad, bad
     keys = {c.key for c in rep.claims}
-    for k in ("c", "c1", "ca", "ca4", "gammac", "w", "um", "A", "Lmin", "kappa", "amax", "an"):
+    for k in (
+        "c",
+        "c1",
+        "ca",
+        "ca4",
+        "gammac",
+        "w",
+        "um",
+        "A",
+        "Lmin",
+        "kappa",
+        "amax",
+        "an",
+        "L",
+        "b",
+        "ap",
+        "Tsource",
+        "amax-run",
+    ):
         assert k in keys
     md = (tmp_path / "report.md").read_text()
     assert "0.2719" in md and "35/128" in md
