@@ -203,7 +203,12 @@ def test_shock_dies_where_u_plus_reaches_zero():
     # (the shock starts at x = 1e-9, where u = 0.5 - 1e-10)
     assert end.t == pytest.approx(10 * _int_sqrt(0.0, 0.5 - 1e-10), rel=1e-12)
     # total slip: int_0^5 A dx with A = 2 u (gamma = 0: u_- = -u_+) = 2 * 0.5 * 5 / 2
-    assert r.events.moment.iloc[0] == pytest.approx(2.5, rel=1e-6)
+    ev = r.events.iloc[0]
+    assert ev.slip_integral == pytest.approx(2.5, rel=1e-6)
+    # in the chain's units (sum of block slips, blocks dx = 1e-3 apart)
+    assert ev.moment == pytest.approx(2.5 / 1e-3, rel=1e-6)
+    assert (ev.nucleation, ev.first_block, ev.last_block) == (0, 0, 5000)
+    assert ev.n_blocks == 5000 and ev.stress_drop == pytest.approx(0.5, rel=1e-6)
 
 
 @pytest.mark.parametrize("rule", ["zero", "stop"])

@@ -49,10 +49,13 @@ class FreeBoundaryResult:
     """What :meth:`FreeBoundary.run` returns (everything since the engine was built).
 
     events: pandas DataFrame, one row per event (first birth to the disappearance of the
-        last shock): ``id, t_start, t_end, duration, x_start, curvature, x_min, x_max,
-        extent, moment, swept, stress_drop, n_births, n_shocks, n_annihilations, n_exits,
-        n_deaths, n_creep, complete``. ``moment`` = int A dx over the ruptured length
-        (total slip; the chain's ``moment`` times dx), ``stress_drop`` = moment / swept.
+        last shock): ``id, t_start, t_end, duration, x_start, nucleation, curvature, x_min,
+        x_max, extent, moment, slip_integral, swept, stress_drop, n_births, n_shocks,
+        n_annihilations, n_exits, n_deaths, n_creep, complete, first_block, last_block,
+        n_blocks``. ``slip_integral`` = int A dx over the ruptured length (total slip,
+        dx-free); ``moment`` = slip_integral / params.dx, the chain's ``moment`` (sum of block
+        slips) for blocks at x[0] + i dx, like ``nucleation``, ``first_block``,
+        ``last_block``, ``n_blocks``; ``stress_drop`` = slip_integral / swept (mean A).
     shocks: pandas DataFrame of shock path points: ``shock, event, t, x, dir, u_plus,
         u_minus, kind, creep`` (kind: initial, birth, node, annihilation, exit, death,
         creep_stop; ``creep`` marks resets done with u_+ < u_c under the creep rule).
@@ -276,6 +279,21 @@ class FreeBoundary:
         ev["complete"] = np.isfinite(ev["t_end"]) if len(ev) else np.array([], dtype=bool)
         ev.insert(3, "duration", ev["t_end"] - ev["t_start"])
         ev.insert(ev.columns.get_loc("x_max") + 1, "extent", ev["x_max"] - ev["x_min"])
+        # The chain's catalog columns, for blocks at x[0] + i dx (params.dx): moment is the
+        # sum of block slips = int A dx / dx; slip_integral = int A dx is dx-free.
+        dx = self.params.dx
+        ev = ev.rename(columns={"moment": "slip_integral"})
+        ev.insert(ev.columns.get_loc("slip_integral"), "moment", ev["slip_integral"] / dx)
+        blocks = int(round((self.x[-1] - self.x[0]) / dx)) + (self.boundary == "free")
+
+        def block(xx):
+            i = np.rint((np.asarray(xx, dtype=float) - self.x[0]) / dx).astype(np.int64)
+            return np.mod(i, blocks) if self.boundary == "periodic" else np.clip(i, 0, blocks - 1)
+
+        ev.insert(ev.columns.get_loc("x_start") + 1, "nucleation", block(ev["x_start"]))
+        ev["first_block"] = block(ev["x_min"])
+        ev["last_block"] = block(ev["x_max"])
+        ev["n_blocks"] = np.rint(ev["swept"] / dx).astype(np.int64)
         sh = pd.DataFrame(self._engine.path())
         meta = {
             "engine": "free_boundary",
