@@ -129,3 +129,97 @@ fn rejects_bad_input() {
     assert!(Boundary::parse("fixed").is_err());
     assert!(CreepRule::parse("x").is_err());
 }
+
+/// The same slowly varying state (two bumps on a sinusoidal ramp, ring of length 0.3/v,
+/// widths ~ 1/v) run by the direct chain and by the free boundary engine: the first event
+/// agrees, and the differences shrink in proportion to v (docs/validation.md, "Against
+/// the direct chain"; benchmarks/fb_vs_chain measures more cases).
+#[test]
+fn first_event_agrees_with_the_direct_chain() {
+    use crate::boundary;
+    use crate::chain::{Chain, ChainConfig};
+    use crate::friction::coulomb::Coulomb;
+    let gamma = 0.3;
+    let dx = 0.1;
+    let mut prev: Option<(f64, f64)> = None;
+    for &v in &[1e-3, 5e-4] {
+        let l = 0.3 / v;
+        let w = 40.0 * l / 300.0;
+        let pd = |x: f64, c: f64| (x - c + 0.5 * l).rem_euclid(l) - 0.5 * l;
+        let u0f = |x: f64| {
+            0.9 + 0.015 * (2.0 * std::f64::consts::PI * x / l).sin()
+                + 0.03 * (-(pd(x, 0.3 * l) / w).powi(2)).exp()
+                + 0.025 * (-(pd(x, 0.7 * l) / w).powi(2)).exp()
+        };
+        // chain
+        let n = (l / dx).round() as usize;
+        let u0: Vec<f64> = (0..n).map(|i| u0f(i as f64 * dx)).collect();
+        let cfg = ChainConfig {
+            dx,
+            v,
+            ..Default::default()
+        };
+        let b = boundary::by_name("periodic", (0.0, 0.0)).unwrap();
+        let mut ch = Chain::new(
+            cfg,
+            Coulomb::new(gamma, 0.0).unwrap(),
+            b.as_ref(),
+            &u0,
+            None,
+        )
+        .unwrap();
+        ch.run(1e12, 1, u64::MAX).unwrap();
+        let ce = ch.catalog.events[0];
+        // free boundary on a grid 0.5 l/300
+        let h = 0.5 * l / 300.0;
+        let m = (l / h).round() as usize;
+        let g0: Vec<f64> = (0..m).map(|k| u0f(k as f64 * h)).collect();
+        let mut fb =
+            FreeBoundary::new(0.0, h, &g0, opts(gamma, v, Boundary::Periodic), &[]).unwrap();
+        fb.advance(1e12, u64::MAX, 1).unwrap();
+        let fe = fb.events()[0];
+        // nucleation: same place; the chain starts earlier by about 2 a / v (its slip
+        // condition is u - u_xx >= 1, the free boundary's u >= 1)
+        assert!(
+            (ce.nucleation as f64 * dx - fe.x_start).abs() < 2.0 * dx,
+            "{ce:?} {fe:?}"
+        );
+        let off = ce.t_start - fe.t_start;
+        assert!(off < 0.0 && off.abs() * v < 1e-4, "{off}");
+        // slip fronts (after the offset), u after passage away from the collision zone
+        let mut first = vec![f64::NAN; n];
+        for s in ch.catalog.slips.iter() {
+            if first[s.block].is_nan() {
+                first[s.block] = s.t_start;
+            }
+        }
+        let xcol: Vec<f64> = fb
+            .path()
+            .iter()
+            .filter(|p| p.kind == PathKind::Annihilation)
+            .map(|p| p.x)
+            .collect();
+        let uc = ch.u();
+        let ufb = fb.u_nodes();
+        let (mut dt, mut du) = (0.0f64, 0.0f64);
+        for p in fb.path().iter().filter(|p| p.kind == PathKind::Node) {
+            let i = (p.x / dx).round() as usize % n;
+            dt = dt.max((first[i] - p.t - off).abs());
+            let k = (p.x / h).round() as usize % m;
+            if xcol.iter().all(|&xc| (p.x - xc).abs() > 5.0) {
+                let uf = ufb[k] + v * (ch.time() - fb.time());
+                du = du.max((uc[i] - uf).abs());
+            }
+        }
+        let dm = ce.moment * dx / fe.moment - 1.0;
+        assert!(dt / (fe.t_end - fe.t_start) < 5e-3, "{dt}");
+        assert!(du < 5.0 * v, "{du}");
+        assert!(dm.abs() < 2.5 * v, "{dm}");
+        if let Some((du0, dm0)) = prev {
+            // halving v (and doubling the length scales) halves both differences
+            assert!((du / du0 - 0.5).abs() < 0.1, "{du} {du0}");
+            assert!((dm / dm0 - 0.5).abs() < 0.1, "{dm} {dm0}");
+        }
+        prev = Some((du, dm));
+    }
+}
