@@ -5,6 +5,7 @@
 
 use pyo3::prelude::*;
 
+mod chain;
 mod errors;
 mod free_boundary;
 mod theory;
@@ -14,6 +15,7 @@ mod tip;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
+    chain::register(m)?;
     free_boundary::register(m)?;
     theory::register(m)?;
     tip::register(m)?;

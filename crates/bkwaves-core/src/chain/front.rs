@@ -37,6 +37,9 @@ pub struct FrontOptions {
     pub step: f64,
     /// Window of blocks (fractions of the chain) where c, u_- and w are measured.
     pub window: (f64, f64),
+    /// Wait for the window blocks to re-stick (false: measure c only; `pulse` is then
+    /// false and u_-, w NaN).
+    pub heal: bool,
     /// Time to wait for re-sticking after the front left the window, in units of the
     /// time the front takes to cross the window.
     pub wait: f64,
@@ -53,6 +56,7 @@ impl FrontOptions {
             blocks,
             step: super::DEFAULT_STEP,
             window: (0.5, 0.75),
+            heal: true,
             wait: 4.0,
         }
     }
@@ -163,17 +167,20 @@ pub fn measure_front(o: &FrontOptions) -> Result<FrontResult> {
         }
         (first_stick, first_u)
     };
-    loop {
-        let stop = ch.run(t_stop, usize::MAX, chunk)?;
-        let (st, _) = healed(&ch);
-        if st[a..=b].iter().all(|x| x.is_finite()) || stop != super::Stop::Steps {
-            break;
+    if o.heal {
+        loop {
+            let stop = ch.run(t_stop, usize::MAX, chunk)?;
+            let (st, _) = healed(&ch);
+            if st[a..=b].iter().all(|x| x.is_finite()) || stop != super::Stop::Steps {
+                break;
+            }
         }
     }
     let (stick, stick_u) = healed(&ch);
     let dur: Vec<f64> = (a..b).map(|i| stick[i] - first[i]).collect();
     let mean_dur = dur.iter().sum::<f64>() / dur.len() as f64;
-    let steady = dur.iter().all(|d| d.is_finite())
+    let steady = o.heal
+        && dur.iter().all(|d| d.is_finite())
         && dur.iter().all(|d| (d - mean_dur).abs() <= 1e-3 * mean_dur);
     let (mut u_minus, mut w) = (f64::NAN, f64::NAN);
     if steady {

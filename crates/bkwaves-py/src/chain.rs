@@ -1,0 +1,285 @@
+//! The chain simulator exposed to Python: `ChainEngine` (state kept in Rust, advanced in
+//! chunks with the GIL released) and `front_measure` (the `bkwaves front` experiment).
+
+use crate::errors::to_py;
+use bkwaves_core::boundary;
+use bkwaves_core::chain::front::{measure_front, FrontOptions};
+use bkwaves_core::chain::{Chain, ChainConfig, Stop, Trigger, TriggerKind};
+use bkwaves_core::friction::Coulomb;
+use bkwaves_core::Error;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// A chain of blocks with Coulomb friction, advanced event by event.
+#[pyclass(module = "bkwaves._core")]
+pub struct ChainEngine {
+    inner: Chain<Coulomb>,
+}
+
+fn vec1<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
+    v.into_pyarray(py)
+}
+
+fn int1<'py>(py: Python<'py>, v: Vec<i64>) -> Bound<'py, PyArray1<i64>> {
+    v.into_pyarray(py)
+}
+
+fn mat<'py>(py: Python<'py>, rows: &[Vec<f64>], n: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let flat: Vec<f64> = rows.iter().flat_map(|r| r.iter().copied()).collect();
+    let a = numpy::ndarray::Array2::from_shape_vec((rows.len(), n), flat)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py))
+}
+
+#[pymethods]
+impl ChainEngine {
+    #[new]
+    #[pyo3(signature = (u0, dx, v, gamma, beta, step, boundary="free", fixed=(0.0, 0.0), u_t0=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        u0: PyReadonlyArray1<'_, f64>,
+        dx: f64,
+        v: f64,
+        gamma: f64,
+        beta: f64,
+        step: f64,
+        boundary: &str,
+        fixed: (f64, f64),
+        u_t0: Option<PyReadonlyArray1<'_, f64>>,
+    ) -> PyResult<Self> {
+        let b = boundary::by_name(boundary, fixed).map_err(to_py)?;
+        let fr = Coulomb::new(gamma, beta).map_err(to_py)?;
+        let u0 = u0.as_slice()?;
+        let w = match &u_t0 {
+            Some(a) => Some(a.as_slice()?),
+            None => None,
+        };
+        let inner =
+            Chain::new(ChainConfig { dx, v, step }, fr, b.as_ref(), u0, w).map_err(to_py)?;
+        Ok(ChainEngine { inner })
+    }
+
+    /// Schedule a trigger: kind "release" (value = direction +1/-1) or "kick" (value =
+    /// change of u_t).
+    fn add_trigger(&mut self, t: f64, block: usize, kind: &str, value: f64) -> PyResult<()> {
+        let kind = match kind {
+            "release" => TriggerKind::Release {
+                dir: if value < 0.0 { -1 } else { 1 },
+            },
+            "kick" => TriggerKind::Kick { du_t: value },
+            _ => {
+                return Err(to_py(Error::InvalidParameter {
+                    name: "trigger kind",
+                    value: f64::NAN,
+                    allowed: "release or kick",
+                }))
+            }
+        };
+        self.inner
+            .add_trigger(Trigger { t, block, kind })
+            .map_err(to_py)
+    }
+
+    /// Snapshots at the given times and/or at the end of every k-th event (0 = never).
+    fn add_snapshots(
+        &mut self,
+        times: PyReadonlyArray1<'_, f64>,
+        every_events: usize,
+    ) -> PyResult<()> {
+        self.inner
+            .add_snapshots(times.as_slice()?, every_events)
+            .map_err(to_py)
+    }
+
+    /// Advance (GIL released) to t_end, max_events more finished events or max_steps
+    /// steps, whichever comes first. Returns "time", "events" or "steps".
+    fn advance(
+        &mut self,
+        py: Python<'_>,
+        t_end: f64,
+        max_events: usize,
+        max_steps: u64,
+    ) -> PyResult<&'static str> {
+        let inner = &mut self.inner;
+        let stop = py
+            .detach(|| inner.run(t_end, max_events, max_steps))
+            .map_err(to_py)?;
+        Ok(match stop {
+            Stop::Time => "time",
+            Stop::Events => "events",
+            Stop::Steps => "steps",
+        })
+    }
+
+    #[getter]
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+    #[getter]
+    fn n(&self) -> usize {
+        self.inner.n()
+    }
+    #[getter]
+    fn n_sliding(&self) -> usize {
+        self.inner.n_sliding()
+    }
+    #[getter]
+    fn events_finished(&self) -> usize {
+        self.inner.catalog.finished()
+    }
+    #[getter]
+    fn boundary(&self) -> &'static str {
+        self.inner.boundary_name()
+    }
+
+    fn u<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec1(py, self.inner.u())
+    }
+    fn u_t<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec1(py, self.inner.u_t())
+    }
+    fn phi<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec1(py, self.inner.phi())
+    }
+    fn modes<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        int1(py, self.inner.modes().into_iter().map(i64::from).collect())
+    }
+
+    /// Energy now: (kinetic, coupling springs, loader springs).
+    fn energy(&self) -> (f64, f64, f64) {
+        self.inner.energy()
+    }
+
+    /// Energy flows so far.
+    fn ledger<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let l = self.inner.ledger;
+        let d = PyDict::new(py);
+        d.set_item("loader_work", l.load)?;
+        d.set_item("friction_work", l.dry)?;
+        d.set_item("viscous_work", l.viscous)?;
+        d.set_item("stick_projection", l.projection)?;
+        d.set_item("injected", l.injected)?;
+        Ok(d)
+    }
+
+    /// Work counters.
+    fn counters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.inner.counters;
+        let d = PyDict::new(py);
+        d.set_item("steps", c.steps)?;
+        d.set_item("block_steps", c.block_steps)?;
+        d.set_item("switches", c.switches)?;
+        d.set_item("jumps", c.jumps)?;
+        Ok(d)
+    }
+
+    /// The event catalog as a dict of arrays.
+    fn catalog<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let e = &self.inner.catalog.events;
+        let d = PyDict::new(py);
+        let f = |g: &dyn Fn(&bkwaves_core::chain::catalog::EventRecord) -> f64| {
+            e.iter().map(g).collect::<Vec<f64>>()
+        };
+        let i = |g: &dyn Fn(&bkwaves_core::chain::catalog::EventRecord) -> usize| {
+            e.iter().map(|r| g(r) as i64).collect::<Vec<i64>>()
+        };
+        d.set_item("event", int1(py, i(&|r| r.id)))?;
+        d.set_item("t_start", vec1(py, f(&|r| r.t_start)))?;
+        d.set_item("t_end", vec1(py, f(&|r| r.t_end)))?;
+        d.set_item("nucleation", int1(py, i(&|r| r.nucleation)))?;
+        d.set_item("first_block", int1(py, i(&|r| r.first_block)))?;
+        d.set_item("last_block", int1(py, i(&|r| r.last_block)))?;
+        d.set_item("n_blocks", int1(py, i(&|r| r.n_blocks)))?;
+        d.set_item("n_slips", int1(py, i(&|r| r.n_slips)))?;
+        d.set_item("moment", vec1(py, f(&|r| r.moment)))?;
+        d.set_item("stress_drop", vec1(py, f(&|r| r.stress_drop)))?;
+        Ok(d)
+    }
+
+    /// All slip intervals (the slip-front trajectories) as a dict of arrays.
+    fn slips<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.inner.catalog.slips;
+        let d = PyDict::new(py);
+        d.set_item(
+            "event",
+            int1(py, s.iter().map(|r| r.event as i64).collect()),
+        )?;
+        d.set_item(
+            "block",
+            int1(py, s.iter().map(|r| r.block as i64).collect()),
+        )?;
+        d.set_item(
+            "direction",
+            int1(py, s.iter().map(|r| i64::from(r.dir)).collect()),
+        )?;
+        d.set_item("t_start", vec1(py, s.iter().map(|r| r.t_start).collect()))?;
+        d.set_item("t_end", vec1(py, s.iter().map(|r| r.t_end).collect()))?;
+        d.set_item("u_start", vec1(py, s.iter().map(|r| r.u_start).collect()))?;
+        d.set_item("u_end", vec1(py, s.iter().map(|r| r.u_end).collect()))?;
+        d.set_item("slip", vec1(py, s.iter().map(|r| r.slip).collect()))?;
+        Ok(d)
+    }
+
+    /// Snapshots: (t, u[k, i], u_t[k, i]).
+    #[allow(clippy::type_complexity)]
+    fn snapshots<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+    )> {
+        let s = &self.inner.snapshots;
+        let n = self.inner.n();
+        Ok((
+            vec1(py, s.t.clone()),
+            mat(py, &s.u, n)?,
+            mat(py, &s.u_t, n)?,
+        ))
+    }
+}
+
+/// One front across a uniformly stressed chain at v = 0 (the `bkwaves front` experiment).
+#[pyfunction]
+#[pyo3(signature = (u_plus, gamma, dx, blocks, step=bkwaves_core::chain::DEFAULT_STEP, beta=0.0, window=(0.5, 0.75), heal=true))]
+#[allow(clippy::too_many_arguments)]
+fn front_measure<'py>(
+    py: Python<'py>,
+    u_plus: f64,
+    gamma: f64,
+    dx: f64,
+    blocks: usize,
+    step: f64,
+    beta: f64,
+    window: (f64, f64),
+    heal: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut o = FrontOptions::new(u_plus, gamma, dx, blocks);
+    o.step = step;
+    o.beta = beta;
+    o.window = window;
+    o.heal = heal;
+    let r = py.detach(|| measure_front(&o)).map_err(to_py)?;
+    let d = PyDict::new(py);
+    d.set_item("c", r.c)?;
+    d.set_item("unsteadiness", r.unsteadiness)?;
+    d.set_item("pulse", r.pulse)?;
+    d.set_item("u_minus", r.u_minus)?;
+    d.set_item("w", r.w)?;
+    d.set_item("slip_times", vec1(py, r.slip_times))?;
+    d.set_item("stick_times", vec1(py, r.stick_times))?;
+    d.set_item("window", r.window)?;
+    d.set_item("t_end", r.t_end)?;
+    d.set_item("block_steps", r.block_steps)?;
+    d.set_item("slips", r.slips)?;
+    d.set_item("backward_slips", r.backward_slips)?;
+    Ok(d)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<ChainEngine>()?;
+    m.add_function(wrap_pyfunction!(front_measure, m)?)?;
+    Ok(())
+}

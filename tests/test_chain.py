@@ -1,0 +1,241 @@
+"""The chain simulator against theory: the finite-dx tip solver (the exact steady front),
+the gamma = 0 lattice closed form, App. B (u_-, w), energy balance, symmetry, SI units,
+the result objects, the command line."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import bkwaves as bk
+from bkwaves import _core
+from bkwaves.chain import default_blocks, smooth_random_stress
+
+
+def front_c(u, g, dx, n=1600, **kw):
+    return _core.front_measure(u, g, dx, n, heal=False, **kw)["c"]
+
+
+@pytest.mark.parametrize(
+    "u,g,dx",
+    [(0.5, 0.3, 0.1), (0.7, 0.45, 0.05), (0.9, 0.3, 0.025), (0.3, 0.45, 0.05), (0.5, 0.0, 0.05)],
+)
+def test_front_speed_equals_finite_dx_tip_solver(u, g, dx):
+    # the tip problem at finite dx is exact for the chain's steady front at v = 0
+    # (gamma = 0: every block behind the front keeps slipping, so a shorter chain;
+    # the trigger's transient has decayed to 1e-8 after 200 blocks at u = 0.5)
+    n = 800 if g == 0 else 1600
+    c = front_c(u, g, dx, n)
+    tip = bk.tip_solve(u, dx=dx, gamma=g)["c"]
+    assert c == pytest.approx(tip, rel=1e-7)
+    # and the error is the time step's: a finer step gets closer (4th order)
+    fine = front_c(u, g, dx, n, step=0.025)
+    assert abs(fine / tip - 1) < abs(c / tip - 1) / 4 or abs(fine / tip - 1) < 1e-12
+
+
+def test_gamma_zero_matches_the_lattice_closed_form():
+    for dx in (0.1, 0.025):
+        c = front_c(0.5, 0.0, dx, 800)
+        assert c == pytest.approx(float(_core.lattice_front_speed(np.array(0.5), dx)), rel=1e-7)
+
+
+def test_richardson_extrapolation_reaches_the_continuum_speed():
+    # c(dx) = c0 + a1 dx + a2 dx^2 + ...: eliminate dx and dx^2 from three spacings
+    u, g = 0.6, 0.3
+    c1, c2, c3 = (front_c(u, g, dx) for dx in (0.05, 0.025, 0.0125))
+    r1a, r1b = 2 * c2 - c1, 2 * c3 - c2
+    r2 = (4 * r1b - r1a) / 3
+    assert abs(r2 - bk.front_speed(u)) < 1e-5
+    # first order in dx at gamma > 0 (the -2 gamma dx w' term of the tip problem)
+    order = np.log2((c1 - c2) / (c2 - c3))
+    assert 0.8 < order < 1.2
+
+
+def test_pulse_u_minus_and_w_approach_app_b():
+    u, g = 0.7, 0.45
+    tw = bk.traveling_wave(u, g)
+    res = []
+    for dx in (0.05, 0.025):
+        m = bk.chain.front(u, g, dx)
+        assert m.regime == "pulse"
+        res.append((m.u_minus, m.w))
+    # first-order convergence: one Richardson step is within 1e-3 of App. B
+    um = 2 * res[1][0] - res[0][0]
+    w = 2 * res[1][1] - res[0][1]
+    assert um == pytest.approx(tw.u_minus, abs=1e-3)
+    assert w == pytest.approx(tw.w, abs=1e-2 * tw.w)
+    # the raw values are off by O(dx), so the check can fail
+    assert abs(res[0][0] - tw.u_minus) > 1e-4
+
+
+def test_below_u_c_blocks_creep():
+    m = bk.chain.front(0.2, 0.45, 0.05)
+    assert m.regime == "creep" and m.u_minus is None and m.w is None
+    assert bk.chain.front(0.6, 0.45, 0.05).regime == "pulse"
+
+
+def test_mirror_symmetry():
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.1)
+    n = 150
+    a = bk.Chain(n, p, u0=0.6).kick(0, -2.0).run(t_end=12.0)
+    b = bk.Chain(n, p, u0=0.6).kick(n - 1, -2.0).run(t_end=12.0)
+    ta, tb = a.first_slip_times(), b.first_slip_times()
+    assert np.isfinite(ta).sum() > 100
+    np.testing.assert_allclose(ta, tb[::-1], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("boundary", ["free", "fixed", "periodic"])
+def test_loading_cycles_energy_balance_and_catalog(boundary):
+    p = bk.Params(gamma=0.3, v=1e-2, dx=0.2, beta=0.5)
+    u0 = smooth_random_stress(60, 0.2, mean=0.6, amplitude=0.12, correlation=1.5, seed=3)
+    ch = bk.Chain(60, p, boundary=boundary, u0=u0, step=0.02, seed=3)
+    res = ch.run(t_end=150.0)
+    e = res.energy
+    diss = e["friction_work"] + e["viscous_work"]
+    assert diss > 0.1 and e["loader_work"] > 0
+    assert abs(e["residual"]) < 1e-9 * diss
+    cat = res.catalog
+    assert len(cat) >= 3
+    for col in (
+        "t_start",
+        "t_end",
+        "duration",
+        "nucleation",
+        "first_block",
+        "last_block",
+        "n_blocks",
+        "moment",
+        "stress_drop",
+    ):
+        assert col in cat.columns
+    done = cat.dropna(subset=["t_end"])
+    assert (done["first_block"] <= done["nucleation"]).all()
+    assert (done["nucleation"] <= done["last_block"]).all()
+    # the moment is the sum of the slips of the event's closed intervals
+    s = res.slips
+    for _, row in done.iterrows():
+        assert s[s["event"] == row["event"]]["slip"].sum() == pytest.approx(row["moment"])
+    assert cat.attrs["units"]["moment"].startswith("(f_r - f_s)/k_p")
+
+
+def test_quiet_jump_is_exact_for_one_block():
+    # one block loaded at v from u0: slips exactly at (1 - u0)/v, no steps in between
+    p = bk.Params(gamma=0.3, v=0.01, dx=0.1)
+    res = bk.Chain(1, p, u0=0.2).run(max_events=1)
+    assert res.slips["t_start"][0] == pytest.approx(80.0, rel=1e-14)
+    assert res.counters["jumps"] >= 1
+
+
+def test_snapshots_dataset_and_attrs():
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.1)
+    ch = bk.Chain(100, p, u0=0.6, seed=11).kick(0, -2.0)
+    res = ch.run(t_end=5.0, snapshots=[0.0, 1.0, 2.5, 5.0])
+    ds = res.snapshots
+    assert ds["u"].shape == (4, 100)
+    np.testing.assert_allclose(ds["t"], [0.0, 1.0, 2.5, 5.0])
+    np.testing.assert_allclose(ds["x"], np.arange(100) * 0.1)
+    for k in ("params", "units", "version", "seed", "boundary"):
+        assert k in ds.attrs
+    assert ds.attrs["seed"] == 11 and ds.attrs["version"] == bk.__version__
+    # the last snapshot equals the state at the end
+    np.testing.assert_allclose(ds["u"][-1], res.u, atol=1e-14)
+    # blocks the front has not reached are untouched
+    assert float(ds["u"][1, -1]) == 0.6
+
+
+def test_si_run_reproduces_the_dimensionless_one():
+    si = bk.Params.from_physical(
+        mass=2.4e-12,
+        k_c=3.8e7,
+        k_p=23.0,
+        f_static=1.5e-7,
+        f_kinetic=0.3e-7,
+        alpha=6.7e-6,
+        V=1e-4,
+        spacing=1e-6,
+    )
+    plain = bk.Params(gamma=si.gamma, v=si.v, dx=si.dx, beta=si.beta)
+    n = 80
+    u0 = smooth_random_stress(n, si.dx, mean=0.9, amplitude=0.05, correlation=0.02, seed=1)
+    times = np.linspace(0.0, 0.5, 6)
+    a = bk.Chain(n, si, u0=u0).run(t_end=0.5, snapshots=times)
+    b = bk.Chain(n, plain, u0=u0).run(t_end=0.5, snapshots=times)
+    np.testing.assert_array_equal(a.snapshots["u"].values, b.snapshots["u"].values)
+    un = si.units
+    ds = a.snapshots
+    np.testing.assert_allclose(ds["t_si"], un.time(times))
+    np.testing.assert_allclose(ds["X"], un.displacement(ds["u"].values))
+    assert len(a.catalog) >= 1
+
+
+def test_ctrl_c_returns_what_was_computed(monkeypatch):
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.05)
+    ch = bk.Chain(800, p, u0=0.6).kick(0, -2.0)
+    eng = ch._engine
+    calls = []
+
+    class Interrupting:
+        def __getattr__(self, name):
+            return getattr(eng, name)
+
+        def advance(self, *a):
+            calls.append(1)
+            if len(calls) == 2:
+                raise KeyboardInterrupt
+            return eng.advance(*a)
+
+    ch._engine = Interrupting()
+    res = ch.run(t_end=30.0, chunk_steps=200)
+    assert res.interrupted and res.stop == "interrupted"
+    assert 0 < res.t < 30.0 and len(res.slips) > 0
+
+
+def test_bad_input_names_the_parameter():
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.1)
+    with pytest.raises(bk.ParameterError, match="boundary"):
+        bk.Chain(10, p, boundary="open")
+    with pytest.raises(bk.ParameterError, match="n"):
+        bk.Chain(0, p)
+    with pytest.raises(bk.ParameterError, match="step"):
+        bk.Chain(10, p, step=0.99 * 50)
+    with pytest.raises(bk.ParameterError, match="block"):
+        bk.Chain(10, p).kick(10, -1.0)
+    with pytest.raises(bk.ParameterError, match="t_end"):
+        bk.Chain(10, p).run()
+    with pytest.raises(bk.ParameterError, match="u_plus"):
+        bk.chain.front(1.5, 0.3, 0.1)
+
+
+def cli(*args):
+    return subprocess.run(
+        [sys.executable, "-m", "bkwaves.cli", *args], capture_output=True, text=True, timeout=120
+    )
+
+
+def test_cli_front_json():
+    r = cli("front", "--u-plus", "0.6", "--gamma", "0.3", "--dx", "0.05", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert list(d) == ["u_plus", "gamma", "dx", "blocks", "c", "regime", "u_minus", "w", "wall_s"]
+    assert d["regime"] == "pulse" and d["blocks"] == default_blocks(0.6, 0.3, 0.05)
+    assert d["c"] == pytest.approx(bk.tip_solve(0.6, dx=0.05, gamma=0.3)["c"], rel=1e-7)
+    r = cli("front", "--u-plus", "0.2", "--gamma", "0.3", "--dx", "0.05", "--json")
+    d = json.loads(r.stdout)
+    assert d["regime"] == "creep" and d["w"] is None and d["u_minus"] is None
+
+
+@pytest.mark.parametrize(
+    "args,name",
+    [
+        (["--u-plus", "1.5", "--gamma", "0.3", "--dx", "0.1"], "u_plus"),
+        (["--u-plus", "0.5", "--gamma", "-1", "--dx", "0.1"], "gamma"),
+        (["--u-plus", "0.5", "--gamma", "0.3", "--dx", "0"], "dx"),
+        (["--u-plus", "0.5", "--gamma", "0.3", "--dx", "0.1", "--blocks", "3"], "blocks"),
+    ],
+)
+def test_cli_front_bad_input(args, name):
+    r = cli("front", *args, "--json")
+    assert r.returncode == 2
+    assert name in r.stderr and "Traceback" not in r.stderr
