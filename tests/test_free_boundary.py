@@ -326,3 +326,48 @@ def test_random_fields_keep_the_books(boundary, gamma):
     assert s.u_plus.max() <= 1 + 1e-4
     assert (s[s.kind == "node"].u_plus > 0).all()
     assert e.n_births.sum() > 40
+
+
+def test_first_event_agrees_with_bk_chain():
+    """The same slowly varying state (two bumps on a sinusoidal ramp, ring of length
+    0.3/v) run by bk.Chain and bk.FreeBoundary: one rupture, same place, same catalog
+    (chain units), fronts and stress left within the tolerances measured in
+    docs/validation.md ("Against the direct chain")."""
+    v, dx = 1e-3, 0.1
+    p = bk.Params(gamma=G, v=v, dx=dx)
+    L = 0.3 / v
+
+    def u0(x):
+        d = lambda c: np.mod(x - c + L / 2, L) - L / 2  # noqa: E731
+        w = 40.0 * L / 300
+        return (
+            0.9
+            + 0.015 * np.sin(2 * np.pi * x / L)
+            + 0.03 * np.exp(-((d(0.3 * L) / w) ** 2))
+            + 0.025 * np.exp(-((d(0.7 * L) / w) ** 2))
+        )
+
+    n = int(round(L / dx))
+    cr = bk.Chain(n, p, "periodic", u0(np.arange(n) * dx)).run(max_events=1)
+    xg = np.arange(600) * (L / 600)
+    fb = quiet(p, xg, u0(xg), "periodic")
+    fr = fb.run(max_events=1)
+    ce, fe = cr.catalog.iloc[0], fr.events.iloc[0]
+    assert abs(int(ce.nucleation) - int(fe.nucleation)) <= 2
+    off = ce.t_start - fe.t_start  # the chain slips at u - u_xx = 1: 2a/v earlier
+    assert -1e-4 < off * v < 0
+    assert ce.n_blocks == fe.n_blocks == n
+    assert ce.moment / fe.moment - 1 == pytest.approx(0, abs=2.5 * v)
+    # slip fronts: first slip of each block vs the shock passing the grid nodes
+    first = cr.first_slip_times(0)
+    nodes = fr.shocks[fr.shocks.kind == "node"]
+    blocks = np.rint(nodes.x.to_numpy() / dx).astype(int) % n
+    dt = first[blocks] - nodes.t.to_numpy() - off
+    assert np.max(np.abs(dt)) < 5e-3 * fe.duration
+    # stress left, away from the collision zone (where the chain leaves a dip ~0.08)
+    xc = fr.shocks[fr.shocks.kind == "annihilation"].x.iloc[0]
+    uf = fb.u() + v * (cr.t - fb.time)
+    far = np.abs(np.mod(xg - xc + L / 2, L) - L / 2) > 5
+    i = np.rint(xg / dx).astype(int) % n
+    assert np.max(np.abs(cr.u[i] - uf)[far]) < 5 * v
+    assert np.max(np.abs(cr.u[i] - uf)[~far]) > 0.05
