@@ -1,6 +1,6 @@
 """Cost of the free boundary engine per event, and against the direct chain.
 
-Run: python benchmarks/bench_free_boundary.py [--chain]
+Run: python benchmarks/bench_free_boundary.py [--chain]   (--chain: also bk.Chain, ~30 s)
 The physical run: a ring of length L = 0.3/v with two smooth bumps on a sinusoidal ramp
 (the cross-check state of docs/validation.md), gamma = 0.3, v = 1e-3. Prints markdown
 tables of medians over repeats (2-core shared machine: quote medians and ratios).
@@ -68,11 +68,36 @@ def main():
         chain_table()
 
 
+def chain_run(dx):
+    n = int(round(L / dx))
+    ch = bk.Chain(n, bk.Params(gamma=GAMMA, v=V, dx=dx), "periodic", u0(np.arange(n) * dx))
+    t0 = time.perf_counter()
+    r = ch.run(max_events=1, progress=False)
+    return time.perf_counter() - t0, r.catalog.moment.iloc[0] * dx
+
+
 def chain_table():
-    if not hasattr(bk, "Chain"):
-        print("\nbk.Chain is not available in this build: chain comparison skipped")
-        return
-    raise SystemExit("chain comparison: see docs/benchmarks.md")
+    """The same physical run through the Python APIs: first event of bk.Chain against
+    bk.FreeBoundary's median cost per event over 1000 events (grid h = 1)."""
+    fb_event, _, _ = median(lambda: fb_run(1.0, 1000), 3)
+    fb_event /= 1000
+    print()
+    print("## bk.Chain (first event, median of 3) vs bk.FreeBoundary (per event, h = 1)")
+    print()
+    print("| dx | blocks | chain | free boundary | ratio | slip chain / fb - 1 |")
+    print("|---|---|---|---|---|---|")
+    x = np.arange(300) * (L / 300)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", bk.NoCreepWarning)
+        ref = bk.FreeBoundary(bk.Params(gamma=GAMMA, v=V, dx=1.0), x, u0(x), "periodic")
+    slip_fb = ref.run(max_events=1).events.slip_integral.iloc[0]
+    for dx in (0.1, 0.05, 0.025):
+        runs = [chain_run(dx) for _ in range(3)]
+        wall = statistics.median(r[0] for r in runs)
+        print(
+            f"| {dx} | {int(round(L / dx))} | {wall:.3f} s | {fb_event * 1e3:.2f} ms "
+            f"| {wall / fb_event:.0f} | {runs[0][1] / slip_fb - 1:+.1e} |"
+        )
 
 
 if __name__ == "__main__":
