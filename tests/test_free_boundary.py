@@ -371,3 +371,18 @@ def test_first_event_agrees_with_bk_chain():
     i = np.rint(xg / dx).astype(int) % n
     assert np.max(np.abs(cr.u[i] - uf)[far]) < 5 * v
     assert np.max(np.abs(cr.u[i] - uf)[~far]) > 0.05
+
+
+def test_chunked_and_continued_runs_equal_one_run_bit_for_bit():
+    """Stopping (chunks, snapshots, a second run call) changes nothing in the results."""
+    x = np.linspace(0, 200.0, 401)
+    u0 = 0.6 + 0.3 * np.exp(-(((x - 70) / 30) ** 2)) + 0.25 * np.exp(-(((x - 150) / 25) ** 2))
+    a = quiet(params(), x, u0).run(t_end=300.0)
+    fb = quiet(params(), x, u0)
+    fb.run(t_end=120.0, snapshots=7, chunk=3)
+    b = fb.run(t_end=300.0, snapshots=[150.0, 151.0], chunk=5)
+    assert len(a.events) >= 3
+    for col in ("t_start", "t_end", "x_start", "moment", "n_births"):
+        assert np.array_equal(a.events[col].to_numpy(), b.events[col].to_numpy(), equal_nan=True)
+    assert a.shocks.equals(b.shocks)
+    assert np.array_equal(a.snapshots.u.isel(t=-1), b.snapshots.u.isel(t=-1))
