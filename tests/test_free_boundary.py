@@ -386,3 +386,12 @@ def test_chunked_and_continued_runs_equal_one_run_bit_for_bit():
         assert np.array_equal(a.events[col].to_numpy(), b.events[col].to_numpy(), equal_nan=True)
     assert a.shocks.equals(b.shocks)
     assert np.array_equal(a.snapshots.u.isel(t=-1), b.snapshots.u.isel(t=-1))
+
+
+def test_nothing_to_do_without_loading():
+    """v = 0 and no shocks: no event ever happens; the run returns at once."""
+    x = np.linspace(0, 10, 11)
+    fb = bk.FreeBoundary(params(G, 0.0), x, np.full(11, 0.5))
+    r = fb.run(max_events=1)
+    assert len(r.events) == 0 and fb.time == 0.0
+    assert fb.run(t_end=5.0).snapshots.t.values[-1] == 5.0

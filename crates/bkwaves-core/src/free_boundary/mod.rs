@@ -695,7 +695,8 @@ impl FreeBoundary {
             }
             let (t, next) = self.next_event(t_stop);
             if let Next::None = next {
-                if t_stop > self.now {
+                // (with nothing left to happen and no finite end, time stays where it is)
+                if t_stop > self.now && t_stop.is_finite() {
                     self.now = t_stop;
                 }
                 return Ok(Stop::Time);
