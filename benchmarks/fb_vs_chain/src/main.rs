@@ -207,14 +207,18 @@ fn main() {
                 None,
             )
             .unwrap();
-            for k in 1..=4 {
+            let ne: usize = std::env::args()
+                .nth(4)
+                .map(|a| a.parse().unwrap())
+                .unwrap_or(4);
+            for k in 1..=ne {
                 let t0 = Instant::now();
                 ch.run(1e12, k, u64::MAX).unwrap();
                 let e = ch.catalog.events[k - 1];
                 println!("chain ev {k}: wall {:.2}s t_start {:.4} dur {:.3} nucl x {:.2} blocks {} slips {} moment*dx {:.4}", t0.elapsed().as_secs_f64(), e.t_start, e.t_end - e.t_start, e.nucleation as f64 * dx, e.n_blocks, e.n_slips, e.moment * dx);
             }
             let (mut fb, _) = fb_engine(v, 0.5 / 300.0);
-            fb.advance(1e12, u64::MAX, 4).unwrap();
+            fb.advance(1e12, u64::MAX, ne).unwrap();
             for e in fb.events() {
                 println!(
                     "fb ev: t_start {:.4} dur {:.3} x {:.2} moment {:.4} births {}",
