@@ -16,8 +16,6 @@ import json
 import math
 import time
 
-import numpy as np
-
 import bkwaves as bk
 from bkwaves import _core
 from bkwaves.chain import default_blocks
@@ -25,6 +23,7 @@ from bkwaves.chain import default_blocks
 DXS = (0.1, 0.05, 0.025, 0.0125)
 GAMMAS = (0.0, 0.3, 0.45)
 US = (0.3, 0.5, 0.7, 0.9)
+STEPS = (0.4, 0.2, 0.1, 0.05, 0.025)
 
 
 def richardson(values):
@@ -90,11 +89,65 @@ def main():
                 row["pulse"] = [bool(r["pulse"])]
             rows.append(row)
             print(json.dumps(row), flush=True)
-    out = {"dx": DXS, "rows": rows, "seconds": time.perf_counter() - t0, "version": bk.__version__}
+    steps = []
+    tip = float(bk.tip_solve(0.6, dx=0.05, gamma=0.3)["c"])
+    for st in STEPS:
+        c = _core.front_measure(0.6, 0.3, 0.05, 1600, step=st, heal=False)["c"]
+        steps.append({"step": st, "c": c, "rel_err": c / tip - 1})
+        print(json.dumps(steps[-1]), flush=True)
+    out = {
+        "dx": DXS,
+        "rows": rows,
+        "time_step": steps,
+        "seconds": time.perf_counter() - t0,
+        "version": bk.__version__,
+    }
     with open(args.out, "w") as f:
         json.dump(out, f, indent=1, default=lambda x: None if x is None else float(x))
     print(f"wrote {args.out} in {out['seconds']:.0f} s")
-    _ = np
+    print(markdown(out))
+
+
+def _f(x, fmt):
+    return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, fmt)
+
+
+def markdown(out) -> str:
+    """The tables of docs/validation.md from the JSON."""
+    lines = ["| gamma | u_+ | " + " | ".join(f"c, dx={d}" for d in out["dx"]) + " | order |"]
+    lines.append("|---" * (3 + len(out["dx"])) + "|")
+    for r in out["rows"]:
+        cells = [_f(c, ".9f") for c in r["c"]]
+        lines.append(
+            f"| {r['gamma']} | {r['u_plus']} | " + " | ".join(cells) + f" | {r['order']:.2f} |"
+        )
+    lines += ["", "| gamma | u_+ | max rel. diff. chain vs tip(dx) | R1 - c | R2 - c | R3 - c |"]
+    lines.append("|---|---|---|---|---|---|")
+    for r in out["rows"]:
+        diffs = [abs(a / b - 1) for a, b in zip(r["c"], r["c_tip"], strict=True) if b]
+        ct = r["c_theory"]
+        lines.append(
+            f"| {r['gamma']} | {r['u_plus']} | {max(diffs):.1e} | {r['c_R1'] - ct:.1e} | "
+            f"{r['c_R2'] - ct:.1e} | {r['c_R3'] - ct:.1e} |"
+        )
+    lines += ["", "| gamma | u_+ | quantity | " + " | ".join(f"dx={d}" for d in out["dx"])]
+    lines[-1] += " | order | R2 | App. B | R2 - App. B |"
+    lines.append("|---" * (7 + len(out["dx"])) + "|")
+    for r in out["rows"]:
+        if "u_minus" not in r:
+            continue
+        for q, th in (("u_minus", "u_minus_theory"), ("w", "w_theory")):
+            vals = " | ".join(_f(x, ".6f") for x in r[q])
+            r2 = r.get(q + "_R2")
+            diff = None if r2 is None else r2 - r[th]
+            lines.append(
+                f"| {r['gamma']} | {r['u_plus']} | {q} | {vals} | {_f(r.get(q + '_order'), '.2f')} "
+                f"| {_f(r2, '.6f')} | {r[th]:.6f} | {_f(diff, '.1e')} |"
+            )
+    lines += ["", "| step (h/dx) | c | rel. error vs tip(dx) |", "|---|---|---|"]
+    for s in out["time_step"]:
+        lines.append(f"| {s['step']} | {s['c']:.12f} | {s['rel_err']:.2e} |")
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":
