@@ -718,7 +718,8 @@ def chain_profile(u_plus, gamma, dx=0.05, n=2400):
     from .chain import Chain
     from .params import Params
 
-    ch = Chain(n, Params(gamma=gamma, v=0.0, dx=dx), "free", u0=u_plus).release(0)
+    # kicked forward like `bkwaves front` (a release alone starts no front at small u_+)
+    ch = Chain(n, Params(gamma=gamma, v=0.0, dx=dx), "free", u0=u_plus).kick(0, -2.0)
     c = float(front_speed(u_plus, dx=dx, gamma=gamma))
     ch.run(t_end=0.8 * n * dx / c, progress=False)
     u = ch.u
