@@ -4,12 +4,17 @@
 use std::time::Instant;
 
 fn main() {
-    let a: Vec<usize> = std::env::args().skip(1).map(|x| x.parse().unwrap()).collect();
+    let a: Vec<usize> = std::env::args()
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect();
     let (n, steps) = (a[0], a[1]);
     let (dx, gamma, v) = (0.01f64, 0.3f64, 0.0f64);
     let k = 1.0 / (dx * dx);
     let h = 0.05 * dx;
-    let mut u: Vec<f64> = (0..n + 2).map(|i| 0.6 - 1e-3 * (i as f64 * 0.1).sin()).collect();
+    let mut u: Vec<f64> = (0..n + 2)
+        .map(|i| 0.6 - 1e-3 * (i as f64 * 0.1).sin())
+        .collect();
     let mut w = vec![0.0f64; n + 2];
     let (mut su, mut sw) = (u.clone(), w.clone());
     let (mut ku, mut kw) = (vec![0.0; n + 2], vec![0.0; n + 2]);
@@ -23,7 +28,10 @@ fn main() {
     for _ in 0..steps {
         su.copy_from_slice(&u);
         sw.copy_from_slice(&w);
-        for (stage, (c, b)) in [(0.5, 1.0), (0.5, 2.0), (1.0, 2.0), (0.0, 1.0)].iter().enumerate() {
+        for (stage, (c, b)) in [(0.5, 1.0), (0.5, 2.0), (1.0, 2.0), (0.0, 1.0)]
+            .iter()
+            .enumerate()
+        {
             rhs(&su, &sw, &mut acc);
             for p in 1..=n {
                 if stage == 0 {
