@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 import bkwaves as bk
-from bkwaves.io import RunWriter, finalize, load, table_path
+from bkwaves.io import RunWriter, finalize, load, load_tables, table_path
 
 VARS = {"u": ("1", "stress u", "f8"), "state": ("1", "0 stuck, 1 forward, -1 backward", "i1")}
 
@@ -28,7 +28,8 @@ def test_round_trip_with_attributes_and_tables(tmp_path, suffix):
             pd.DataFrame({"t_start": [0.1, 0.7], "slip": [1.0, 2.0]}),
             units={"t_start": "s", "slip": "m"},
         )
-    ds, tables = load(out)
+    ds, tables = load_tables(out)
+    assert load(out)[1].equals(tables["events"])
     assert ds.sizes == {"t": 4, "x": 11}
     np.testing.assert_allclose(ds.t, [0, 0.5, 1.0, 1.5])
     np.testing.assert_allclose(ds.u.isel(t=2), np.sin(x + 2))

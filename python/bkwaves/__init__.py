@@ -10,9 +10,10 @@ from ._core import ConvergenceError, ParameterError
 
 __version__ = _core.__version__
 
-from . import config, presets, stats, theory  # noqa: E402
+from . import config, io, plot, presets, stats, theory  # noqa: E402
 from .chain import Chain, ChainResult  # noqa: E402
 from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning  # noqa: E402
+from .io import load  # noqa: E402
 from .params import Params, PhysicalUnits  # noqa: E402
 from .waves import TravelingWave, front_speed, tip_solve, traveling_wave  # noqa: E402
 
@@ -29,6 +30,9 @@ __all__ = [
     "TravelingWave",
     "__version__",
     "config",
+    "io",
+    "load",
+    "plot",
     "stats",
     "front_speed",
     "presets",

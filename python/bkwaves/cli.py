@@ -163,6 +163,47 @@ def paper(
     typer.echo(", ".join(f"{n} {k}" for k, n in sorted(verdicts.items())))
 
 
+@app.command("run")
+def run_cmd(
+    config: Annotated[Path, typer.Argument(help="A run configuration (TOML).")],
+    out: Annotated[
+        Path | None,
+        typer.Option("-o", "--out", help="Output (.nc or .zarr); default: [output] path."),
+    ] = None,
+    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
+    json_out: JsonOpt = False,
+):
+    """Run a chain or free-boundary simulation described by CONFIG.toml.
+
+    Snapshots go to OUT (NetCDF or Zarr by suffix) as they are computed; the event catalog
+    and trajectories to OUT.events.parquet/.csv and OUT.slips/shocks.parquet. Ctrl-C or
+    SIGTERM stop the run and keep what was computed. See docs/usage.md for the schema.
+    """
+    from .config import load_config
+    from .runner import run
+
+    try:
+        cfg = load_config(config)
+        target = out if out is not None else cfg.output_path
+        if target is None:
+            raise ParameterError(
+                "no output: give -o OUT (.nc or .zarr) or [output] path in the config"
+            )
+        summary = run(cfg, target, progress=not quiet and not json_out)
+    except (ParameterError, ConvergenceError) as e:
+        _fail(e)
+    d = summary.to_dict()
+    if json_out:
+        typer.echo(json.dumps(d, default=str))
+        return
+    state = "interrupted" if summary.interrupted else "done"
+    typer.echo(
+        f"{summary.model}: {state} at t = {summary.t:.6g} ({summary.units}), "
+        f"{summary.events} events, {summary.snapshots} snapshots, "
+        f"{summary.wall_s:.2f} s -> {summary.out}"
+    )
+
+
 @app.command("plot")
 def plot_cmd(
     out: Annotated[Path, typer.Argument(help="A run output (.nc or .zarr).")],

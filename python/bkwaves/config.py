@@ -20,9 +20,11 @@ Schema (all sections optional except those marked)::
                 "random" (mean, amplitude, correlation_length) |
                 "bumps" (base, slope, bumps = [{center, width, height}, ...]) |
                 "file" (path: .npy or .txt with one value per node)
-                velocity = 0.0   (chain only: initial du/dt of every block)
+                velocity = 0.0   (chain only: initial forward speed of every block over
+                                  the ground; 0 = all stuck)
 
-    [[triggers]] time, block, kind = "kick" (velocity) | "release"   (chain only)
+    [[triggers]] time, block, kind = "kick" (velocity: forward speed added, default 1) |
+                 "release"   (chain only)
 
     [run]       t_end and/or max_events
     [output]    path, snapshot_every (time) or snapshot_events (every k events),

@@ -28,7 +28,7 @@ import numpy as np
 from . import __version__
 from ._core import ParameterError
 
-__all__ = ["RunWriter", "load", "finalize", "table_path"]
+__all__ = ["RunWriter", "load", "load_tables", "finalize", "table_path"]
 
 SUFFIXES = (".nc", ".zarr")
 
@@ -213,9 +213,16 @@ def finalize(path) -> Path:
 
 
 def load(path):
-    """Open a run output: returns ``(dataset, tables)`` where ``tables`` maps table names
-    (``"events"``, ...) to pandas DataFrames with their units in ``df.attrs["units"]``.
-    An output whose run crashed before closing is read from its completed parts."""
+    """Open a run output: returns ``(dataset, catalog)``: the snapshots as an xarray
+    Dataset and the event catalog as a pandas DataFrame (None if the run wrote none),
+    with its column units in ``catalog.attrs["units"]``. An output whose run crashed
+    before closing is read from its completed parts. Other tables: :func:`load_tables`."""
+    ds, tables = load_tables(path)
+    return ds, tables.get("events")
+
+
+def load_tables(path):
+    """Like :func:`load`, with every table: returns ``(dataset, {name: DataFrame})``."""
     import pyarrow.parquet as pq
     import xarray as xr
 

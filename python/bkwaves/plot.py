@@ -167,14 +167,14 @@ def size_frequency(sizes, ax=None, label: str = "event size"):
 def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
     """The standard pictures of a run output (see :func:`bkwaves.io.load`): space-time
     diagrams of every field, profiles, trajectories and the catalog's size-frequency."""
-    from .io import load
+    from .io import load_tables
 
     if fmt not in ("png", "svg", "pdf"):
         from ._validate import _fail
 
         _fail("fmt", fmt, "'png', 'svg' or 'pdf'")
     out = Path(out)
-    ds, tables = load(out)
+    ds, tables = load_tables(out)
     outdir = Path(outdir) if outdir is not None else out.parent
     stem = out.name.rsplit(".", 1)[0]
     written = []

@@ -1,0 +1,377 @@
+"""Run a configuration (``bkwaves run CONFIG.toml``): build the engine, advance it, and
+write self-describing outputs incrementally (see :mod:`bkwaves.io`).
+
+Outputs of a run to ``OUT.nc`` (or ``.zarr``):
+
+- snapshots of the fields on the grid at the configured times / every k events
+  (chain: ``u``, ``u_t``, ``mode``; free boundary: ``u``), appended as they are computed;
+- ``OUT.events.parquet`` / ``.csv``: the event catalog;
+- ``OUT.slips.parquet`` (chain: every slip of every block: the slip-front trajectories) or
+  ``OUT.shocks.parquet`` (free boundary: shock trajectories);
+- global attributes: the config (TOML as JSON), version, seed, params, units.
+
+Tables are rewritten atomically at least every ``table_every`` seconds of wall time and
+at the end, so an interrupted run (Ctrl-C, SIGTERM) keeps every completed snapshot and
+the tables up to its last flush; the run then ends normally with ``interrupted = True``.
+With a physical ([physical]) config the outputs are in SI units unless
+``output.units = "dimensionless"``: x in m, t in s, slips in m; u stays the
+dimensionless stress (0: kinetic level, 1: static threshold).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import signal
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import __version__
+from .config import RunConfig, initial_state
+from .io import RunWriter
+
+__all__ = ["RunSummary", "run"]
+
+
+@dataclass
+class RunSummary:
+    model: str
+    out: str | None
+    t: float
+    events: int
+    snapshots: int
+    interrupted: bool
+    wall_s: float
+    units: str
+    extra: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        return {
+            "model": self.model,
+            "out": self.out,
+            "t": self.t,
+            "events": self.events,
+            "snapshots": self.snapshots,
+            "interrupted": self.interrupted,
+            "wall_s": self.wall_s,
+            "units": self.units,
+            **self.extra,
+        }
+
+
+@contextlib.contextmanager
+def _sigterm_as_interrupt():
+    """Turn SIGTERM into KeyboardInterrupt so that the run stops cleanly."""
+
+    def handler(signum, frame):
+        raise KeyboardInterrupt
+
+    try:
+        old = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not in the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+class _Units:
+    """Conversion of outputs to SI for physical configs."""
+
+    def __init__(self, cfg: RunConfig):
+        self.si = cfg.physical and cfg.output_units == "native"
+        self.u = cfg.params.units
+
+    @property
+    def name(self) -> str:
+        return "SI" if self.si else "dimensionless (paper eq. dimless)"
+
+    def t(self, t):
+        return self.u.time(t) if self.si else t
+
+    def x(self, x):
+        return self.u.length(x) if self.si else x
+
+    def slip(self, s):
+        return self.u.slip(s) if self.si else s
+
+    def coord_units(self):
+        return ("m", "s") if self.si else ("x' (paper eq. dimless)", "t' (paper eq. dimless)")
+
+    def convert_table(self, df, times=(), xs=(), slips=()):
+        units = {}
+        df = df.copy()
+        for c in times:
+            if c in df:
+                df[c] = self.t(df[c].to_numpy())
+                units[c] = "s" if self.si else "t'"
+        for c in xs:
+            if c in df:
+                df[c] = self.x(df[c].to_numpy())
+                units[c] = "m" if self.si else "x'"
+        for c in slips:
+            if c in df:
+                df[c] = self.slip(df[c].to_numpy())
+                units[c] = "m" if self.si else "(f_r - f_s)/k_p"
+        return df, units
+
+
+def _snapshot_times(cfg: RunConfig) -> np.ndarray:
+    if cfg.snapshot_every is None:
+        return np.array([], dtype=float)
+    if cfg.t_end is None:
+        # open-ended by events: snapshot times far enough ahead
+        return np.arange(1, 10**6) * cfg.snapshot_every
+    n = int(math.floor(cfg.t_end / cfg.snapshot_every * (1 + 1e-12)))
+    return cfg.snapshot_every * np.arange(n + 1)
+
+
+def _attrs(cfg: RunConfig, units: _Units) -> dict:
+    p = cfg.params
+    return {
+        "title": cfg.title or f"bkwaves {cfg.model} run",
+        "model": cfg.model,
+        "seed": cfg.seed,
+        "config": json.dumps(cfg.source, default=str),
+        "params": json.dumps({k: v for k, v in p.to_dict().items() if k != "units"}),
+        "physical_units": json.dumps(p.units.__dict__) if p.units is not None else "",
+        "units_system": units.name,
+        "u_units": "dimensionless stress: u = -(k_p X + f_s)/(f_r - f_s)",
+        "bkwaves_version": __version__,
+    }
+
+
+def run(
+    cfg: RunConfig,
+    out=None,
+    *,
+    progress: bool = False,
+    table_every: float = 5.0,
+    chunk: int = 20_000,
+) -> RunSummary:
+    """Run ``cfg`` and write its outputs to ``out`` (default ``cfg.output_path``; None:
+    nothing written). Returns a summary; Ctrl-C or SIGTERM end the run cleanly."""
+    out = out if out is not None else cfg.output_path
+    if cfg.model == "chain":
+        return _run_chain(cfg, out, progress, table_every, chunk)
+    return _run_free_boundary(cfg, out, progress, table_every, chunk)
+
+
+class _Bar:
+    def __init__(self, enabled, total, label):
+        self.p = None
+        if enabled:
+            from rich.progress import Progress
+
+            self.p = Progress(transient=True)
+            self.p.start()
+            self.task = self.p.add_task(label, total=total)
+
+    def update(self, done):
+        if self.p is not None:
+            self.p.update(self.task, completed=done)
+
+    def close(self):
+        if self.p is not None:
+            self.p.stop()
+
+
+def _run_chain(cfg, out, progress, table_every, chunk):
+    from .chain import Chain
+
+    p = cfg.params
+    u0 = initial_state(cfg)
+    u_t0 = None if cfg.initial.velocity == 0.0 else np.full(cfg.blocks, p.v - cfg.initial.velocity)
+    chain = Chain(cfg.blocks, p, cfg.boundary, u0, u_t0, seed=cfg.seed)
+    for tr in cfg.triggers:
+        if tr.kind == "kick":
+            chain.kick(tr.block, -tr.velocity, tr.time)
+        else:
+            chain.release(tr.block, tr.time)
+    eng = chain._engine
+    eng.add_snapshots(_snapshot_times(cfg), int(cfg.snapshot_events or 0))
+    units = _Units(cfg)
+    x = np.arange(cfg.blocks) * p.dx
+    variables = {
+        "u": ("1", "stress u (0: kinetic level, 1: static threshold)", "f8"),
+        "u_t": ("(f_r - f_s)/sqrt(k_p m)", "du/dt", "f8"),
+    }
+    writer = (
+        RunWriter(
+            out, units.x(x), variables, attrs=_attrs(cfg, units), coord_units=units.coord_units()
+        )
+        if out
+        else None
+    )
+    t_stop = cfg.t_end if cfg.t_end is not None else 1e300
+    max_events = cfg.max_events if cfg.max_events is not None else 2**62
+    written = 0
+    bar = _Bar(progress, cfg.t_end if cfg.t_end else max_events, "chain")
+    wall0 = last_tables = time.perf_counter()
+    interrupted = False
+
+    def flush_snapshots():
+        nonlocal written
+        if writer is None:
+            return
+        ts, us, uts = eng.snapshots()
+        for i in range(written, len(ts)):
+            writer.append(units.t(ts[i]), u=us[i], u_t=uts[i])
+        written = len(ts)
+
+    def flush_tables():
+        if writer is None:
+            return
+        import pandas as pd
+
+        cat = pd.DataFrame(eng.catalog())
+        cat["duration"] = cat["t_end"] - cat["t_start"]
+        cat, cu = units.convert_table(
+            cat, times=("t_start", "t_end", "duration"), slips=("moment",)
+        )
+        writer.write_table("events", cat, cu)
+        sl = pd.DataFrame(eng.slips())
+        sl.insert(2, "x", sl["block"] * p.dx)
+        sl, su = units.convert_table(sl, times=("t_start", "t_end"), xs=("x",), slips=("slip",))
+        writer.write_table("slips", sl, su, csv=False)
+
+    try:
+        with _sigterm_as_interrupt():
+            while True:
+                done = eng.events_finished
+                stop = eng.advance(t_stop, max(max_events - done, 0), int(chunk))
+                flush_snapshots()
+                bar.update(chain.t if cfg.t_end else eng.events_finished)
+                if time.perf_counter() - last_tables > table_every:
+                    flush_tables()
+                    last_tables = time.perf_counter()
+                if stop != "steps":
+                    break
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        bar.close()
+        flush_snapshots()
+        flush_tables()
+        if writer is not None:
+            writer.close()
+    return RunSummary(
+        model="chain",
+        out=str(out) if out else None,
+        t=float(units.t(chain.t)),
+        events=int(eng.events_finished),
+        snapshots=written,
+        interrupted=interrupted,
+        wall_s=time.perf_counter() - wall0,
+        units=units.name,
+        extra={"blocks": cfg.blocks, "counters": eng.counters()},
+    )
+
+
+def _run_free_boundary(cfg, out, progress, table_every, chunk):
+    import warnings
+
+    from .free_boundary import FreeBoundary
+
+    p = cfg.params
+    x = cfg.x()
+    u0 = initial_state(cfg)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fb = FreeBoundary(p, x, u0, cfg.boundary)
+    notes = [str(w.message) for w in caught]
+    for w in caught:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    eng = fb._engine
+    units = _Units(cfg)
+    variables = {"u": ("1", "slow field u (0: kinetic level, 1: static threshold)", "f8")}
+    writer = (
+        RunWriter(
+            out, units.x(x), variables, attrs=_attrs(cfg, units), coord_units=units.coord_units()
+        )
+        if out
+        else None
+    )
+    times = _snapshot_times(cfg).tolist()
+    t_end = cfg.t_end if cfg.t_end is not None else math.inf
+    target_events = cfg.max_events if cfg.max_events is not None else 2**62
+    written = 0
+    bar = _Bar(progress, cfg.t_end if cfg.t_end else target_events, "free boundary")
+    wall0 = last_tables = time.perf_counter()
+    interrupted = False
+    last_every_k = 0
+
+    def snap():
+        nonlocal written
+        if writer is not None:
+            writer.append(units.t(eng.time), u=np.asarray(eng.u_nodes()))
+            written += 1
+
+    def flush_tables():
+        if writer is None:
+            return
+        import pandas as pd
+
+        ev = pd.DataFrame(eng.events())
+        if len(ev):
+            ev.insert(3, "duration", ev["t_end"] - ev["t_start"])
+        ev, eu = units.convert_table(
+            ev,
+            times=("t_start", "t_end", "duration"),
+            xs=("x_start", "x_min", "x_max", "swept"),
+            slips=("moment",),
+        )
+        writer.write_table("events", ev, eu)
+        sh = pd.DataFrame(eng.path())
+        sh, su = units.convert_table(sh, times=("t",), xs=("x",))
+        writer.write_table("shocks", sh, su, csv=False)
+
+    try:
+        with _sigterm_as_interrupt():
+            if times and times[0] <= eng.time:
+                snap()
+                times.pop(0)
+            wanted = {t for t in times if t <= t_end}
+            targets = sorted(wanted | {t_end})
+            for target in targets:
+                while True:
+                    status = eng.advance(float(target), int(chunk), int(target_events))
+                    bar.update(eng.time if cfg.t_end else eng.completed_events)
+                    k = cfg.snapshot_events
+                    if k and eng.completed_events // k > last_every_k:
+                        last_every_k = eng.completed_events // k
+                        snap()
+                    if time.perf_counter() - last_tables > table_every:
+                        flush_tables()
+                        last_tables = time.perf_counter()
+                    if status != "steps":
+                        break
+                if status == "events":
+                    break
+                if target in wanted:
+                    snap()
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        bar.close()
+        if writer is not None and (written == 0 or interrupted or cfg.t_end is None):
+            snap()
+        flush_tables()
+        if writer is not None:
+            writer.close()
+    return RunSummary(
+        model="free_boundary",
+        out=str(out) if out else None,
+        t=float(units.t(eng.time)),
+        events=int(eng.completed_events),
+        snapshots=written,
+        interrupted=interrupted,
+        wall_s=time.perf_counter() - wall0,
+        units=units.name,
+        extra={"grid": len(x), "warnings": notes},
+    )

@@ -1,0 +1,137 @@
+"""`bkwaves run`: every example config runs; outputs describe themselves; SIGTERM keeps
+what was computed; SI outputs are the dimensionless ones converted."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import bkwaves as bk
+from bkwaves.config import load_config, parse_config
+from bkwaves.runner import run
+
+EXAMPLES = sorted((Path(__file__).parent.parent / "examples").glob("*.toml"))
+BK = [sys.executable, "-m", "bkwaves"]
+
+
+def test_there_is_an_example_per_use_case():
+    names = {p.stem for p in EXAMPLES}
+    assert {
+        "chain_front",
+        "chain_loading",
+        "free_boundary_source",
+        "free_boundary_random",
+        "bristol_board",
+    } <= names
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=lambda p: p.stem)
+def test_example_runs_and_describes_itself(example, tmp_path):
+    out = tmp_path / (example.stem + ".nc")
+    r = subprocess.run(
+        [*BK, "run", str(example), "-o", str(out), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert r.returncode == 0, r.stderr
+    summary = json.loads(r.stdout)
+    assert not summary["interrupted"]
+    cfg = load_config(example)
+    ds, catalog = bk.load(out)
+    assert ds.sizes["t"] == summary["snapshots"] >= 2
+    assert json.loads(ds.attrs["config"])["model"] == cfg.model
+    assert ds.attrs["bkwaves_version"] == bk.__version__
+    assert ds.attrs["seed"] == cfg.seed
+    assert np.all(np.isfinite(ds.u.values))
+    assert catalog is not None and len(catalog) == summary["events"]
+    if cfg.max_events is not None:
+        assert summary["events"] == cfg.max_events
+    if cfg.physical:
+        assert ds.t.attrs["units"] == "s" and ds.x.attrs["units"] == "m"
+        assert catalog.attrs["units"]["t_start"] == "s"
+    # the pictures of the run render
+    r = subprocess.run(
+        [*BK, "plot", str(out), "-o", str(tmp_path / "fig")],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert r.returncode == 0, r.stderr
+    assert len(list((tmp_path / "fig").glob("*.png"))) >= 2
+
+
+def test_si_outputs_are_the_dimensionless_ones_converted(tmp_path):
+    doc = {
+        "model": "chain",
+        "physical": {"preset": "bristol_board", "V": 1e-6},
+        "domain": {"blocks": 300},
+        "initial": {"kind": "uniform", "value": 0.7},
+        "triggers": [{"block": 0, "kind": "kick", "velocity": 0.03}],
+        "run": {"t_end": 4e-7},
+        "output": {"snapshot_every": 1e-7},
+    }
+    si = parse_config(doc)
+    dimless = parse_config({**doc, "output": {**doc["output"], "units": "dimensionless"}})
+    run(si, tmp_path / "si.nc")
+    run(dimless, tmp_path / "dl.nc")
+    a, ca = bk.load(tmp_path / "si.nc")
+    b, cb = bk.load(tmp_path / "dl.nc")
+    u = si.params.units
+    np.testing.assert_allclose(a.t.values, u.time(b.t.values), rtol=1e-12)
+    np.testing.assert_allclose(a.x.values, u.length(b.x.values), rtol=1e-12)
+    np.testing.assert_array_equal(a.u.values, b.u.values)
+
+
+def test_bad_config_exits_2_with_key_path(tmp_path):
+    cfg = tmp_path / "bad.toml"
+    cfg.write_text('model = "chain"\n[params]\ngamma = 0.3\nv = 0.0\ndx = 0.05\nspeed = 1\n')
+    r = subprocess.run(
+        [*BK, "run", str(cfg), "-o", str(tmp_path / "o.nc")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert r.returncode == 2 and "params.speed: unknown key" in r.stderr
+    assert "Traceback" not in r.stderr
+
+
+@pytest.mark.parametrize("suffix", [".nc", ".zarr"])
+def test_sigterm_stops_cleanly_and_keeps_the_records(tmp_path, suffix):
+    cfg = tmp_path / "long.toml"
+    cfg.write_text(
+        'model = "free_boundary"\nseed = 1\n[params]\ngamma = 0.3\nv = 1e-2\ndx = 1e-3\n'
+        '[domain]\nlength = 3000.0\ngrid = 15000\nboundary = "periodic"\n'
+        '[initial]\nkind = "random"\nmean = 0.5\namplitude = 0.02\ncorrelation_length = 25.0\n'
+        "[run]\nt_end = 1e7\n[output]\nsnapshot_every = 20.0\n"
+    )
+    out = tmp_path / f"long{suffix}"
+    p = subprocess.Popen(
+        [*BK, "run", str(cfg), "-o", str(out), "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.time() + 60
+    parts = tmp_path / "long.nc.parts"
+    while time.time() < deadline:
+        if (parts.exists() and len(list(parts.glob("part-*.nc"))) >= 3) or (
+            suffix == ".zarr" and out.exists() and bk.load(out)[0].sizes["t"] >= 3
+        ):
+            break
+        time.sleep(0.2)
+    os.kill(p.pid, signal.SIGTERM)
+    stdout, stderr = p.communicate(timeout=120)
+    assert p.returncode == 0, stderr
+    summary = json.loads(stdout)
+    assert summary["interrupted"]
+    ds, catalog = bk.load(out)
+    assert ds.sizes["t"] == summary["snapshots"] >= 3
+    assert not parts.exists()  # NetCDF parts merged on the way out
+    assert catalog is not None
