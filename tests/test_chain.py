@@ -120,6 +120,21 @@ def test_loading_cycles_energy_balance_and_catalog(boundary):
     assert cat.attrs["units"]["moment"].startswith("(f_r - f_s)/k_p")
 
 
+@pytest.mark.parametrize("boundary", ["free", "fixed", "periodic"])
+def test_midpoint_integrator_closes_the_energy_books_to_round_off(boundary):
+    p = bk.Params(gamma=0.3, v=1e-2, dx=0.2, beta=0.5)
+    u0 = smooth_random_stress(60, 0.2, mean=0.6, amplitude=0.12, correlation=1.5, seed=3)
+    ch = bk.Chain(60, p, boundary=boundary, u0=u0, step=0.1, integrator="midpoint")
+    res = ch.run(t_end=150.0)
+    e = res.energy
+    diss = e["friction_work"] + e["viscous_work"]
+    assert len(res.catalog) >= 3
+    assert abs(e["residual"]) < 1e-12 * diss
+    assert res.snapshots.attrs["integrator"] == "midpoint"
+    with pytest.raises(bk.ParameterError, match="integrator"):
+        bk.Chain(10, p, integrator="euler")
+
+
 def test_quiet_jump_is_exact_for_one_block():
     # one block loaded at v from u0: slips exactly at (1 - u0)/v, no steps in between
     p = bk.Params(gamma=0.3, v=0.01, dx=0.1)

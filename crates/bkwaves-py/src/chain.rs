@@ -4,6 +4,7 @@
 use crate::errors::to_py;
 use bkwaves_core::boundary;
 use bkwaves_core::chain::front::{measure_front, FrontOptions};
+use bkwaves_core::chain::integrator::Method;
 use bkwaves_core::chain::{Chain, ChainConfig, Stop, Trigger, TriggerKind};
 use bkwaves_core::friction::Coulomb;
 use bkwaves_core::Error;
@@ -58,6 +59,17 @@ impl ChainEngine {
         let inner =
             Chain::new(ChainConfig { dx, v, step }, fr, b.as_ref(), u0, w).map_err(to_py)?;
         Ok(ChainEngine { inner })
+    }
+
+    /// Choose the integrator: "rk4" (default) or "midpoint" (energy books to round-off).
+    fn set_integrator(&mut self, name: &str) -> PyResult<()> {
+        let m = Method::by_name(name).map_err(to_py)?;
+        self.inner.set_integrator(m).map_err(to_py)
+    }
+
+    #[getter]
+    fn integrator(&self) -> &'static str {
+        self.inner.integrator()
     }
 
     /// Schedule a trigger: kind "release" (value = direction +1/-1) or "kick" (value =

@@ -46,8 +46,10 @@ impl Friction for Coulomb {
         self.beta
     }
     #[inline(always)]
-    fn power(&self, s: f64, _dir: f64) -> (f64, f64) {
-        (self.beta * s.abs(), 2.0 * self.gamma * s * s)
+    fn power(&self, s: f64, dir: f64) -> (f64, f64) {
+        // the force applied on this branch times the speed (not beta |s|): exact books even
+        // when s has just crossed zero before its stick is located
+        (self.beta * s * dir, 2.0 * self.gamma * s * s)
     }
 }
 

@@ -1,10 +1,20 @@
-//! Time stepping of the sliding blocks.
+//! Time stepping of the sliding blocks: one file per method behind [`Integrator`].
+//!
+//! - [`rk4`]: classical RK4 (default; order 4; the energy books close to O(h^4));
+//! - [`midpoint`]: the implicit midpoint rule (order 2; conserves quadratic invariants, so
+//!   the energy books close to round-off: E(t+h) - E(t) = h P(midpoint) exactly).
 //!
 //! Only blocks in runs of sliding blocks are stepped; the stuck neighbours at the ends
 //! of a run enter through their exact drift u = u_ref + v (t - t_ref), evaluated at each
 //! stage time, and the chain ends through their ghosts. The loader work and the
 //! dissipated power are integrated by the same stages (an augmented system), so the
 //! energy books close to the order of the method.
+
+pub mod midpoint;
+pub mod rk4;
+
+pub use midpoint::Midpoint;
+pub use rk4::Rk4;
 
 use super::state::State;
 use crate::boundary::Ghost;
@@ -64,33 +74,10 @@ pub trait Integrator: std::fmt::Debug + Send {
         Self: Sized;
 }
 
-/// Classical fourth-order Runge-Kutta.
-#[derive(Debug, Clone, Default)]
-pub struct Rk4 {
-    su: Vec<f64>,
-    sw: Vec<f64>,
-    acc: Vec<f64>,
-    ku: Vec<f64>,
-    kw: Vec<f64>,
-}
-
-impl Rk4 {
-    /// Buffers for a chain of n blocks.
-    pub fn new(n: usize) -> Self {
-        Rk4 {
-            su: vec![0.0; n + 2],
-            sw: vec![0.0; n + 2],
-            acc: vec![0.0; n + 2],
-            ku: vec![0.0; n + 2],
-            kw: vec![0.0; n + 2],
-        }
-    }
-}
-
 /// Fill the stage displacement of the neighbours of every run (stuck blocks by their
 /// exact drift, ghosts by the boundary) at stage time ts. Sliding values in `su` must
 /// already be set.
-fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
+pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
     let n = st.n;
     for &(a, b) in &st.runs {
         for q in [a - 1, b] {
@@ -118,7 +105,7 @@ fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
 
 /// Accelerations of all sliding blocks from stage values su, sw.
 #[inline]
-fn stage_accel<F: Friction>(
+pub(crate) fn stage_accel<F: Friction>(
     st: &State,
     fr: &F,
     su: &[f64],
@@ -149,23 +136,70 @@ fn stage_accel<F: Friction>(
     sums
 }
 
-impl Integrator for Rk4 {
-    fn name(&self) -> &'static str {
-        "rk4"
-    }
-    fn order(&self) -> u32 {
-        4
-    }
+/// The integrators by name (the registry).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Classical fourth-order Runge-Kutta.
+    Rk4,
+    /// Implicit midpoint rule (energy books to round-off).
+    Midpoint,
+}
 
-    fn accel<F: Friction>(&mut self, st: &mut State, fr: &F, t: f64, acc: &mut [f64]) -> StageSums {
-        for &(a, b) in &st.runs {
-            self.su[a..b].copy_from_slice(&st.u[a..b]);
+impl Method {
+    /// Parse a method name.
+    pub fn by_name(name: &str) -> crate::error::Result<Method> {
+        match name {
+            "rk4" => Ok(Method::Rk4),
+            "midpoint" => Ok(Method::Midpoint),
+            _ => Err(crate::error::Error::InvalidParameter {
+                name: "integrator",
+                value: f64::NAN,
+                allowed: "one of rk4, midpoint",
+            }),
         }
-        fill_neighbours(st, &mut self.su, t);
-        stage_accel(st, fr, &self.su, &st.w, acc)
     }
+}
 
-    fn step<F: Friction>(
+/// One of the integrators (static dispatch).
+#[derive(Debug, Clone)]
+pub enum Stepper {
+    /// RK4.
+    Rk4(Rk4),
+    /// Implicit midpoint.
+    Midpoint(Midpoint),
+}
+
+impl Stepper {
+    /// Buffers for n blocks.
+    pub fn new(method: Method, n: usize) -> Self {
+        match method {
+            Method::Rk4 => Stepper::Rk4(Rk4::new(n)),
+            Method::Midpoint => Stepper::Midpoint(Midpoint::new(n)),
+        }
+    }
+    /// Name of the method.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Stepper::Rk4(m) => m.name(),
+            Stepper::Midpoint(m) => m.name(),
+        }
+    }
+    /// See [`Integrator::accel`].
+    pub fn accel<F: Friction>(
+        &mut self,
+        st: &mut State,
+        fr: &F,
+        t: f64,
+        acc: &mut [f64],
+    ) -> StageSums {
+        match self {
+            Stepper::Rk4(m) => m.accel(st, fr, t, acc),
+            Stepper::Midpoint(m) => m.accel(st, fr, t, acc),
+        }
+    }
+    /// See [`Integrator::step`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn step<F: Friction>(
         &mut self,
         st: &mut State,
         fr: &F,
@@ -176,57 +210,9 @@ impl Integrator for Rk4 {
         u0: &mut [f64],
         w0: &mut [f64],
     ) -> StepIntegrals {
-        let Rk4 {
-            su,
-            sw,
-            acc,
-            ku,
-            kw,
-        } = self;
-        // stage 1 (at t0): derivatives (w, a0); set stage 2 values
-        for &(a, b) in &st.runs {
-            for p in a..b {
-                u0[p] = st.u[p];
-                w0[p] = st.w[p];
-                ku[p] = w0[p];
-                kw[p] = a0[p];
-                su[p] = u0[p] + 0.5 * h * w0[p];
-                sw[p] = w0[p] + 0.5 * h * a0[p];
-            }
+        match self {
+            Stepper::Rk4(m) => m.step(st, fr, t0, h, a0, s0, u0, w0),
+            Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, s0, u0, w0),
         }
-        let mut integ = StepIntegrals {
-            u: s0.u,
-            dry: s0.dry,
-            visc: s0.visc,
-        };
-        let coeff = [(0.5, 2.0), (1.0, 2.0), (0.0, 1.0)]; // (next stage c, this weight)
-        let times = [t0 + 0.5 * h, t0 + 0.5 * h, t0 + h];
-        for stage in 0..3 {
-            fill_neighbours(st, su, times[stage]);
-            let sums = stage_accel(st, fr, su, sw, acc);
-            let (cn, wt) = coeff[stage];
-            integ.u += wt * sums.u;
-            integ.dry += wt * sums.dry;
-            integ.visc += wt * sums.visc;
-            for &(a, b) in &st.runs {
-                for p in a..b {
-                    ku[p] += wt * sw[p];
-                    kw[p] += wt * acc[p];
-                    su[p] = u0[p] + cn * h * sw[p];
-                    sw[p] = w0[p] + cn * h * acc[p];
-                }
-            }
-        }
-        let h6 = h / 6.0;
-        for &(a, b) in &st.runs {
-            for p in a..b {
-                st.u[p] = u0[p] + h6 * ku[p];
-                st.w[p] = w0[p] + h6 * kw[p];
-            }
-        }
-        integ.u *= h6;
-        integ.dry *= h6;
-        integ.visc *= h6;
-        integ
     }
 }
