@@ -360,8 +360,12 @@ class _Bar:
 
         self.by_events = by_events
         self.t0 = t0
-        unit = "event" if by_events else "t"
-        self.bar = tqdm(total=total, unit=unit, leave=False, dynamic_ncols=True)
+        fmt = (
+            "{l_bar}{bar}| {n:.0f}/{total:.0f} events [{elapsed}<{remaining}]"
+            if by_events
+            else "{l_bar}{bar}| t = {n:.4g}/{total:.4g} [{elapsed}<{remaining}]"
+        )
+        self.bar = tqdm(total=total, leave=False, dynamic_ncols=True, bar_format=fmt)
         self.last = 0.0
 
     def update(self, t, events):

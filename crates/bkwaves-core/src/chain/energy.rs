@@ -8,10 +8,11 @@
 //!     + sum_bonds (u_j - u_i)^2 / (2 dx^2)       coupling springs (incl. a fixed wall)
 //!     + sum_i (u_i + beta)^2 / 2                 loader springs, (k_p X_i^2 / 2)
 //!   dE/dt = v sum_i (u_i + beta)                 loader work rate
-//!         - sum_sliding [beta |s_i| + 2 gamma s_i^2]   kinetic friction + viscous
+//!         - sum_sliding [beta s_i dir_i + 2 gamma s_i^2]   kinetic friction + viscous
 //! ```
 //!
-//! (a fixed-end wall is attached to the ground and does no work). The engine integrates
+//! (a fixed-end wall is attached to the ground and does no work; beta s dir = beta |s| on
+//! the block's branch). The engine integrates
 //! the two rates with the same quadrature as the motion and also books the kinetic
 //! energy removed when a stick sets u_t = v exactly (`projection`, of the order of the
 //! integration error squared) and the energy of kicks (`injected`).
