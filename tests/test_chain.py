@@ -135,6 +135,20 @@ def test_midpoint_integrator_closes_the_energy_books_to_round_off(boundary):
         bk.Chain(10, p, integrator="euler")
 
 
+def test_snapshots_every_k_events_and_release_trigger():
+    p = bk.Params(gamma=0.3, v=1e-2, dx=0.2)
+    u0 = smooth_random_stress(60, 0.2, mean=0.5, amplitude=0.1, correlation=1.5, seed=5)
+    ch = bk.Chain(60, p, u0=u0).release(30, t=1.0)
+    res = ch.run(max_events=6, snapshot_every=2)
+    cat = res.catalog
+    # the released block starts the first event at t = 1 exactly
+    assert cat["t_start"][0] == 1.0 and cat["nucleation"][0] == 30
+    assert len(cat) == 6 and res.stop == "events"
+    # a snapshot at the end of events 2, 4, 6, when everything is stuck
+    np.testing.assert_allclose(res.snapshots["t"], cat["t_end"][[1, 3, 5]], rtol=0, atol=0)
+    np.testing.assert_allclose(res.snapshots["u_t"], p.v)
+
+
 def test_quiet_jump_is_exact_for_one_block():
     # one block loaded at v from u0: slips exactly at (1 - u0)/v, no steps in between
     p = bk.Params(gamma=0.3, v=0.01, dx=0.1)

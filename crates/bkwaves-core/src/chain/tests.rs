@@ -282,3 +282,30 @@ fn midpoint_is_second_order_on_the_single_block() {
         assert!(order > 1.7 && order < 2.5, "errors {errs:?}");
     }
 }
+
+#[test]
+fn a_block_over_the_backward_threshold_at_rest_reverses() {
+    // one block from u = 1.5 (over the threshold: slips forward at t = 0), gamma = 0.1,
+    // beta = 0.02. Forward half-period: u -> -1.5 e^(-gamma pi / omega) = -1.0956 at
+    // u_t = v = 0, below -(1 + 2 beta) = -1.04: it reverses and slides backward around
+    // u = -2 beta, then sticks at rest with -1.04 < u < 1.
+    let (gamma, beta) = (0.1f64, 0.02f64);
+    let om = (1.0 - gamma * gamma).sqrt();
+    let damp = (-gamma * std::f64::consts::PI / om).exp();
+    let u1 = -1.5 * damp;
+    let u2 = -2.0 * beta + (u1 + 2.0 * beta).abs() * damp;
+    let fr = Coulomb::new(gamma, beta).unwrap();
+    let mut ch = Chain::new(cfg(0.002, 0.0, 0.05), fr, &Free, &[1.5], None).unwrap();
+    ch.run(20.0, 1, u64::MAX).unwrap();
+    let s = &ch.catalog.slips;
+    assert_eq!(s.len(), 2, "{s:?}");
+    assert_eq!((s[0].dir, s[1].dir), (1, -1));
+    let half = std::f64::consts::PI / om;
+    assert!((s[0].t_end - half).abs() < 1e-10, "{}", s[0].t_end);
+    assert!((s[0].u_end - u1).abs() < 1e-11);
+    assert!((s[1].t_end - 2.0 * half).abs() < 1e-10, "{}", s[1].t_end);
+    assert!((s[1].u_end - u2).abs() < 1e-11, "{} vs {u2}", s[1].u_end);
+    assert!(s[1].slip < 0.0, "backward slip is negative");
+    assert_eq!(ch.modes(), vec![0]);
+    assert_eq!(ch.catalog.finished(), 1);
+}
