@@ -15,6 +15,7 @@ FIGURES = [
     "fig5_wave_train",
     "fig6_source",
     "fig7_source_map",
+    "fig8_statistics",
 ]
 
 
