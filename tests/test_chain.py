@@ -231,6 +231,10 @@ def test_bad_input_names_the_parameter():
         bk.Chain(10, p, step=0.99 * 50)
     with pytest.raises(bk.ParameterError, match="block"):
         bk.Chain(10, p).kick(10, -1.0)
+    with pytest.raises(bk.ParameterError, match="u0"):
+        bk.Chain(10, p, u0=np.zeros(7))
+    with pytest.raises(bk.ParameterError, match="u_t0"):
+        bk.Chain(10, p, u_t0=[0.0, np.nan])
     with pytest.raises(bk.ParameterError, match="t_end"):
         bk.Chain(10, p).run()
     with pytest.raises(bk.ParameterError, match="u_plus"):

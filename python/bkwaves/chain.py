@@ -129,9 +129,9 @@ class Chain:
         self.boundary = boundary
         self.seed = seed
         self.step = V.number("step", step, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-        u0 = np.broadcast_to(V.array("u0", u0), (self.n,)).astype(float).copy()
+        u0 = _per_block("u0", u0, self.n)
         if u_t0 is not None:
-            u_t0 = np.broadcast_to(V.array("u_t0", u_t0), (self.n,)).astype(float).copy()
+            u_t0 = _per_block("u_t0", u_t0, self.n)
         if fixed is None:
             fixed = (float(u0[0]), float(u0[-1]))
         fixed = (V.number("fixed[0]", fixed[0]), V.number("fixed[1]", fixed[1]))
@@ -352,6 +352,13 @@ class Chain:
             ds["X"] = (("t", "x"), un.displacement(u), {"units": "m"})
             ds.attrs["physical"] = repr(un)
         return ds
+
+
+def _per_block(name, value, n) -> np.ndarray:
+    a = V.array(name, value)
+    if a.ndim > 1 or (a.ndim == 1 and a.size not in (1, n)):
+        V._fail(name, f"array of shape {a.shape}", f"a scalar or {n} values (one per block)")
+    return np.broadcast_to(a.reshape(-1) if a.ndim else a, (n,)).astype(float).copy()
 
 
 class _Bar:

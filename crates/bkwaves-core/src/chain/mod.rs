@@ -835,6 +835,16 @@ impl<F: Friction> Chain<F> {
             }
             events = who;
         }
+        if !(integ.u.is_finite() && integ.dry.is_finite() && integ.visc.is_finite()) {
+            return Err(Error::NoConvergence {
+                what: "chain integration",
+                detail: format!(
+                    "non-finite state at t = {t0} (a kick or initial velocity too large for \
+                     step = {}?)",
+                    self.cfg.step
+                ),
+            });
+        }
         // books
         self.ledger.load += self.cfg.v
             * (integ.u

@@ -230,6 +230,16 @@ fn bad_input_is_an_error_not_a_panic() {
         })
         .is_err());
     assert!(ch.run(-1.0, 1, 10).is_err());
+    assert!(ch.run(f64::NAN, 1, 10).is_err());
+    // an absurd kick overflows: an error, not a panic or a hang
+    let mut ch = Chain::new(cfg(0.1, 0.0, 0.05), fr, &Free, &[0.1; 5], None).unwrap();
+    ch.add_trigger(Trigger {
+        t: 0.0,
+        block: 2,
+        kind: TriggerKind::Kick { du_t: -1e300 },
+    })
+    .unwrap();
+    assert!(ch.run(10.0, 1, 1_000_000).is_err());
 }
 
 #[test]
