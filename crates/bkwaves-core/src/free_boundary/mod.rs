@@ -424,18 +424,22 @@ impl FreeBoundary {
         }
     }
 
-    fn shock_x(&self, i: usize) -> f64 {
-        self.field.node_x(self.shocks[i].cell) + self.shock_s(i) * self.field.h
-    }
-
-    /// Signed distance from a to b along +x, wrapped to (-L/2, L/2] on a ring.
-    fn rel(&self, a: f64, b: f64) -> f64 {
-        let mut d = b - a;
+    /// Position of shock q relative to node j, in cells (signed along +x, wrapped to about
+    /// (-n/2, n/2] on a ring): the integer cell offset plus the shock's cell coordinate.
+    ///
+    /// Shocks are placed relative to nodes and cells only through this: it is exact at the
+    /// nodes (s = 0 or 1 after a crossing) whatever the size of the domain. Differences of
+    /// wrapped floating-point positions are not: their rounding (~1e-16 L) exceeds any
+    /// fixed fraction of h on large rings, and a node just reset by a shock then appeared
+    /// to be ahead of it (the interpolant of the next cell mixed u_- into the field ahead,
+    /// its cubic overshot 1 and spurious pairs were born next to every shock).
+    fn offset(&self, j: usize, q: usize) -> f64 {
+        let mut d = self.shocks[q].cell as i64 - j as i64;
         if self.field.periodic {
-            let l = self.field.length();
-            d = (d + 0.5 * l).rem_euclid(l) - 0.5 * l;
+            let nc = self.field.n_cells() as i64;
+            d = (d + nc / 2).rem_euclid(nc) - nc / 2;
         }
-        d
+        d as f64 + self.shock_s(q)
     }
 
     /// The value shock `i` saw (or would see) at node k behind it, if known.
@@ -462,14 +466,13 @@ impl FreeBoundary {
     /// The interpolant of the field seen by shock i in its current cell.
     fn gather_for_shock(&self, i: usize) -> CellPoly {
         let sh = &self.shocks[i];
-        let h = self.field.h;
         let j = sh.cell;
         let dirf = f64::from(sh.dir);
         let s_now = self.shock_s(i);
-        let xs = self.field.node_x(j) + s_now * h;
+        // distances ahead of shock i, in cells
         let others: Vec<(f64, usize)> = (0..self.shocks.len())
             .filter(|&q| q != i)
-            .map(|q| (dirf * self.rel(xs, self.shock_x(q)), q))
+            .map(|q| (dirf * (self.offset(j, q) - s_now), q))
             .collect();
         let mut vals = [f64::NAN; 8];
         let mut ok = [false; 8];
@@ -477,12 +480,12 @@ impl FreeBoundary {
             let Some(k) = self.field.node_at(j, o) else {
                 continue;
             };
-            let d_node = dirf * (o as f64 - s_now) * h;
-            let v = if d_node > 1e-12 * h {
+            let d_node = dirf * (o as f64 - s_now);
+            let v = if d_node > 1e-12 {
                 // the nearest shock between S and the node, if any
                 let nearest = others
                     .iter()
-                    .filter(|(d, _)| *d > 0.0 && *d <= d_node + 1e-12 * h)
+                    .filter(|(d, _)| *d > 0.0 && *d <= d_node + 1e-12)
                     .min_by(|p, q| p.0.total_cmp(&q.0));
                 match nearest {
                     None => Some(self.field.b[k]),
@@ -513,15 +516,25 @@ impl FreeBoundary {
             })
     }
 
-    /// The interpolant of the current field in cell j on one side of every shock, or
-    /// None when a shock touches the cell.
+    /// The interpolant of the field in cell j, or None when a shock touches the cell
+    /// (shocks with index >= `upto` are ignored).
+    ///
+    /// Beyond a shock facing the cell (moving towards it: the cell is ahead of it), the
+    /// values that shock saw continue the field of the cell (`behind_value`), as in
+    /// [`Self::gather_for_shock`]: the field ahead of a shock is the unswept field, and
+    /// its interpolant is the one it had before the shock passed, centred on the cell and
+    /// identical to the one the shock itself moves on. Beyond a shock moving away from the
+    /// cell, the field is another one (unswept ahead of it, the cell swept) and is not
+    /// used.
+    ///
+    /// Using only the nodes on the cell's side instead made the interpolant of a cell just
+    /// ahead of a fresh shock one-sided; near a sharp maximum (curvature ~1e-2, h = 0.2)
+    /// that extrapolation overshoots the field by ~1e-4, so the cell ahead "reached 1"
+    /// at once and a spurious pair was born in front of the shock, which sweeps that
+    /// point at once, before u = u_0 + v t < 1 there can reach 1.
     fn gather_for_cell(&self, j: usize, upto: usize) -> Option<CellPoly> {
-        let h = self.field.h;
-        let xj = self.field.node_x(j);
         let eps = 1e-12;
-        let rs: Vec<f64> = (0..upto)
-            .map(|q| self.rel(xj, self.shock_x(q)) / h)
-            .collect();
+        let rs: Vec<f64> = (0..upto).map(|q| self.offset(j, q)).collect();
         if rs.iter().any(|&r| r >= -eps && r <= 1.0 + eps) {
             return None;
         }
@@ -532,15 +545,38 @@ impl FreeBoundary {
                 continue;
             };
             let of = o as f64;
-            let blocked = if o < 0 {
-                rs.iter().any(|&r| r >= of - eps && r <= eps)
+            // (distance from the cell, shock) of the shocks between the cell and node k;
+            // `towards` is the direction of a shock facing the cell from that side
+            let (between, towards): (Vec<(f64, usize)>, i8) = if o < 0 {
+                let b = (0..upto)
+                    .filter(|&q| rs[q] >= of - eps && rs[q] <= eps)
+                    .map(|q| (-rs[q], q))
+                    .collect();
+                (b, 1)
             } else if o > 1 {
-                rs.iter().any(|&r| r >= 1.0 - eps && r <= of + eps)
+                let b = (0..upto)
+                    .filter(|&q| rs[q] >= 1.0 - eps && rs[q] <= of + eps)
+                    .map(|q| (rs[q] - 1.0, q))
+                    .collect();
+                (b, -1)
             } else {
-                false
+                (Vec::new(), 0)
             };
-            if !blocked {
-                vals[idx] = self.field.b[k];
+            // the nearest one (of a pair born at one point, the one facing the cell)
+            let nearest = between.iter().min_by(|p, q| {
+                p.0.total_cmp(&q.0).then_with(|| {
+                    let fp = self.shocks[p.1].dir == towards;
+                    let fq = self.shocks[q.1].dir == towards;
+                    fq.cmp(&fp)
+                })
+            });
+            let v = match nearest {
+                None => Some(self.field.b[k]),
+                Some(&(_, q)) if self.shocks[q].dir == towards => self.behind_value(q, k),
+                Some(_) => None,
+            };
+            if let Some(v) = v {
+                vals[idx] = v;
                 ok[idx] = true;
             }
         }
@@ -549,12 +585,7 @@ impl FreeBoundary {
 
     /// Does a shock lie in the closed span of cell c?
     fn cell_touches_shock(&self, c: usize) -> bool {
-        let h = self.field.h;
-        let xc = self.field.node_x(c);
-        (0..self.shocks.len()).any(|q| {
-            let r = self.rel(xc, self.shock_x(q)) / h;
-            (-1e-12..=1.0 + 1e-12).contains(&r)
-        })
+        (0..self.shocks.len()).any(|q| (-1e-12..=1.0 + 1e-12).contains(&self.offset(c, q)))
     }
 
     fn refresh_cell(&mut self, j: usize) {
