@@ -176,6 +176,11 @@ impl SlipQueue {
 
     /// Schedule block p to slip at time t (replacing any earlier entry).
     pub fn push(&mut self, p: usize, t: f64) {
+        if self.heap.len() > 4 * self.version.len() + 1024 {
+            // drop stale entries so long runs keep O(N) memory
+            let version = &self.version;
+            self.heap.retain(|e| version[e.block] == e.version);
+        }
         self.version[p] = self.version[p].wrapping_add(1);
         self.heap.push(Entry {
             t,
@@ -265,6 +270,16 @@ mod tests {
         q.invalidate(3);
         assert_eq!(q.pop(), Some((3.0, 1)));
         assert_eq!(q.pop(), Some((4.0, 2)));
+        assert_eq!(q.pop(), None);
+        // many reschedules: stale entries are dropped, the order is kept
+        let mut q = SlipQueue::new(3);
+        for k in 0..100_000 {
+            q.push(k % 3, 1e6 - k as f64);
+        }
+        assert!(q.len() <= 4 * 3 + 1024 + 1);
+        assert_eq!(q.pop(), Some((1e6 - 99_999.0, 0)));
+        assert_eq!(q.pop(), Some((1e6 - 99_998.0, 2)));
+        assert_eq!(q.pop(), Some((1e6 - 99_997.0, 1)));
         assert_eq!(q.pop(), None);
     }
 }
