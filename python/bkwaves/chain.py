@@ -153,6 +153,55 @@ class Chain:
         self.integrator = integrator
         self._e0 = sum(self._engine.energy())
 
+    # --- checkpoints -----------------------------------------------------------------
+    def __getstate__(self):
+        return {
+            "n": self.n,
+            "params": self.params,
+            "boundary": self.boundary,
+            "fixed": self.fixed,
+            "step": self.step,
+            "integrator": self.integrator,
+            "seed": self.seed,
+            "e0": self._e0,
+            "engine": self._engine.checkpoint(),
+        }
+
+    def __setstate__(self, state):
+        Chain.__init__(
+            self,
+            state["n"],
+            state["params"],
+            boundary=state["boundary"],
+            fixed=state["fixed"],
+            step=state["step"],
+            integrator=state["integrator"],
+            seed=state["seed"],
+        )
+        self._engine.restore(state["engine"])
+        self._e0 = state["e0"]
+
+    def save(self, path) -> None:
+        """Write a checkpoint (pickle). ``Chain.load(path).run(...)`` continues bit for bit
+        like the uninterrupted run when the checkpoint was taken where a run stopped on
+        ``max_events``, on Ctrl-C or on its step budget (a ``t_end`` inside an event cuts
+        a step short, which an uninterrupted run would not do)."""
+        import pickle
+
+        with open(path, "wb") as f:
+            pickle.dump(self, f, protocol=pickle.HIGHEST_PROTOCOL)
+
+    @staticmethod
+    def load(path) -> Chain:
+        """Read a checkpoint written by :meth:`save`."""
+        import pickle
+
+        with open(path, "rb") as f:
+            ch = pickle.load(f)
+        if not isinstance(ch, Chain):
+            V._fail("path", str(path), "a checkpoint written by Chain.save")
+        return ch
+
     # --- triggers ------------------------------------------------------------------
     def kick(self, block: int, du_t: float, t: float = 0.0) -> Chain:
         """Add du_t to block's u_t at time t (negative: a forward kick)."""

@@ -72,6 +72,16 @@ impl ChainEngine {
         self.inner.integrator()
     }
 
+    /// The whole state as bytes (restored bit for bit by `restore`).
+    fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
+        pyo3::types::PyBytes::new(py, &self.inner.checkpoint())
+    }
+
+    /// Restore a state written by `checkpoint` of a chain with the same configuration.
+    fn restore(&mut self, data: &[u8]) -> PyResult<()> {
+        self.inner.restore(data).map_err(to_py)
+    }
+
     /// Schedule a trigger: kind "release" (value = direction +1/-1) or "kick" (value =
     /// change of u_t).
     fn add_trigger(&mut self, t: f64, block: usize, kind: &str, value: f64) -> PyResult<()> {

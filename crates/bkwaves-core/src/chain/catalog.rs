@@ -59,11 +59,11 @@ pub struct Catalog {
     pub events: Vec<EventRecord>,
     /// All slip intervals.
     pub slips: Vec<SlipRecord>,
-    open_slip: Vec<usize>,
-    last_event: Vec<usize>,
-    u_first: Vec<f64>,
-    blocks_now: Vec<usize>,
-    open: bool,
+    pub(crate) open_slip: Vec<usize>,
+    pub(crate) last_event: Vec<usize>,
+    pub(crate) u_first: Vec<f64>,
+    pub(crate) blocks_now: Vec<usize>,
+    pub(crate) open: bool,
 }
 
 const NONE: usize = usize::MAX;

@@ -213,6 +213,18 @@ impl SlipQueue {
         Some(top)
     }
 
+    /// All valid entries (time, block), sorted by block.
+    pub fn entries(&self) -> Vec<(f64, usize)> {
+        let mut v: Vec<(f64, usize)> = self
+            .heap
+            .iter()
+            .filter(|e| self.version[e.block] == e.version)
+            .map(|e| (e.t, e.block))
+            .collect();
+        v.sort_by_key(|e| e.1);
+        v
+    }
+
     /// Number of stored entries (valid or stale).
     pub fn len(&self) -> usize {
         self.heap.len()

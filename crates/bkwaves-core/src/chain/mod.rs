@@ -19,6 +19,7 @@
 //! times sit in a priority queue and quiet intervals are skipped in one jump.
 
 pub mod catalog;
+pub mod checkpoint;
 pub mod energy;
 pub mod events;
 pub mod front;
@@ -122,7 +123,7 @@ pub struct Counters {
 }
 
 /// The chain simulator.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Chain<F: Friction> {
     cfg: ChainConfig,
     fr: F,
