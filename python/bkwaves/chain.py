@@ -260,6 +260,8 @@ class Chain:
         dense output, exact for stuck blocks); snapshot_every: also at the end of every
         k-th event. progress: a progress bar (default: on when stderr is a terminal).
         Ctrl-C stops the run and returns what was computed (``interrupted=True``).
+        An event may never end (creep at v = 0; a pulse circulating on a ring, re-exciting
+        the reloaded blocks), so give ``t_end`` too when counting events.
         """
         t_end = V.number("t_end", t_end, lo=self.t) if math.isfinite(t_end) else math.inf
         if max_events is None and not math.isfinite(t_end):
