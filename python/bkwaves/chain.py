@@ -518,7 +518,7 @@ def front(
     behind a steady healing front (pulse), else None (creep)."""
     u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     gamma = V.number("gamma", gamma, lo=0.0)
-    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True)
+    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     if blocks is None:
         blocks = default_blocks(u_plus, gamma, dx)
     if isinstance(blocks, bool) or not isinstance(blocks, int | np.integer) or blocks < 16:
