@@ -135,3 +135,109 @@ def test_sigterm_stops_cleanly_and_keeps_the_records(tmp_path, suffix):
     assert ds.sizes["t"] == summary["snapshots"] >= 3
     assert not parts.exists()  # NetCDF parts merged on the way out
     assert catalog is not None
+
+
+LOADING = {
+    "model": "chain",
+    "seed": 5,
+    "params": {"gamma": 0.3, "v": 1e-3, "dx": 0.05, "beta": 5.0},
+    "domain": {"blocks": 300, "boundary": "periodic"},
+    "initial": {"kind": "random", "mean": 0.5, "amplitude": 0.3, "correlation_length": 2.0},
+    "run": {"max_events": 12},
+    "output": {"snapshot_events": 1},
+}
+
+
+@pytest.mark.parametrize("suffix", [".nc", ".zarr"])
+def test_resumed_chain_run_equals_the_uninterrupted_one_bit_for_bit(tmp_path, suffix):
+    from bkwaves.runner import checkpoint_path, resume
+
+    cfg = parse_config(LOADING)
+    ref = run(cfg, tmp_path / f"ref{suffix}", chunk=300)
+    out = tmp_path / f"cut{suffix}"
+    # the first, system-size event takes most of the steps: find a cut after it
+    for k in range(ref.extra["counters"]["steps"] // 300, 0, -1):
+        first = run(cfg, out, chunk=300, _stop_after_chunks=k)
+        if first.interrupted and 0 < first.events < ref.events - 1:
+            break
+    assert first.interrupted and checkpoint_path(out).exists()
+    assert 0 < first.events < ref.events
+    last = resume(out, chunk=300)
+    assert not last.interrupted and not checkpoint_path(out).exists()
+    a, ca = bk.load(tmp_path / f"ref{suffix}")
+    b, cb = bk.load(out)
+    assert a.sizes == b.sizes
+    np.testing.assert_array_equal(a.t.values, b.t.values)
+    np.testing.assert_array_equal(a.u.values, b.u.values)
+    np.testing.assert_array_equal(a.u_t.values, b.u_t.values)
+    assert ca.equals(cb)
+    assert last.events == ref.events and last.t == ref.t
+
+
+def test_resume_drops_records_written_after_the_checkpoint(tmp_path):
+    """A crash after a checkpoint leaves extra records: resuming drops them first."""
+    from bkwaves.io import RunWriter
+    from bkwaves.runner import resume
+
+    cfg = parse_config(LOADING)
+    ref = run(cfg, tmp_path / "ref.nc", chunk=300)
+    out = tmp_path / "crash.nc"
+    for k in range(ref.extra["counters"]["steps"] // 300, 0, -1):
+        cut = run(cfg, out, chunk=300, _stop_after_chunks=k)
+        if cut.interrupted and 0 < cut.events < ref.events:
+            break
+    ds, _ = bk.load(out)
+    # simulate records written after the checkpoint by a run that then died
+    with RunWriter(
+        out,
+        ds.x.values,
+        {"u": ("1", "u", "f8"), "u_t": ("1", "u_t", "f8")},
+        resume_count=ds.sizes["t"],
+    ) as w:
+        w.append(1e9, u=np.zeros(ds.sizes["x"]), u_t=np.zeros(ds.sizes["x"]))
+    assert bk.load(out)[0].sizes["t"] == ds.sizes["t"] + 1
+    resume(out, chunk=300)
+    a, _ = bk.load(tmp_path / "ref.nc")
+    b, _ = bk.load(out)
+    np.testing.assert_array_equal(a.u.values, b.u.values)
+    assert ref.events == len(bk.load(out)[1])
+
+
+def test_resume_cli_and_errors(tmp_path):
+    cfgfile = tmp_path / "c.toml"
+    cfgfile.write_text(
+        'model = "chain"\nseed = 5\n[params]\ngamma = 0.3\nv = 1e-3\ndx = 0.05\nbeta = 5.0\n'
+        '[domain]\nblocks = 300\nboundary = "periodic"\n'
+        '[initial]\nkind = "random"\nmean = 0.5\namplitude = 0.3\ncorrelation_length = 2.0\n'
+        "[run]\nmax_events = 6\n[output]\nsnapshot_events = 1\n"
+    )
+    r = subprocess.run(
+        [*BK, "run", "--resume", str(tmp_path / "none.nc")],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert r.returncode == 2 and "no checkpoint" in r.stderr
+    r = subprocess.run(
+        [*BK, "run", str(cfgfile), "-o", str(tmp_path / "o.nc"), "--checkpoint-every", "-1"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert r.returncode == 2 and "checkpoint_every" in r.stderr
+    r = subprocess.run(
+        [
+            *BK,
+            "run",
+            str(cfgfile),
+            "-o",
+            str(tmp_path / "o.nc"),
+            "--json",
+            "--checkpoint-every",
+            "1000",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert r.returncode == 0 and json.loads(r.stdout)["events"] == 6

@@ -165,10 +165,20 @@ def paper(
 
 @app.command("run")
 def run_cmd(
-    config: Annotated[Path, typer.Argument(help="A run configuration (TOML).")],
+    config: Annotated[
+        Path | None, typer.Argument(help="A run configuration (TOML); omit with --resume.")
+    ] = None,
     out: Annotated[
         Path | None,
         typer.Option("-o", "--out", help="Output (.nc or .zarr); default: [output] path."),
+    ] = None,
+    resume: Annotated[
+        Path | None,
+        typer.Option("--resume", help="Continue the run that wrote this output (.nc/.zarr)."),
+    ] = None,
+    checkpoint_every: Annotated[
+        float | None,
+        typer.Option("--checkpoint-every", help="Also checkpoint every this many seconds."),
     ] = None,
     quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
     json_out: JsonOpt = False,
@@ -177,26 +187,37 @@ def run_cmd(
 
     Snapshots go to OUT (NetCDF or Zarr by suffix) as they are computed; the event catalog
     and trajectories to OUT.events.parquet/.csv and OUT.slips/shocks.parquet. Ctrl-C or
-    SIGTERM stop the run and keep what was computed. See docs/usage.md for the schema.
+    SIGTERM stop the run, keep what was computed and leave OUT.checkpoint:
+    `bkwaves run --resume OUT` continues it, bit for bit like an uninterrupted run.
+    See docs/usage.md for the schema.
     """
     from .config import load_config
+    from .runner import resume as resume_run
     from .runner import run
 
+    show = not quiet and not json_out
     try:
-        cfg = load_config(config)
-        target = out if out is not None else cfg.output_path
-        if target is None:
-            raise ParameterError(
-                "no output: give -o OUT (.nc or .zarr) or [output] path in the config"
-            )
-        summary = run(cfg, target, progress=not quiet and not json_out)
+        if resume is not None:
+            if config is not None or out is not None:
+                raise ParameterError("--resume OUT takes no CONFIG and no -o (the output is OUT)")
+            summary = resume_run(resume, progress=show, checkpoint_every=checkpoint_every)
+        else:
+            if config is None:
+                raise ParameterError("give a CONFIG.toml, or --resume OUT")
+            cfg = load_config(config)
+            target = out if out is not None else cfg.output_path
+            if target is None:
+                raise ParameterError(
+                    "no output: give -o OUT (.nc or .zarr) or [output] path in the config"
+                )
+            summary = run(cfg, target, progress=show, checkpoint_every=checkpoint_every)
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
     d = summary.to_dict()
     if json_out:
         typer.echo(json.dumps(d, default=str))
         return
-    state = "interrupted" if summary.interrupted else "done"
+    state = "interrupted (resume with --resume)" if summary.interrupted else "done"
     typer.echo(
         f"{summary.model}: {state} at t = {summary.t:.6g} ({summary.units}), "
         f"{summary.events} events, {summary.snapshots} snapshots, "

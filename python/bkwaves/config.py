@@ -174,6 +174,7 @@ class RunConfig:
     seed: int = 0
     title: str = ""
     source: dict = field(default_factory=dict, compare=False, repr=False)
+    base_dir: Path | None = field(default=None, compare=False, repr=False)
 
     @property
     def physical(self) -> bool:
@@ -387,6 +388,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         seed=seed,
         title=title,
         source=doc,
+        base_dir=base_dir,
     )
 
 

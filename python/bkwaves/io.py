@@ -76,6 +76,7 @@ class RunWriter:
         attrs: dict | None = None,
         coord_units: tuple[str, str] = ("1", "1"),
         overwrite: bool = True,
+        resume_count: int | None = None,
     ):
         self.path = _check_path(path)
         self.x = np.asarray(x, dtype=float)
@@ -90,6 +91,9 @@ class RunWriter:
         self.attrs = {k: _attr(v) for k, v in attrs.items()}
         self.x_units, self.t_units = coord_units
         self.path.parent.mkdir(parents=True, exist_ok=True)
+        if resume_count is not None:
+            self._resume(int(resume_count))
+            return
         if self.path.exists() and not overwrite:
             raise ParameterError(f"output {self.path} exists (pass overwrite=True)")
         import shutil
@@ -103,6 +107,59 @@ class RunWriter:
     @property
     def parts_dir(self) -> Path:
         return _parts_dir(self.path)
+
+    def _resume(self, count: int):
+        """Continue an existing output after its first ``count`` records (later records,
+        written after the checkpoint by a run that then crashed, are dropped)."""
+        import shutil
+
+        self.count = count
+        if self.path.suffix == ".nc":
+            parts = self.parts_dir
+            parts.mkdir(exist_ok=True)
+            if self.path.exists():
+                # the merged file becomes the base of the parts
+                self.path.replace(parts / "base.nc")
+            base = parts / "base.nc"
+            n_base = 0
+            if base.exists():
+                import xarray as xr
+
+                with xr.open_dataset(base, engine="h5netcdf") as ds:
+                    n_base = ds.sizes["t"]
+                    if n_base > count:
+                        kept = ds.isel(t=slice(0, count)).load()
+                if n_base > count:
+                    tmp = parts / "base.tmp"
+                    kept.to_netcdf(tmp, engine="h5netcdf")
+                    tmp.replace(base)
+                    n_base = count
+            for f in parts.glob("part-*.nc"):
+                if int(f.stem.split("-")[1]) >= count:
+                    f.unlink()
+            have = n_base + len(list(parts.glob("part-*.nc")))
+        else:
+            import zarr
+
+            if not self.path.exists():
+                raise ParameterError(f"cannot resume: output {self.path} not found")
+            g = zarr.open_group(str(self.path), mode="r+")
+            have = None
+            for name in list(g.array_keys()):
+                a = g[name]
+                dims = getattr(a.metadata, "dimension_names", None) or a.attrs.get(
+                    "_ARRAY_DIMENSIONS", ()
+                )
+                if dims and dims[0] == "t":
+                    have = a.shape[0] if have is None else min(have, a.shape[0])
+                    if a.shape[0] > count:
+                        a.resize((count, *a.shape[1:]))
+            have = count if have is None else min(have, count)
+            del shutil
+        if have < count:
+            raise ParameterError(
+                f"cannot resume: {self.path} holds {have} records, the checkpoint expects {count}"
+            )
 
     def _dataset(self, t, fields):
         import xarray as xr
@@ -186,6 +243,9 @@ def _open_parts(parts: Path):
     import xarray as xr
 
     files = sorted(parts.glob("part-*.nc"))
+    base = parts / "base.nc"
+    if base.exists():
+        files = [base, *files]
     if not files:
         raise ParameterError(f"no completed records in {parts}")
     dss = [xr.open_dataset(f, engine="h5netcdf") for f in files]

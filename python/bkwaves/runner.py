@@ -12,7 +12,8 @@ Outputs of a run to ``OUT.nc`` (or ``.zarr``):
 
 Tables are rewritten atomically at least every ``table_every`` seconds of wall time and
 at the end, so an interrupted run (Ctrl-C, SIGTERM) keeps every completed snapshot and
-the tables up to its last flush; the run then ends normally with ``interrupted = True``.
+the tables; the run then ends normally with ``interrupted = True``. (Ctrl-C and SIGTERM
+are noted and acted on between engine chunks of ``chunk`` steps, never inside a write.)
 With a physical ([physical]) config the outputs are in SI units unless
 ``output.units = "dimensionless"``: x in m, t in s, slips in m; u stays the
 dimensionless stress (0: kinetic level, 1: static threshold).
@@ -20,12 +21,12 @@ dimensionless stress (0: kinetic level, 1: static threshold).
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
 import signal
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -33,7 +34,53 @@ from . import __version__
 from .config import RunConfig, initial_state
 from .io import RunWriter
 
-__all__ = ["RunSummary", "run"]
+__all__ = ["RunSummary", "run", "resume", "checkpoint_path"]
+
+CHECKPOINT_FORMAT = "bkwaves-run-checkpoint-1"
+
+
+def checkpoint_path(out) -> Path:
+    """Where the checkpoint of the run writing ``out`` lives: ``OUT.checkpoint``."""
+    out = Path(out)
+    return out.with_name(out.name + ".checkpoint")
+
+
+def _save_checkpoint(out, cfg: RunConfig, engine_obj, written: int, runner: dict):
+    import pickle
+
+    state = {
+        "format": CHECKPOINT_FORMAT,
+        "version": __version__,
+        "model": cfg.model,
+        "config": cfg.source,
+        "base_dir": str(cfg.base_dir) if cfg.base_dir else "",
+        "engine": pickle.dumps(engine_obj, protocol=pickle.HIGHEST_PROTOCOL),
+        "written": int(written),
+        "runner": runner,
+    }
+    path = checkpoint_path(out)
+    tmp = path.with_name(path.name + ".tmp")
+    with open(tmp, "wb") as f:
+        pickle.dump(state, f, protocol=pickle.HIGHEST_PROTOCOL)
+    tmp.replace(path)
+
+
+def _read_checkpoint(out) -> dict:
+    import pickle
+
+    from ._core import ParameterError
+
+    path = checkpoint_path(out)
+    if not path.exists():
+        raise ParameterError(
+            f"cannot resume {out}: no checkpoint {path} (runs write one when interrupted, "
+            "and every --checkpoint-every seconds)"
+        )
+    with open(path, "rb") as f:
+        state = pickle.load(f)
+    if not isinstance(state, dict) or state.get("format") != CHECKPOINT_FORMAT:
+        raise ParameterError(f"{path} is not a bkwaves run checkpoint")
+    return state
 
 
 @dataclass
@@ -62,22 +109,30 @@ class RunSummary:
         }
 
 
-@contextlib.contextmanager
-def _sigterm_as_interrupt():
-    """Turn SIGTERM into KeyboardInterrupt so that the run stops cleanly."""
+class _StopRequest:
+    """While active, SIGINT (Ctrl-C) and SIGTERM only set a flag: the run loop checks it
+    between engine chunks, so a write is never cut in half and the summary counts exactly
+    what is on disk."""
 
-    def handler(signum, frame):
-        raise KeyboardInterrupt
+    def __init__(self):
+        self.requested = False
+        self._old = {}
 
-    try:
-        old = signal.signal(signal.SIGTERM, handler)
-    except ValueError:  # not in the main thread
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, old)
+    def _handler(self, signum, frame):
+        self.requested = True
+
+    def __enter__(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            try:
+                self._old[sig] = signal.signal(sig, self._handler)
+            except ValueError:  # not in the main thread: leave the defaults
+                pass
+        return self
+
+    def __exit__(self, *exc):
+        for sig, old in self._old.items():
+            signal.signal(sig, old)
+        return False
 
 
 class _Units:
@@ -153,13 +208,90 @@ def run(
     progress: bool = False,
     table_every: float = 5.0,
     chunk: int = 20_000,
+    checkpoint_every: float | None = None,
+    _stop_after_chunks: int | None = None,
+    _state: dict | None = None,
 ) -> RunSummary:
     """Run ``cfg`` and write its outputs to ``out`` (default ``cfg.output_path``; None:
-    nothing written). Returns a summary; Ctrl-C or SIGTERM end the run cleanly."""
+    nothing written). Returns a summary; Ctrl-C or SIGTERM end the run cleanly and leave
+    a checkpoint ``OUT.checkpoint`` from which :func:`resume` continues. With
+    ``checkpoint_every`` (seconds of wall time) checkpoints are also written during the
+    run. A resumed run equals the uninterrupted one bit for bit: checkpoints are taken
+    between engine chunks, where the engines restart exactly."""
+    from ._core import ParameterError
+
     out = out if out is not None else cfg.output_path
+    if checkpoint_every is not None and out is None:
+        raise ParameterError("checkpoints need an output path (-o OUT)")
+    if checkpoint_every is not None and not checkpoint_every > 0:
+        raise ParameterError(
+            f"invalid checkpoint_every = {checkpoint_every}: allowed checkpoint_every > 0 (s)"
+        )
+    ctl = _Control(out, cfg, checkpoint_every, _stop_after_chunks, _state)
     if cfg.model == "chain":
-        return _run_chain(cfg, out, progress, table_every, chunk)
-    return _run_free_boundary(cfg, out, progress, table_every, chunk)
+        return _run_chain(cfg, out, progress, table_every, chunk, ctl)
+    return _run_free_boundary(cfg, out, progress, table_every, chunk, ctl)
+
+
+def resume(
+    out,
+    *,
+    progress: bool = False,
+    table_every: float = 5.0,
+    chunk: int = 20_000,
+    checkpoint_every: float | None = None,
+    _stop_after_chunks: int | None = None,
+) -> RunSummary:
+    """Continue the run that wrote ``out`` from its checkpoint ``OUT.checkpoint``."""
+    from .config import parse_config
+
+    state = _read_checkpoint(out)
+    base = Path(state["base_dir"]) if state["base_dir"] else None
+    cfg = parse_config(state["config"], base_dir=base)
+    return run(
+        cfg,
+        out,
+        progress=progress,
+        table_every=table_every,
+        chunk=chunk,
+        checkpoint_every=checkpoint_every,
+        _stop_after_chunks=_stop_after_chunks,
+        _state=state,
+    )
+
+
+class _Control:
+    """Checkpoint timing, the resume state, and the stop request of a run."""
+
+    def __init__(self, out, cfg, every, stop_after, state):
+        self.out, self.cfg, self.every = out, cfg, every
+        self.stop_after = stop_after
+        self.state = state
+        self.chunks = 0
+        self.last = time.perf_counter()
+
+    @property
+    def resuming(self) -> bool:
+        return self.state is not None
+
+    def chunk_done(self, stop_request) -> None:
+        self.chunks += 1
+        if self.stop_after is not None and self.chunks >= self.stop_after:
+            stop_request.requested = True
+
+    def due(self) -> bool:
+        return self.every is not None and time.perf_counter() - self.last > self.every
+
+    def save(self, engine_obj, written, runner=None):
+        if self.out is None:
+            return
+        _save_checkpoint(self.out, self.cfg, engine_obj, written, runner or {})
+        self.last = time.perf_counter()
+
+    def finished(self):
+        """The run ended on its own: no checkpoint is needed any more."""
+        if self.out is not None:
+            checkpoint_path(self.out).unlink(missing_ok=True)
 
 
 class _Bar:
@@ -181,36 +313,48 @@ class _Bar:
             self.p.stop()
 
 
-def _run_chain(cfg, out, progress, table_every, chunk):
+def _run_chain(cfg, out, progress, table_every, chunk, ctl):
+    import pickle
+
     from .chain import Chain
 
     p = cfg.params
-    u0 = initial_state(cfg)
-    u_t0 = None if cfg.initial.velocity == 0.0 else np.full(cfg.blocks, p.v - cfg.initial.velocity)
-    chain = Chain(cfg.blocks, p, cfg.boundary, u0, u_t0, seed=cfg.seed)
-    for tr in cfg.triggers:
-        if tr.kind == "kick":
-            chain.kick(tr.block, -tr.velocity, tr.time)
-        else:
-            chain.release(tr.block, tr.time)
+    if ctl.resuming:
+        chain = pickle.loads(ctl.state["engine"])
+    else:
+        u0 = initial_state(cfg)
+        u_t0 = (
+            None if cfg.initial.velocity == 0.0 else np.full(cfg.blocks, p.v - cfg.initial.velocity)
+        )
+        chain = Chain(cfg.blocks, p, cfg.boundary, u0, u_t0, seed=cfg.seed)
+        for tr in cfg.triggers:
+            if tr.kind == "kick":
+                chain.kick(tr.block, -tr.velocity, tr.time)
+            else:
+                chain.release(tr.block, tr.time)
+        chain._engine.add_snapshots(_snapshot_times(cfg), int(cfg.snapshot_events or 0))
     eng = chain._engine
-    eng.add_snapshots(_snapshot_times(cfg), int(cfg.snapshot_events or 0))
     units = _Units(cfg)
     x = np.arange(cfg.blocks) * p.dx
     variables = {
         "u": ("1", "stress u (0: kinetic level, 1: static threshold)", "f8"),
         "u_t": ("(f_r - f_s)/sqrt(k_p m)", "du/dt", "f8"),
     }
+    written = ctl.state["written"] if ctl.resuming else 0
     writer = (
         RunWriter(
-            out, units.x(x), variables, attrs=_attrs(cfg, units), coord_units=units.coord_units()
+            out,
+            units.x(x),
+            variables,
+            attrs=_attrs(cfg, units),
+            coord_units=units.coord_units(),
+            resume_count=written if ctl.resuming else None,
         )
         if out
         else None
     )
     t_stop = cfg.t_end if cfg.t_end is not None else 1e300
     max_events = cfg.max_events if cfg.max_events is not None else 2**62
-    written = 0
     bar = _Bar(progress, cfg.t_end if cfg.t_end else max_events, "chain")
     wall0 = last_tables = time.perf_counter()
     interrupted = False
@@ -241,7 +385,7 @@ def _run_chain(cfg, out, progress, table_every, chunk):
         writer.write_table("slips", sl, su, csv=False)
 
     try:
-        with _sigterm_as_interrupt():
+        with _StopRequest() as stop_request:
             while True:
                 done = eng.events_finished
                 stop = eng.advance(t_stop, max(max_events - done, 0), int(chunk))
@@ -252,14 +396,22 @@ def _run_chain(cfg, out, progress, table_every, chunk):
                     last_tables = time.perf_counter()
                 if stop != "steps":
                     break
-    except KeyboardInterrupt:
-        interrupted = True
+                ctl.chunk_done(stop_request)
+                if stop_request.requested:
+                    interrupted = True
+                    break
+                if ctl.due():
+                    ctl.save(chain, written)
     finally:
         bar.close()
         flush_snapshots()
         flush_tables()
         if writer is not None:
             writer.close()
+    if interrupted:
+        ctl.save(chain, written)
+    else:
+        ctl.finished()
     return RunSummary(
         model="chain",
         out=str(out) if out else None,
@@ -273,11 +425,17 @@ def _run_chain(cfg, out, progress, table_every, chunk):
     )
 
 
-def _run_free_boundary(cfg, out, progress, table_every, chunk):
+def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
     import warnings
 
+    from ._core import ParameterError
     from .free_boundary import FreeBoundary
 
+    if ctl.every is not None or ctl.resuming or ctl.stop_after is not None:
+        raise ParameterError(
+            "checkpoints and --resume are not available for the free_boundary model yet "
+            "(its engine cannot save its state); run it without --checkpoint-every"
+        )
     p = cfg.params
     x = cfg.x()
     u0 = initial_state(cfg)
@@ -332,7 +490,7 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk):
         writer.write_table("shocks", sh, su, csv=False)
 
     try:
-        with _sigterm_as_interrupt():
+        with _StopRequest() as stop_request:
             if times and times[0] <= eng.time:
                 snap()
                 times.pop(0)
@@ -349,14 +507,15 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk):
                     if time.perf_counter() - last_tables > table_every:
                         flush_tables()
                         last_tables = time.perf_counter()
-                    if status != "steps":
+                    if stop_request.requested or status != "steps":
                         break
+                if stop_request.requested:
+                    interrupted = True
+                    break
                 if status == "events":
                     break
                 if target in wanted:
                     snap()
-    except KeyboardInterrupt:
-        interrupted = True
     finally:
         bar.close()
         if writer is not None and (written == 0 or interrupted or cfg.t_end is None):
