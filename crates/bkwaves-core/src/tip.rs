@@ -228,7 +228,22 @@ pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
     let mut step = 0.5;
     let (mut xb, mut fb) = loop {
         let xn = if fa > 0.0 { xa + step } else { xa - step };
-        let (fn_, sn) = eval(xn)?;
+        let (fn_, sn) = match eval(xn) {
+            Ok(r) => r,
+            // Towards c -> 1 the lattice kept behind the tip grows without bound. In the
+            // continuum the root is always supersonic; at finite dx with damping the
+            // discrete front can be subsonic (c <= 1), outside this solver's range.
+            Err(Error::NoConvergence { .. }) if xn < xa && opts.dx > 0.0 => {
+                return Err(Error::InvalidParameter {
+                    name: "u_plus",
+                    value: u,
+                    allowed: "a stress with a supersonic steady front (c > 1); at this dx \
+                              and gamma the discrete front is subsonic or marginal (measure \
+                              it in the chain: bkwaves front)",
+                });
+            }
+            Err(e) => return Err(e),
+        };
         if fn_ == 0.0 {
             return Ok(sn);
         }
@@ -397,6 +412,22 @@ mod tests {
                 s.c
             );
         }
+    }
+
+    #[test]
+    fn subsonic_discrete_front_is_reported_as_out_of_range() {
+        // gamma = 0.45, dx = 0.1: the chain's front at u_+ = 0.3 moves at c = 0.99922
+        let o = TipOptions {
+            dx: 0.1,
+            gamma: 0.45,
+            max_intervals: 20_000,
+            ..Default::default()
+        };
+        match solve_for_u_plus(0.3, &o) {
+            Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, "u_plus"),
+            other => panic!("expected an out-of-range error, got {other:?}"),
+        }
+        assert!(solve_for_u_plus(0.6, &o).unwrap().c > 1.0);
     }
 
     #[test]
