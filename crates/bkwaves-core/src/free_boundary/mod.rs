@@ -776,6 +776,11 @@ impl FreeBoundary {
         // (the meeting point lies between them), so their own ends are not candidates;
         // where u_+ >= 1 the paths are flat in t and the times agree only to rounding.
         let mut paired = vec![false; self.shocks.len()];
+        // shocks grouped by cell (in index order within a cell): O(N log N), not O(N^2)
+        let mut by_cell: Vec<(usize, usize)> = (0..self.shocks.len())
+            .map(|q| (self.shocks[q].cell, q))
+            .collect();
+        by_cell.sort_unstable();
         for a in 0..self.shocks.len() {
             if self.shocks[a].dir < 0 {
                 continue;
@@ -784,9 +789,11 @@ impl FreeBoundary {
             // left shock of a pair born at one point is the one facing a)
             let (ca, sa) = (self.shocks[a].cell, self.shocks[a].s_now);
             let mut near: Option<(f64, usize)> = None;
-            for b in 0..self.shocks.len() {
+            let lo = by_cell.partition_point(|&(c, _)| c < ca);
+            let hi = by_cell.partition_point(|&(c, _)| c <= ca);
+            for &(_, b) in &by_cell[lo..hi] {
                 let sb = self.shocks[b].s_now;
-                if b == a || self.shocks[b].cell != ca || sb <= sa {
+                if b == a || sb <= sa {
                     continue;
                 }
                 let better = match near {
