@@ -439,3 +439,47 @@ def test_nothing_to_do_without_loading():
     r = fb.run(max_events=1)
     assert len(r.events) == 0 and fb.time == 0.0
     assert fb.run(t_end=5.0).snapshots.t.values[-1] == 5.0
+
+
+@pytest.mark.parametrize("boundary", ["free", "periodic"])
+def test_pickled_mid_run_state_continues_bit_for_bit(boundary, tmp_path):
+    """A checkpoint (pickle, or save/load) taken inside an event, with live shocks and
+    recorded snapshots, continues exactly like the uninterrupted run."""
+    import pickle
+
+    x = np.linspace(0, 200.0, 401)[: (400 if boundary == "periodic" else 401)]
+    u0 = 0.6 + 0.3 * np.exp(-(((x - 70) / 30) ** 2)) + 0.25 * np.exp(-(((x - 150) / 25) ** 2))
+    fb = quiet(params(), x, u0, boundary)
+    # stop on the engine's step budget inside the first event, then on a time
+    while not fb._engine.n_shocks:
+        assert fb._engine.advance(300.0, 7, 2**62) == "steps"
+    fb._engine.advance(300.0, 11, 2**62)
+    assert fb._engine.n_shocks > 0
+    t_cut = fb.time
+    fb.run(t_end=t_cut + 1.5, snapshots=[t_cut + 0.5])
+    assert fb._engine.n_shocks > 0 and len(fb._snap_t) == 3
+    a = quiet(params(), x, u0, boundary).run(t_end=300.0, snapshots=[t_cut + 0.5, t_cut + 1.5])
+    fb.save(tmp_path / "fb.pkl")
+    for b_fb in (pickle.loads(pickle.dumps(fb)), bk.FreeBoundary.load(tmp_path / "fb.pkl")):
+        assert b_fb.time == fb.time and b_fb.tol == fb.tol
+        np.testing.assert_array_equal(b_fb.u(), fb.u())
+        assert b_fb.current_shocks().equals(fb.current_shocks())
+        b = b_fb.run(t_end=300.0)
+        assert len(a.events) >= 3
+        assert a.events.equals(b.events)
+        assert a.shocks.equals(b.shocks)
+        assert a.snapshots.equals(b.snapshots) and a.steps == b.steps
+        np.testing.assert_array_equal(a.snapshots.u.values, b.snapshots.u.values)
+
+
+def test_checkpoint_of_another_configuration_is_refused(tmp_path):
+    x = np.linspace(0, 20.0, 41)
+    fb = quiet(params(), x, np.full(41, 0.5))
+    other = quiet(params(0.2), x, np.full(41, 0.5))
+    with pytest.raises(bk.ParameterError, match="checkpoint"):
+        other._engine.restore(fb._engine.checkpoint())
+    with pytest.raises(bk.ParameterError, match="checkpoint"):
+        other._engine.restore(b"not a checkpoint")
+    (tmp_path / "x.pkl").write_bytes(__import__("pickle").dumps({"a": 1}))
+    with pytest.raises(bk.ParameterError, match="FreeBoundary.save"):
+        bk.FreeBoundary.load(tmp_path / "x.pkl")

@@ -174,6 +174,62 @@ def test_resumed_chain_run_equals_the_uninterrupted_one_bit_for_bit(tmp_path, su
     assert last.events == ref.events and last.t == ref.t
 
 
+FB_RING = {
+    "model": "free_boundary",
+    "seed": 3,
+    "params": {"gamma": 0.3, "v": 1e-2, "dx": 1e-3},
+    "domain": {"length": 200.0, "grid": 400, "boundary": "periodic"},
+    "initial": {"kind": "random", "mean": 0.5, "amplitude": 0.05, "correlation_length": 10.0},
+}
+
+
+@pytest.mark.parametrize("suffix", [".nc", ".zarr"])
+@pytest.mark.parametrize(
+    "stop",
+    [
+        {"run": {"max_events": 8}, "output": {"snapshot_events": 1}},
+        {"run": {"t_end": 400.0}, "output": {"snapshot_every": 10.0}},
+    ],
+    ids=["every-event", "every-time"],
+)
+def test_resumed_free_boundary_run_equals_the_uninterrupted_one_bit_for_bit(tmp_path, suffix, stop):
+    import pandas as pd
+
+    from bkwaves.io import table_path
+    from bkwaves.runner import checkpoint_path, resume
+
+    cfg = parse_config({**FB_RING, **stop})
+    chunk = 40
+    ref = run(cfg, tmp_path / f"ref{suffix}", chunk=chunk)
+    assert not ref.interrupted and ref.events >= 3 and ref.snapshots >= 5
+    a, ca = bk.load(tmp_path / f"ref{suffix}")
+    out = tmp_path / f"cut{suffix}"
+    # a cut on a step budget (not at a snapshot) after the first event, with events left
+    # to run; the interrupted run also writes the state at the cut, which the resumed run
+    # drops (it continues after the checkpoint's records)
+    for k in range(1, ref.extra["steps"] // chunk + 100, 2):
+        first = run(cfg, out, chunk=chunk, _stop_after_chunks=k)
+        if first.interrupted and 0 < first.events < ref.events - 1 and first.t not in a.t.values:
+            break
+    assert first.interrupted and checkpoint_path(out).exists()
+    assert 0 < first.events < ref.events - 1 and first.snapshots < ref.snapshots
+    # resumed twice: a checkpoint written by a resumed run resumes too
+    second = resume(out, chunk=chunk, _stop_after_chunks=3)
+    assert second.interrupted and first.t < second.t < ref.t
+    last = resume(out, chunk=chunk)
+    assert not last.interrupted and not checkpoint_path(out).exists()
+    b, cb = bk.load(out)
+    assert a.sizes == b.sizes and a.sizes["t"] == ref.snapshots == last.snapshots
+    np.testing.assert_array_equal(a.t.values, b.t.values)
+    np.testing.assert_array_equal(a.u.values, b.u.values)
+    assert ca.equals(cb)
+    sa = pd.read_parquet(table_path(tmp_path / f"ref{suffix}", "shocks"))
+    sb = pd.read_parquet(table_path(out, "shocks"))
+    assert len(sa) > 0 and sa.equals(sb)
+    assert last.events == ref.events and last.t == ref.t
+    assert last.extra["steps"] == ref.extra["steps"]
+
+
 def test_resume_drops_records_written_after_the_checkpoint(tmp_path):
     """A crash after a checkpoint leaves extra records: resuming drops them first."""
     from bkwaves.io import RunWriter

@@ -139,6 +139,8 @@ class FreeBoundary:
         self.h = float(h)
         self.boundary = boundary
         self.creep = creep
+        self.tol = float(tol)
+        self.record_path = bool(record_path)
         self._check_no_creep(u0, np.array(sx, dtype=float))
         self._engine = _core.FreeBoundaryEngine(
             float(x[0]),
@@ -182,6 +184,70 @@ class FreeBoundary:
                 NoCreepWarning,
                 stacklevel=3,
             )
+
+    # ------------------------------------------------------------------ checkpoints
+    def __getstate__(self):
+        return {
+            "params": self.params,
+            "x": self.x,
+            "boundary": self.boundary,
+            "creep": self.creep,
+            "tol": self.tol,
+            "record_path": self.record_path,
+            "engine": self._engine.checkpoint(),
+            "snap_t": list(self._snap_t),
+            "snap_u": [np.array(u) for u in self._snap_u],
+            "snap_n": list(self._snap_n),
+        }
+
+    def __setstate__(self, state):
+        x = np.asarray(state["x"], dtype=float)
+        self.params = state["params"]
+        self.x = x
+        self.h = float((x[-1] - x[0]) / (x.size - 1))
+        self.boundary = state["boundary"]
+        self.creep = state["creep"]
+        self.tol = float(state["tol"])
+        self.record_path = bool(state["record_path"])
+        # an engine of the same configuration; its field is replaced by the checkpoint's
+        self._engine = _core.FreeBoundaryEngine(
+            float(x[0]),
+            self.h,
+            np.zeros_like(x),
+            float(self.params.gamma),
+            float(self.params.v),
+            self.boundary,
+            self.creep,
+            None,
+            None,
+            self.tol,
+            self.record_path,
+        )
+        self._engine.restore(state["engine"])
+        self._snap_t = list(state["snap_t"])
+        self._snap_u = [np.array(u) for u in state["snap_u"]]
+        self._snap_n = list(state["snap_n"])
+
+    def save(self, path) -> None:
+        """Write a checkpoint (pickle) of the whole state, snapshots included.
+        ``FreeBoundary.load(path).run(...)`` continues bit for bit like the uninterrupted
+        run when it makes the same engine calls (e.g. the checkpoint was taken where a run
+        stopped on ``max_events`` or Ctrl-C, and the continuation asks for the same end)."""
+        import pickle
+
+        with open(path, "wb") as f:
+            pickle.dump(self, f, protocol=pickle.HIGHEST_PROTOCOL)
+
+    @staticmethod
+    def load(path) -> FreeBoundary:
+        """Read a checkpoint written by :meth:`save`."""
+        import pickle
+
+        with open(path, "rb") as f:
+            fb = pickle.load(f)
+        if not isinstance(fb, FreeBoundary):
+            V._fail("path", str(path), "a checkpoint written by FreeBoundary.save")
+        return fb
 
     # ------------------------------------------------------------------ state
     @property

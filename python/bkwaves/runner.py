@@ -426,43 +426,45 @@ def _run_chain(cfg, out, progress, table_every, chunk, ctl):
 
 
 def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
+    import pickle
     import warnings
 
-    from ._core import ParameterError
     from .free_boundary import FreeBoundary
 
-    if ctl.every is not None or ctl.resuming or ctl.stop_after is not None:
-        raise ParameterError(
-            "checkpoints and --resume are not available for the free_boundary model yet "
-            "(its engine cannot save its state); run it without --checkpoint-every"
-        )
     p = cfg.params
     x = cfg.x()
-    u0 = initial_state(cfg)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        fb = FreeBoundary(p, x, u0, cfg.boundary)
-    notes = [str(w.message) for w in caught]
-    for w in caught:
-        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    notes = []
+    if ctl.resuming:
+        fb = pickle.loads(ctl.state["engine"])
+    else:
+        u0 = initial_state(cfg)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            fb = FreeBoundary(p, x, u0, cfg.boundary)
+        notes = [str(w.message) for w in caught]
+        for w in caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     eng = fb._engine
     units = _Units(cfg)
     variables = {"u": ("1", "slow field u (0: kinetic level, 1: static threshold)", "f8")}
+    written = ctl.state["written"] if ctl.resuming else 0
     writer = (
         RunWriter(
-            out, units.x(x), variables, attrs=_attrs(cfg, units), coord_units=units.coord_units()
+            out,
+            units.x(x),
+            variables,
+            attrs=_attrs(cfg, units),
+            coord_units=units.coord_units(),
+            resume_count=written if ctl.resuming else None,
         )
         if out
         else None
     )
-    times = _snapshot_times(cfg).tolist()
     t_end = cfg.t_end if cfg.t_end is not None else math.inf
     target_events = cfg.max_events if cfg.max_events is not None else 2**62
-    written = 0
     bar = _Bar(progress, cfg.t_end if cfg.t_end else target_events, "free boundary")
     wall0 = last_tables = time.perf_counter()
     interrupted = False
-    last_every_k = 0
 
     def snap():
         nonlocal written
@@ -489,33 +491,53 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
         sh, su = units.convert_table(sh, times=("t",), xs=("x",))
         writer.write_table("shocks", sh, su, csv=False)
 
+    # The loop state (remaining targets, the every-k count) goes into checkpoints: the
+    # resumed run makes the same engine calls and writes the same snapshots.
+    if ctl.resuming:
+        rs = ctl.state["runner"]
+        targets = [float(t) for t in rs["targets"]]
+        wanted = {float(t) for t in rs["wanted"]}
+        last_every_k = int(rs["last_every_k"])
+    else:
+        times = _snapshot_times(cfg).tolist()
+        if times and times[0] <= eng.time:
+            snap()
+            times.pop(0)
+        wanted = {t for t in times if t <= t_end}
+        targets = sorted(wanted | {t_end})
+        last_every_k = 0
+
+    def runner_state():
+        return {"targets": list(targets), "wanted": sorted(wanted), "last_every_k": last_every_k}
+
+    saved_written = written
     try:
         with _StopRequest() as stop_request:
-            if times and times[0] <= eng.time:
-                snap()
-                times.pop(0)
-            wanted = {t for t in times if t <= t_end}
-            targets = sorted(wanted | {t_end})
-            for target in targets:
-                while True:
-                    status = eng.advance(float(target), int(chunk), int(target_events))
-                    bar.update(eng.time if cfg.t_end else eng.completed_events)
-                    k = cfg.snapshot_events
-                    if k and eng.completed_events // k > last_every_k:
-                        last_every_k = eng.completed_events // k
+            while targets:
+                target = targets[0]
+                status = eng.advance(float(target), int(chunk), int(target_events))
+                bar.update(eng.time if cfg.t_end else eng.completed_events)
+                k = cfg.snapshot_events
+                if k and eng.completed_events // k > last_every_k:
+                    last_every_k = eng.completed_events // k
+                    snap()
+                if status == "time":
+                    targets.pop(0)
+                    if target in wanted:
                         snap()
-                    if time.perf_counter() - last_tables > table_every:
-                        flush_tables()
-                        last_tables = time.perf_counter()
-                    if stop_request.requested or status != "steps":
-                        break
+                if time.perf_counter() - last_tables > table_every:
+                    flush_tables()
+                    last_tables = time.perf_counter()
+                if status == "events" or not targets:
+                    break
+                ctl.chunk_done(stop_request)
                 if stop_request.requested:
                     interrupted = True
                     break
-                if status == "events":
-                    break
-                if target in wanted:
-                    snap()
+                if ctl.due():
+                    ctl.save(fb, written, runner_state())
+        # records written up to here are the ones a resumed run continues after
+        saved_written = written
     finally:
         bar.close()
         if writer is not None and (written == 0 or interrupted or cfg.t_end is None):
@@ -523,6 +545,10 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
         flush_tables()
         if writer is not None:
             writer.close()
+    if interrupted:
+        ctl.save(fb, saved_written, runner_state())
+    else:
+        ctl.finished()
     return RunSummary(
         model="free_boundary",
         out=str(out) if out else None,
@@ -532,5 +558,5 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
         interrupted=interrupted,
         wall_s=time.perf_counter() - wall0,
         units=units.name,
-        extra={"grid": len(x), "warnings": notes},
+        extra={"grid": len(x), "warnings": notes, "steps": int(eng.steps)},
     )

@@ -77,6 +77,17 @@ impl PyFreeBoundary {
         })
     }
 
+    /// The whole state as bytes (restored bit for bit by `restore`).
+    fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
+        pyo3::types::PyBytes::new(py, &self.inner.checkpoint())
+    }
+
+    /// Restore a state written by `checkpoint` of an engine with the same configuration
+    /// (grid, boundary, gamma, v, creep rule, tol, record_path).
+    fn restore(&mut self, data: &[u8]) -> PyResult<()> {
+        self.inner.restore(data).map_err(to_py)
+    }
+
     #[getter]
     fn time(&self) -> f64 {
         self.inner.time()

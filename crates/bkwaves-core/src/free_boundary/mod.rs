@@ -27,6 +27,7 @@
 
 pub mod births;
 pub mod catalog;
+pub mod checkpoint;
 pub mod field;
 pub mod shock;
 
