@@ -16,6 +16,7 @@ FIGURES = [
     "fig6_source",
     "fig7_source_map",
     "fig8_statistics",
+    "fig9_sync_chaos",
 ]
 
 
