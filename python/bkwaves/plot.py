@@ -130,14 +130,20 @@ def profiles(ds, var: str = "u", n: int = 6, ax=None):
     return ax
 
 
-def trajectories(df, *, x: str = "x", t: str = "t", by: str | None = None, ax=None):
-    """Front or shock trajectories x(t) from a table, one line per ``by`` group."""
+def trajectories(
+    df, *, x: str = "x", t: str = "t", by: str | None = None, ax=None, points: bool = False
+):
+    """Front or shock trajectories x(t) from a table, one line per ``by`` group (or
+    points, for fronts that spread both ways from their nucleation)."""
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
     groups = [(None, df)] if by is None or by not in df else df.groupby(by)
     for _, g in groups:
         g = g.sort_values(t)
-        ax.plot(g[x].values, g[t].values, lw=1.0)
+        if points:
+            ax.plot(g[x].values, g[t].values, ".", ms=1.5)
+        else:
+            ax.plot(g[x].values, g[t].values, lw=1.0)
     units = df.attrs.get("units", {})
     ax.set_xlabel(x + (f" [{units[x]}]" if units.get(x) else ""))
     ax.set_ylabel(t + (f" [{units[t]}]" if units.get(t) else ""))
@@ -187,6 +193,12 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
         if {"x", "t"} <= set(df.columns):
             by = next((c for c in ("front", "shock", "event", "id") if c in df.columns), None)
             written.append(save(trajectories(df, by=by), outdir / f"{stem}_{name}.{fmt}"))
+        elif {"x", "t_start", "block"} <= set(df.columns) and len(df):
+            # the chain's slips: the first slip of each block in each event is the slip front
+            first = df.sort_values("t_start").groupby(["event", "block"], as_index=False).first()
+            ax = trajectories(first, t="t_start", by="event", points=True)
+            ax.set_title("slip fronts (first slip of each block, per event)")
+            written.append(save(ax, outdir / f"{stem}_{name}.{fmt}"))
     ev = tables.get("events")
     if ev is not None and len(ev) >= 2:
         col = next((c for c in ("moment", "slip", "total_slip", "size") if c in ev.columns), None)
