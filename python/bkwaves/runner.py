@@ -491,30 +491,31 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
         sh, su = units.convert_table(sh, times=("t",), xs=("x",))
         writer.write_table("shocks", sh, su, csv=False)
 
-    # The loop state (remaining targets, the every-k count) goes into checkpoints: the
+    # The loop state (the next target, the every-k count) goes into checkpoints: the
     # resumed run makes the same engine calls and writes the same snapshots.
+    times = _snapshot_times(cfg).tolist()
+    if times and times[0] <= 0.0:
+        if not ctl.resuming:
+            snap()
+        times.pop(0)
+    wanted = {t for t in times if t <= t_end}
+    targets = sorted(wanted | {t_end})
     if ctl.resuming:
         rs = ctl.state["runner"]
-        targets = [float(t) for t in rs["targets"]]
-        wanted = {float(t) for t in rs["wanted"]}
+        i_target = int(rs["next_target"])
         last_every_k = int(rs["last_every_k"])
     else:
-        times = _snapshot_times(cfg).tolist()
-        if times and times[0] <= eng.time:
-            snap()
-            times.pop(0)
-        wanted = {t for t in times if t <= t_end}
-        targets = sorted(wanted | {t_end})
+        i_target = 0
         last_every_k = 0
 
     def runner_state():
-        return {"targets": list(targets), "wanted": sorted(wanted), "last_every_k": last_every_k}
+        return {"next_target": i_target, "last_every_k": last_every_k}
 
     saved_written = written
     try:
         with _StopRequest() as stop_request:
-            while targets:
-                target = targets[0]
+            while i_target < len(targets):
+                target = targets[i_target]
                 status = eng.advance(float(target), int(chunk), int(target_events))
                 bar.update(eng.time if cfg.t_end else eng.completed_events)
                 k = cfg.snapshot_events
@@ -522,13 +523,13 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
                     last_every_k = eng.completed_events // k
                     snap()
                 if status == "time":
-                    targets.pop(0)
+                    i_target += 1
                     if target in wanted:
                         snap()
                 if time.perf_counter() - last_tables > table_every:
                     flush_tables()
                     last_tables = time.perf_counter()
-                if status == "events" or not targets:
+                if status == "events" or i_target == len(targets):
                     break
                 ctl.chunk_done(stop_request)
                 if stop_request.requested:
