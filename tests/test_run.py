@@ -50,6 +50,10 @@ def test_example_runs_and_describes_itself(example, tmp_path):
     assert ds.attrs["bkwaves_version"] == bk.__version__
     assert ds.attrs["seed"] == cfg.seed
     assert np.all(np.isfinite(ds.u.values))
+    if cfg.model == "chain":
+        # the sliding state is consistent with the velocities: stuck blocks move with v
+        moving = ds.u_t.values != cfg.params.v
+        assert np.array_equal(ds.sliding.values != 0, moving)
     assert catalog is not None and len(catalog) == summary["events"]
     if cfg.max_events is not None:
         assert summary["events"] == cfg.max_events
@@ -120,11 +124,16 @@ def test_sigterm_stops_cleanly_and_keeps_the_records(tmp_path, suffix):
     )
     deadline = time.time() + 60
     parts = tmp_path / "long.nc.parts"
-    while time.time() < deadline:
-        if (parts.exists() and len(list(parts.glob("part-*.nc"))) >= 3) or (
-            suffix == ".zarr" and out.exists() and bk.load(out)[0].sizes["t"] >= 3
-        ):
-            break
+
+    def records():
+        if suffix == ".nc":
+            return len(list(parts.glob("part-*.nc"))) if parts.exists() else 0
+        try:  # the run is appending: the arrays may be read at different lengths
+            return bk.load(out)[0].sizes["t"] if out.exists() else 0
+        except Exception:  # noqa: BLE001 - a half-appended store is retried
+            return 0
+
+    while time.time() < deadline and records() < 3:
         time.sleep(0.2)
     os.kill(p.pid, signal.SIGTERM)
     stdout, stderr = p.communicate(timeout=120)

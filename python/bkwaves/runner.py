@@ -339,6 +339,7 @@ def _run_chain(cfg, out, progress, table_every, chunk, ctl):
     variables = {
         "u": ("1", "stress u (0: kinetic level, 1: static threshold)", "f8"),
         "u_t": ("(f_r - f_s)/sqrt(k_p m)", "du/dt", "f8"),
+        "sliding": ("1", "sliding state: 0 stuck, 1 forward, -1 backward", "i1"),
     }
     written = ctl.state["written"] if ctl.resuming else 0
     writer = (
@@ -365,7 +366,10 @@ def _run_chain(cfg, out, progress, table_every, chunk, ctl):
             return
         ts, us, uts = eng.snapshots()
         for i in range(written, len(ts)):
-            writer.append(units.t(ts[i]), u=us[i], u_t=uts[i])
+            # stuck blocks drift with the loader exactly (u_t == v to the bit), so the
+            # sign of the speed over the ground v - u_t is the sliding state
+            sliding = np.sign(p.v - np.asarray(uts[i])).astype(np.int8)
+            writer.append(units.t(ts[i]), u=us[i], u_t=uts[i], sliding=sliding)
         written = len(ts)
 
     def flush_tables():
