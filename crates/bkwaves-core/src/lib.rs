@@ -14,6 +14,7 @@
 
 pub mod boundary;
 pub mod chain;
+mod checkpoint_bytes;
 pub mod error;
 pub mod free_boundary;
 pub mod friction;

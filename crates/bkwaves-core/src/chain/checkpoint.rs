@@ -10,96 +10,11 @@
 use super::catalog::{EventRecord, SlipRecord};
 use super::events::SlipQueue;
 use super::{Chain, Trigger, TriggerKind};
-use crate::error::{Error, Result};
+use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
+use crate::error::Result;
 use crate::friction::Friction;
 
 const MAGIC: &[u8; 8] = b"BKCHAIN1";
-
-struct W(Vec<u8>);
-
-impl W {
-    fn f(&mut self, x: f64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn u(&mut self, x: u64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn b(&mut self, x: bool) {
-        self.u(u64::from(x));
-    }
-    fn fs(&mut self, v: &[f64]) {
-        self.u(v.len() as u64);
-        for &x in v {
-            self.f(x);
-        }
-    }
-    fn us(&mut self, v: &[usize]) {
-        self.u(v.len() as u64);
-        for &x in v {
-            self.u(x as u64);
-        }
-    }
-    fn s(&mut self, s: &str) {
-        self.u(s.len() as u64);
-        self.0.extend_from_slice(s.as_bytes());
-    }
-}
-
-struct R<'a> {
-    b: &'a [u8],
-    i: usize,
-}
-
-fn bad(at: usize, what: &'static str) -> Error {
-    Error::InvalidParameter {
-        name: "checkpoint",
-        value: at as f64,
-        allowed: what,
-    }
-}
-
-impl R<'_> {
-    fn take(&mut self, k: usize) -> Result<&[u8]> {
-        if self.i + k > self.b.len() {
-            return Err(bad(self.i, "a complete checkpoint (the bytes end early)"));
-        }
-        let s = &self.b[self.i..self.i + k];
-        self.i += k;
-        Ok(s)
-    }
-    fn f(&mut self) -> Result<f64> {
-        Ok(f64::from_le_bytes(
-            self.take(8)?.try_into().expect("8 bytes"),
-        ))
-    }
-    fn u(&mut self) -> Result<u64> {
-        Ok(u64::from_le_bytes(
-            self.take(8)?.try_into().expect("8 bytes"),
-        ))
-    }
-    fn z(&mut self) -> Result<usize> {
-        let x = self.u()?;
-        usize::try_from(x).map_err(|_| bad(self.i, "a checkpoint of this platform"))
-    }
-    fn b(&mut self) -> Result<bool> {
-        Ok(self.u()? != 0)
-    }
-    fn len(&mut self) -> Result<usize> {
-        let k = self.z()?;
-        if k > self.b.len() {
-            return Err(bad(self.i, "a well-formed checkpoint (bad length)"));
-        }
-        Ok(k)
-    }
-    fn fs(&mut self) -> Result<Vec<f64>> {
-        let k = self.len()?;
-        (0..k).map(|_| self.f()).collect()
-    }
-    fn us(&mut self) -> Result<Vec<usize>> {
-        let k = self.len()?;
-        (0..k).map(|_| self.z()).collect()
-    }
-}
 
 impl<F: Friction> Chain<F> {
     fn fingerprint(&self, w: &mut W) {
@@ -197,10 +112,10 @@ impl<F: Friction> Chain<F> {
                 w.f(x);
             }
         }
-        w.us(&cat.open_slip);
-        w.us(&cat.last_event);
+        w.zs(&cat.open_slip);
+        w.zs(&cat.last_event);
         w.fs(&cat.u_first);
-        w.us(&cat.blocks_now);
+        w.zs(&cat.blocks_now);
         w.b(cat.open);
         let sn = &self.snapshots;
         w.fs(&sn.t);
@@ -281,14 +196,14 @@ impl<F: Friction> Chain<F> {
                 next.st.add_to_runs(p);
             }
         }
-        for _ in 0..r.len()? {
+        for _ in 0..r.len(8)? {
             let (t, p) = (r.f()?, r.z()?);
             if p == 0 || p > next.st.n {
                 return Err(bad(r.i, "queue entries of real blocks"));
             }
             next.queue.push(p, t);
         }
-        for _ in 0..r.len()? {
+        for _ in 0..r.len(8)? {
             let (t, block, kind, value) = (r.f()?, r.z()?, r.u()?, r.f()?);
             let kind = if kind == 0 {
                 TriggerKind::Release {
@@ -316,7 +231,7 @@ impl<F: Friction> Chain<F> {
         c.switches = r.u()?;
         c.jumps = r.u()?;
         let cat = &mut next.catalog;
-        for _ in 0..r.len()? {
+        for _ in 0..r.len(8)? {
             let ints = [r.z()?, r.z()?, r.z()?, r.z()?, r.z()?, r.z()?];
             let fl = [r.f()?, r.f()?, r.f()?, r.f()?];
             cat.events.push(EventRecord {
@@ -332,7 +247,7 @@ impl<F: Friction> Chain<F> {
                 stress_drop: fl[3],
             });
         }
-        for _ in 0..r.len()? {
+        for _ in 0..r.len(8)? {
             let (event, block, dir) = (r.z()?, r.z()?, r.f()?);
             let fl = [r.f()?, r.f()?, r.f()?, r.f()?, r.f()?];
             cat.slips.push(SlipRecord {
@@ -346,10 +261,10 @@ impl<F: Friction> Chain<F> {
                 slip: fl[4],
             });
         }
-        cat.open_slip = r.us()?;
-        cat.last_event = r.us()?;
+        cat.open_slip = r.zs()?;
+        cat.last_event = r.zs()?;
         cat.u_first = r.fs()?;
-        cat.blocks_now = r.us()?;
+        cat.blocks_now = r.zs()?;
         cat.open = r.b()?;
         let n = next.st.n;
         if cat.open_slip.len() != n || cat.last_event.len() != n || cat.u_first.len() != n {
@@ -358,7 +273,7 @@ impl<F: Friction> Chain<F> {
         next.snapshots.t = r.fs()?;
         let mut rows = [Vec::new(), Vec::new()];
         for rr in rows.iter_mut() {
-            for _ in 0..r.len()? {
+            for _ in 0..r.len(8)? {
                 rr.push(r.fs()?);
             }
         }

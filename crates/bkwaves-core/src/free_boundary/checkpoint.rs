@@ -22,122 +22,10 @@ use super::catalog::{FbEvent, PathKind, PathPoint};
 use super::field::{CellPoly, NONE};
 use super::shock::{CellField, TrajEnd, TrajPoint, Trajectory};
 use super::{Boundary, CreepRule, FreeBoundary, ShockState};
-use crate::error::{Error, Result};
+use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
+use crate::error::Result;
 
 const MAGIC: &[u8; 8] = b"BKFREEB1";
-
-struct W(Vec<u8>);
-
-impl W {
-    fn f(&mut self, x: f64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn u(&mut self, x: u64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn z(&mut self, x: usize) {
-        // NONE (usize::MAX) is written as u64::MAX on every platform
-        self.u(if x == NONE { u64::MAX } else { x as u64 });
-    }
-    fn b(&mut self, x: bool) {
-        self.u(u64::from(x));
-    }
-    fn i(&mut self, x: i8) {
-        self.u(x as i64 as u64);
-    }
-    fn fs(&mut self, v: &[f64]) {
-        self.u(v.len() as u64);
-        for &x in v {
-            self.f(x);
-        }
-    }
-    fn zs(&mut self, v: &[usize]) {
-        self.u(v.len() as u64);
-        for &x in v {
-            self.z(x);
-        }
-    }
-    fn us(&mut self, v: &[u64]) {
-        self.u(v.len() as u64);
-        for &x in v {
-            self.u(x);
-        }
-    }
-}
-
-struct R<'a> {
-    b: &'a [u8],
-    i: usize,
-}
-
-fn bad(at: usize, what: &'static str) -> Error {
-    Error::InvalidParameter {
-        name: "checkpoint",
-        value: at as f64,
-        allowed: what,
-    }
-}
-
-impl R<'_> {
-    fn take(&mut self, k: usize) -> Result<&[u8]> {
-        if k > self.b.len() - self.i {
-            return Err(bad(self.i, "a complete checkpoint (the bytes end early)"));
-        }
-        let s = &self.b[self.i..self.i + k];
-        self.i += k;
-        Ok(s)
-    }
-    fn f(&mut self) -> Result<f64> {
-        Ok(f64::from_le_bytes(
-            self.take(8)?.try_into().expect("8 bytes"),
-        ))
-    }
-    fn u(&mut self) -> Result<u64> {
-        Ok(u64::from_le_bytes(
-            self.take(8)?.try_into().expect("8 bytes"),
-        ))
-    }
-    fn z(&mut self) -> Result<usize> {
-        let x = self.u()?;
-        if x == u64::MAX {
-            return Ok(NONE);
-        }
-        usize::try_from(x).map_err(|_| bad(self.i, "a checkpoint of this platform"))
-    }
-    fn b(&mut self) -> Result<bool> {
-        match self.u()? {
-            0 => Ok(false),
-            1 => Ok(true),
-            _ => Err(bad(self.i, "a well-formed checkpoint (bad flag)")),
-        }
-    }
-    fn dir(&mut self) -> Result<i8> {
-        match self.u()? as i64 {
-            1 => Ok(1),
-            -1 => Ok(-1),
-            _ => Err(bad(self.i, "a well-formed checkpoint (direction +1 or -1)")),
-        }
-    }
-    fn len(&mut self, item: usize) -> Result<usize> {
-        let k = self.z()?;
-        if k == NONE || k.saturating_mul(item) > self.b.len() - self.i {
-            return Err(bad(self.i, "a well-formed checkpoint (bad length)"));
-        }
-        Ok(k)
-    }
-    fn fs(&mut self) -> Result<Vec<f64>> {
-        let k = self.len(8)?;
-        (0..k).map(|_| self.f()).collect()
-    }
-    fn zs(&mut self) -> Result<Vec<usize>> {
-        let k = self.len(8)?;
-        (0..k).map(|_| self.z()).collect()
-    }
-    fn us(&mut self) -> Result<Vec<u64>> {
-        let k = self.len(8)?;
-        (0..k).map(|_| self.u()).collect()
-    }
-}
 
 const KINDS: [PathKind; 7] = [
     PathKind::Initial,
@@ -597,7 +485,7 @@ mod tests {
             let e = other.restore(&bytes).unwrap_err();
             assert!(matches!(
                 e,
-                Error::InvalidParameter {
+                crate::error::Error::InvalidParameter {
                     name: "checkpoint",
                     ..
                 }
