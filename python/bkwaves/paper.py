@@ -1090,52 +1090,34 @@ def _save(fig, outdir: Path, name: str) -> list[Path]:
     return paths
 
 
-def _single(builder):
+def _panels(builder, n: int = 1):
+    """A figure builder: ``n`` panels side by side (figure width 6 per panel, 5 for three)
+    handed to ``builder(ax_or_axes[, quick])``, saved as PNG and PDF."""
+
     def make(outdir, quick, name):
-        fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
+        width = {1: 6.0, 2: 11.0, 3: 15.0}[n]
+        fig, axes = plt.subplots(
+            1, n, figsize=(width, 4.0 if n == 1 else 3.8), constrained_layout=True
+        )
         if "quick" in builder.__code__.co_varnames:
-            builder(ax, quick)
+            builder(axes, quick)
         else:
-            builder(ax)
+            builder(axes)
         return _save(fig, outdir, name)
 
     return make
-
-
-def _two(builder, size=(11, 3.8)):
-    def make(outdir, quick, name):
-        fig, axes = plt.subplots(1, 2, figsize=size, constrained_layout=True)
-        builder(axes, quick)
-        return _save(fig, outdir, name)
-
-    return make
-
-
-def _three(builder, size=(15, 3.8)):
-    def make(outdir, quick, name):
-        fig, axes = plt.subplots(1, 3, figsize=size, constrained_layout=True)
-        builder(axes, quick)
-        return _save(fig, outdir, name)
-
-    return make
-
-
-def _waves(outdir, quick, name):
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
-    fig_waves(axes)
-    return _save(fig, outdir, name)
 
 
 FIGURES: dict[str, Callable] = {
-    "fig1_model": _single(fig_schematic),
-    "fig2_friction": _single(fig_friction),
-    "fig3_speed": _single(fig_speed),
-    "fig4_waves": _waves,
-    "fig5_wave_train": _two(fig_train),
-    "fig6_source": _single(fig_source),
-    "fig7_source_map": _single(fig_map),
-    "fig8_statistics": _three(fig_statistics),
-    "fig9_sync_chaos": _two(fig_sync),
+    "fig1_model": _panels(fig_schematic),
+    "fig2_friction": _panels(fig_friction),
+    "fig3_speed": _panels(fig_speed),
+    "fig4_waves": _panels(fig_waves, 2),
+    "fig5_wave_train": _panels(fig_train, 2),
+    "fig6_source": _panels(fig_source),
+    "fig7_source_map": _panels(fig_map),
+    "fig8_statistics": _panels(fig_statistics, 3),
+    "fig9_sync_chaos": _panels(fig_sync, 2),
 }
 
 
