@@ -313,6 +313,23 @@ class _Bar:
             self.p.stop()
 
 
+def _open_writer(out, cfg, units, x, variables, ctl):
+    """The output writer (None without an output) and the number of snapshots already in
+    it (those the checkpoint counts when resuming)."""
+    written = ctl.state["written"] if ctl.resuming else 0
+    if not out:
+        return written, None
+    writer = RunWriter(
+        out,
+        units.x(x),
+        variables,
+        attrs=_attrs(cfg, units),
+        coord_units=units.coord_units(),
+        resume_count=written if ctl.resuming else None,
+    )
+    return written, writer
+
+
 def _run_chain(cfg, out, progress, table_every, chunk, ctl):
     import pickle
 
@@ -341,19 +358,7 @@ def _run_chain(cfg, out, progress, table_every, chunk, ctl):
         "u_t": ("(f_r - f_s)/sqrt(k_p m)", "du/dt", "f8"),
         "sliding": ("1", "sliding state: 0 stuck, 1 forward, -1 backward", "i1"),
     }
-    written = ctl.state["written"] if ctl.resuming else 0
-    writer = (
-        RunWriter(
-            out,
-            units.x(x),
-            variables,
-            attrs=_attrs(cfg, units),
-            coord_units=units.coord_units(),
-            resume_count=written if ctl.resuming else None,
-        )
-        if out
-        else None
-    )
+    written, writer = _open_writer(out, cfg, units, x, variables, ctl)
     t_stop = cfg.t_end if cfg.t_end is not None else 1e300
     max_events = cfg.max_events if cfg.max_events is not None else 2**62
     bar = _Bar(progress, cfg.t_end if cfg.t_end else max_events, "chain")
@@ -451,19 +456,7 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
     eng = fb._engine
     units = _Units(cfg)
     variables = {"u": ("1", "slow field u (0: kinetic level, 1: static threshold)", "f8")}
-    written = ctl.state["written"] if ctl.resuming else 0
-    writer = (
-        RunWriter(
-            out,
-            units.x(x),
-            variables,
-            attrs=_attrs(cfg, units),
-            coord_units=units.coord_units(),
-            resume_count=written if ctl.resuming else None,
-        )
-        if out
-        else None
-    )
+    written, writer = _open_writer(out, cfg, units, x, variables, ctl)
     t_end = cfg.t_end if cfg.t_end is not None else math.inf
     target_events = cfg.max_events if cfg.max_events is not None else 2**62
     bar = _Bar(progress, cfg.t_end if cfg.t_end else target_events, "free boundary")
