@@ -11,9 +11,9 @@ corr = 2), "blunter" (A = 0.3, corr = 8): curvatures x4 and /4 of "sharp".
 Per period k it records the births, the birth sites (births of one period closer than 1
 counted once), the fraction of the period during which shocks exist anywhere on the ring
 ("active": 1 when shocks never stop, small when all blocks slide within a short time),
-the events started and the largest one's swept length / L (1: the whole ring slides in
-one event), and the fraction of births within 1 of a birth of the previous period
-("recurrent": 1 for fixed sources, small when births wander: chaos).
+the events started and the largest complete one's swept length / L (1: the whole ring
+slides in one event), and the fraction of births within 1 of a birth of the previous
+period ("recurrent": 1 for fixed sources, small when births wander: chaos).
 
 Run: python docs/scripts/fb_sync_chaos.py  (a few minutes on 2 cores for the default set;
 --lengths 400 --periods 20 for a quick look); --out FILE saves the per-period series as
@@ -98,11 +98,12 @@ def one(job):
         float(np.sum(np.clip(np.minimum(t1, (k + 1) * T) - np.maximum(t0s, k * T), 0, None)) / T)
         for k in range(periods)
     ]
-    # events started in each period, and the largest one's swept length / L
+    # events started in each period, and the largest complete one's swept length / L
     ke = (t0s / T).astype(int)
     n_ev = np.bincount(ke, minlength=periods)[:periods]
-    big = np.zeros(periods)
-    np.maximum.at(big, np.minimum(ke, periods - 1), e.swept.to_numpy() / length)
+    big = np.full(periods, np.nan)
+    done = e.complete.to_numpy()
+    np.fmax.at(big, np.minimum(ke, periods - 1)[done], e.swept.to_numpy()[done] / length)
     return {
         "L": length,
         "h": h,
