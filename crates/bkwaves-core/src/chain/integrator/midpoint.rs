@@ -8,7 +8,7 @@
 //! w_m = w0 + h/2 a(u0 + h/2 w_m, w_m) are solved by fixed-point iteration, a contraction
 //! with factor about (h/dx)^2 + h gamma, iterated to round-off.
 
-use super::{fill_neighbours, stage_accel, Integrator, StageSums, StepIntegrals};
+use super::{accel_at_state, fill_neighbours, stage_accel, Integrator, StageSums, StepIntegrals};
 use crate::chain::state::State;
 use crate::friction::Friction;
 
@@ -43,11 +43,7 @@ impl Integrator for Midpoint {
     }
 
     fn accel<F: Friction>(&mut self, st: &mut State, fr: &F, t: f64, acc: &mut [f64]) -> StageSums {
-        for &(a, b) in &st.runs {
-            self.su[a..b].copy_from_slice(&st.u[a..b]);
-        }
-        fill_neighbours(st, &mut self.su, t);
-        stage_accel(st, fr, &self.su, &st.w, acc)
+        accel_at_state(st, fr, &mut self.su, t, acc)
     }
 
     fn step<F: Friction>(

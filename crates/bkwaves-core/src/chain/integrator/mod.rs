@@ -77,6 +77,22 @@ pub trait Integrator: std::fmt::Debug + Send {
 /// Fill the stage displacement of the neighbours of every run (stuck blocks by their
 /// exact drift, ghosts by the boundary) at stage time ts. Sliding values in `su` must
 /// already be set.
+/// Accelerations of the sliding blocks at the present state, time t, using `su` as the
+/// stage buffer (the first stage of every integrator).
+pub(crate) fn accel_at_state<F: Friction>(
+    st: &State,
+    fr: &F,
+    su: &mut [f64],
+    t: f64,
+    acc: &mut [f64],
+) -> StageSums {
+    for &(a, b) in &st.runs {
+        su[a..b].copy_from_slice(&st.u[a..b]);
+    }
+    fill_neighbours(st, su, t);
+    stage_accel(st, fr, su, &st.w, acc)
+}
+
 pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
     let n = st.n;
     for &(a, b) in &st.runs {

@@ -1,6 +1,6 @@
 //! Classical fourth-order Runge-Kutta for the runs of sliding blocks.
 
-use super::{fill_neighbours, stage_accel, Integrator, StageSums, StepIntegrals};
+use super::{accel_at_state, fill_neighbours, stage_accel, Integrator, StageSums, StepIntegrals};
 use crate::chain::state::State;
 use crate::friction::Friction;
 
@@ -36,11 +36,7 @@ impl Integrator for Rk4 {
     }
 
     fn accel<F: Friction>(&mut self, st: &mut State, fr: &F, t: f64, acc: &mut [f64]) -> StageSums {
-        for &(a, b) in &st.runs {
-            self.su[a..b].copy_from_slice(&st.u[a..b]);
-        }
-        fill_neighbours(st, &mut self.su, t);
-        stage_accel(st, fr, &self.su, &st.w, acc)
+        accel_at_state(st, fr, &mut self.su, t, acc)
     }
 
     fn step<F: Friction>(
