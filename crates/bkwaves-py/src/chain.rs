@@ -265,7 +265,7 @@ impl ChainEngine {
 
 /// One front across a uniformly stressed chain at v = 0 (the `bkwaves front` experiment).
 #[pyfunction]
-#[pyo3(signature = (u_plus, gamma, dx, blocks, step=bkwaves_core::chain::DEFAULT_STEP, beta=0.0, window=(0.5, 0.75), heal=true))]
+#[pyo3(signature = (u_plus, gamma, dx, blocks, step=bkwaves_core::chain::DEFAULT_STEP, beta=f64::INFINITY, window=(0.5, 0.75), heal=true))]
 #[allow(clippy::too_many_arguments)]
 fn front_measure<'py>(
     py: Python<'py>,

@@ -12,7 +12,23 @@
 //! ```
 //!
 //! (a fixed-end wall is attached to the ground and does no work; beta s dir = beta |s| on
-//! the block's branch). The engine integrates
+//! the block's branch).
+//!
+//! Without backward slip (beta = inf, the paper's model; also any beta in a run where no
+//! block slides backward) the beta terms cancel exactly, and the books are kept in the
+//! beta-free form (beta = 0 above, [`crate::friction::Friction::beta`]). Expanding
+//! (u + beta)^2/2 = u^2/2 + beta u + beta^2/2, the beta part of dE/dt is
+//!
+//! ```text
+//!   d/dt [beta sum_i u_i] = beta sum_i u_t,i = beta (n v - sum_sliding s_i)
+//! ```
+//!
+//! (a stuck block has u_t = v, a sliding one u_t = v - s), while the beta part of the
+//! flows is the loader's v n beta minus the dry friction beta sum_sliding s_i dir_i, the
+//! same thing when every dir_i = +1. The forward branch R = 2 gamma s contains no beta,
+//! so neither the motion nor the beta-free balance depends on beta.
+//!
+//! The engine integrates
 //! the two rates with the same quadrature as the motion and also books the kinetic
 //! energy removed when a stick sets u_t = v exactly (`projection`, of the order of the
 //! integration error squared) and the energy of kicks (`injected`).

@@ -7,7 +7,8 @@
 //! - a sliding block obeys u_tt = -phi + R(s) (friction law, [`crate::friction`]);
 //!   for Coulomb friction R = 2 gamma s forward and 2 gamma s - 2 beta backward;
 //! - a stuck block slips forward when phi >= upper (= 1), backward when phi <= lower
-//!   (= -(1 + 2 beta));
+//!   (= -(1 + 2 beta); beta = inf, the default of the front experiment and of the Python
+//!   API, is the paper's model: no backward slip);
 //! - a sliding block whose u_t returns to v sticks if lower < phi < upper there; otherwise
 //!   it goes on sliding in the direction the force pushes it (forward if phi >= upper,
 //!   backward if phi <= lower).
@@ -217,6 +218,14 @@ impl<F: Friction> Chain<F> {
                         allowed: "finite values",
                     });
                 }
+                if x > cfg.v && friction.lower() == f64::NEG_INFINITY {
+                    return Err(Error::InvalidParameter {
+                        name: "u_t0",
+                        value: x,
+                        allowed: "u_t0 <= v: without backward slip (beta = inf) no block \
+                                  moves backward over the ground",
+                    });
+                }
                 st.w[i + 1] = x;
             }
         }
@@ -353,6 +362,23 @@ impl<F: Friction> Chain<F> {
                     name: "kick",
                     value: du_t,
                     allowed: "finite",
+                });
+            }
+        }
+        if self.fr.lower() == f64::NEG_INFINITY {
+            let backward = match tr.kind {
+                TriggerKind::Kick { du_t } => du_t > 0.0,
+                TriggerKind::Release { dir } => dir < 0,
+            };
+            if backward {
+                return Err(Error::InvalidParameter {
+                    name: "trigger",
+                    value: match tr.kind {
+                        TriggerKind::Kick { du_t } => du_t,
+                        TriggerKind::Release { dir } => f64::from(dir),
+                    },
+                    allowed: "forward triggers only (kick du_t <= 0, release direction +1): \
+                              without backward slip (beta = inf) no block moves backward",
                 });
             }
         }

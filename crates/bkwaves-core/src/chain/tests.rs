@@ -156,32 +156,56 @@ fn balance(ch: &Chain<Coulomb>, e0: f64) -> (f64, f64) {
 
 #[test]
 fn energy_balance_closes_to_the_integration_order() {
+    let mut compared = 0;
     for (bname, b) in [
         ("free", Box::new(Free) as Box<dyn Boundary>),
         ("fixed", Box::new(Fixed::new(0.5, 0.4).unwrap())),
         ("periodic", Box::new(Periodic)),
     ] {
-        let mut res = Vec::new();
-        for &step in &[0.2, 0.1, 0.05, 0.025, 0.0125] {
-            let fr = Coulomb::new(0.3, 0.5).unwrap();
-            let u0 = smooth_stress(60, 7);
-            let mut ch = Chain::new(cfg(0.2, 1e-2, step), fr, b.as_ref(), &u0, None).unwrap();
-            let (k, c, l) = ch.energy();
-            let e0 = k + c + l;
-            // a fixed time: on the ring a pulse can circulate for ever (re-entry)
-            ch.run(120.0, usize::MAX, u64::MAX).unwrap();
-            assert!(ch.catalog.events.len() >= 3, "{bname}");
-            let (r, diss) = balance(&ch, e0);
-            assert!(diss > 0.1, "{bname}: dissipation {diss}");
-            res.push((r / diss).abs());
+        // beta = 0.5 and beta = inf (no backward slip, the beta-free books of energy.rs)
+        let mut resid = [Vec::new(), Vec::new()];
+        let mut backward = [Vec::new(), Vec::new()];
+        for (which, beta) in [0.5, f64::INFINITY].into_iter().enumerate() {
+            let mut res = Vec::new();
+            for &step in &[0.2, 0.1, 0.05, 0.025, 0.0125] {
+                let fr = Coulomb::new(0.3, beta).unwrap();
+                let u0 = smooth_stress(60, 7);
+                let mut ch = Chain::new(cfg(0.2, 1e-2, step), fr, b.as_ref(), &u0, None).unwrap();
+                let (k, c, l) = ch.energy();
+                let e0 = k + c + l;
+                // a fixed time: on the ring a pulse can circulate for ever (re-entry)
+                ch.run(120.0, usize::MAX, u64::MAX).unwrap();
+                assert!(ch.catalog.events.len() >= 3, "{bname}");
+                let (r, diss) = balance(&ch, e0);
+                assert!(diss > 0.1, "{bname}: dissipation {diss}");
+                res.push((r / diss).abs());
+                resid[which].push(r);
+                backward[which].push(ch.catalog.slips.iter().filter(|s| s.dir < 0).count());
+            }
+            // the residual is the integration error of the books: it falls like h^4 or
+            // faster (the event sequences differ a little between steps)
+            for k in 0..4 {
+                assert!(res[k + 1] < res[k] / 5.0, "{bname} beta {beta}: {res:?}");
+            }
+            if beta.is_finite() {
+                assert!(res[4] < 1e-10, "{bname}: {res:?}");
+            }
         }
-        // the residual is the integration error of the books: it falls like h^4 or
-        // faster (the event sequences differ a little between steps)
-        for k in 0..4 {
-            assert!(res[k + 1] < res[k] / 5.0, "{bname}: {res:?}");
+        // where no block slid backward with beta = 0.5 either, the motion is the same and
+        // the beta terms cancel exactly: both books leave the same residual (to round-off
+        // of the beta = 0.5 sums, ~5e4 steps of O(1) terms), not just one of the same order
+        assert!(backward[1].iter().all(|&b| b == 0), "{bname}");
+        for (k, (r5, ri)) in resid[0].iter().zip(&resid[1]).enumerate() {
+            if backward[0][k] == 0 {
+                compared += 1;
+                assert!(
+                    (r5 - ri).abs() < 1e-10 + 1e-3 * r5.abs(),
+                    "{bname}: {resid:?}"
+                );
+            }
         }
-        assert!(res[4] < 1e-10, "{bname}: {res:?}");
     }
+    assert!(compared >= 5, "{compared}");
 }
 
 #[test]
@@ -250,22 +274,28 @@ fn midpoint_energy_books_close_to_round_off() {
         ("fixed", Box::new(Fixed::new(0.5, 0.4).unwrap())),
         ("periodic", Box::new(Periodic)),
     ] {
-        let fr = Coulomb::new(0.3, 0.5).unwrap();
-        let u0 = smooth_stress(60, 7);
-        let mut ch = Chain::new(cfg(0.2, 1e-2, 0.1), fr, b.as_ref(), &u0, None).unwrap();
-        ch.set_integrator(Method::Midpoint).unwrap();
-        assert_eq!(ch.integrator(), "midpoint");
-        let (k, c, l) = ch.energy();
-        let e0 = k + c + l;
-        ch.run(120.0, usize::MAX, u64::MAX).unwrap();
-        assert!(ch.catalog.events.len() >= 3, "{bname}");
-        let (r, diss) = balance(&ch, e0);
-        eprintln!("midpoint {bname}: residual/dissipation {:e}", r / diss);
-        // round-off: the energies are O(10), the books sum ~1e5 steps
-        assert!((r / diss).abs() < 1e-12, "{bname}: {:e}", r / diss);
-        // (the kinetic energy removed at sticks, from locating them on the cubic dense
-        // output of a second-order method, is booked, not hidden)
-        assert!(ch.ledger.projection < 1e-8 * diss, "{bname}");
+        for beta in [0.5, f64::INFINITY] {
+            let fr = Coulomb::new(0.3, beta).unwrap();
+            let u0 = smooth_stress(60, 7);
+            let mut ch = Chain::new(cfg(0.2, 1e-2, 0.1), fr, b.as_ref(), &u0, None).unwrap();
+            ch.set_integrator(Method::Midpoint).unwrap();
+            assert_eq!(ch.integrator(), "midpoint");
+            let (k, c, l) = ch.energy();
+            let e0 = k + c + l;
+            ch.run(120.0, usize::MAX, u64::MAX).unwrap();
+            assert!(ch.catalog.events.len() >= 3, "{bname}");
+            let (r, diss) = balance(&ch, e0);
+            eprintln!("midpoint {bname}: residual/dissipation {:e}", r / diss);
+            // round-off: the energies are O(10), the books sum ~1e5 steps
+            assert!((r / diss).abs() < 1e-12, "{bname}: {:e}", r / diss);
+            // (the kinetic energy removed at sticks, from locating them on the cubic dense
+            // output of a second-order method, is booked, not hidden)
+            assert!(ch.ledger.projection < 1e-8 * diss, "{bname}");
+            if !beta.is_finite() {
+                // the beta-free books: no dry-friction work is booked
+                assert_eq!(ch.ledger.dry, 0.0);
+            }
+        }
     }
 }
 
@@ -318,6 +348,75 @@ fn a_block_over_the_backward_threshold_at_rest_reverses() {
     assert!(s[1].slip < 0.0, "backward slip is negative");
     assert_eq!(ch.modes(), vec![0]);
     assert_eq!(ch.catalog.finished(), 1);
+}
+
+#[test]
+fn without_backward_slip_a_block_at_rest_below_the_threshold_sticks() {
+    // as above with beta = inf (the paper's model): at the end of the forward half-period
+    // u = -1.0956 at rest; there is no backward threshold, so it sticks there
+    let gamma = 0.1f64;
+    let om = (1.0 - gamma * gamma).sqrt();
+    let u1 = -1.5 * (-gamma * std::f64::consts::PI / om).exp();
+    let fr = Coulomb::new(gamma, f64::INFINITY).unwrap();
+    let mut ch = Chain::new(cfg(0.002, 0.0, 0.05), fr, &Free, &[1.5], None).unwrap();
+    ch.run(20.0, 1, u64::MAX).unwrap();
+    let s = &ch.catalog.slips;
+    assert_eq!(s.len(), 1, "{s:?}");
+    assert_eq!(s[0].dir, 1);
+    assert!((s[0].t_end - std::f64::consts::PI / om).abs() < 1e-10);
+    assert!((s[0].u_end - u1).abs() < 1e-11);
+    assert_eq!(ch.modes(), vec![0]);
+    assert!(ch.u().iter().all(|x| x.is_finite()));
+}
+
+#[test]
+fn without_backward_slip_backward_motion_is_refused() {
+    let fr = Coulomb::new(0.3, f64::INFINITY).unwrap();
+    let mut ch = Chain::new(cfg(0.1, 0.0, 0.05), fr, &Free, &[0.5; 4], None).unwrap();
+    for kind in [
+        TriggerKind::Kick { du_t: 0.5 },
+        TriggerKind::Release { dir: -1 },
+    ] {
+        let e = ch.add_trigger(Trigger {
+            t: 0.0,
+            block: 1,
+            kind,
+        });
+        assert!(
+            matches!(
+                e,
+                Err(Error::InvalidParameter {
+                    name: "trigger",
+                    ..
+                })
+            ),
+            "{e:?}"
+        );
+    }
+    for kind in [
+        TriggerKind::Kick { du_t: -0.5 },
+        TriggerKind::Release { dir: 1 },
+    ] {
+        ch.add_trigger(Trigger {
+            t: 0.0,
+            block: 1,
+            kind,
+        })
+        .unwrap();
+    }
+    let e = Chain::new(cfg(0.1, 0.0, 0.05), fr, &Free, &[0.5; 2], Some(&[0.0, 0.1]));
+    assert!(
+        matches!(e, Err(Error::InvalidParameter { name: "u_t0", .. })),
+        "{e:?}"
+    );
+    assert!(Chain::new(
+        cfg(0.1, 0.0, 0.05),
+        fr,
+        &Free,
+        &[0.5; 2],
+        Some(&[0.0, -0.1])
+    )
+    .is_ok());
 }
 
 #[test]

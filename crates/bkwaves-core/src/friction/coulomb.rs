@@ -5,6 +5,12 @@
 //! forward sliding R(s) = 2 gamma s; backward sliding R(s) = 2 gamma s - 2 beta (the
 //! kinetic force flips sign, so it differs from the forward branch by 2 f_s). A stuck
 //! block holds while -(1 + 2 beta) < phi < 1: |F| < f_r with F = f_s + (f_r - f_s) phi.
+//!
+//! beta = +inf is the paper's model, no backward slip (a block slides until its speed over
+//! the ground returns to zero): the backward threshold -(1 + 2 beta) is then -inf. The
+//! forward branch does not contain beta, so the dynamics of a chain that only slides
+//! forward is the same for every beta; the energy books then use the beta-free form
+//! (see [`Friction::beta`] and ../chain/energy.rs).
 
 use super::Friction;
 use crate::error::{check_at_least, Result};
@@ -14,7 +20,8 @@ use crate::error::{check_at_least, Result};
 pub struct Coulomb {
     /// Viscous damping gamma >= 0.
     pub gamma: f64,
-    /// beta = f_s/(f_r - f_s) >= 0 (backward-slip threshold and backward kinetic force).
+    /// beta = f_s/(f_r - f_s) >= 0 (backward-slip threshold and backward kinetic force);
+    /// +inf: no backward slip.
     pub beta: f64,
 }
 
@@ -22,8 +29,15 @@ impl Coulomb {
     /// Validated constructor.
     pub fn new(gamma: f64, beta: f64) -> Result<Self> {
         check_at_least("gamma", gamma, 0.0, "gamma >= 0")?;
-        check_at_least("beta", beta, 0.0, "beta >= 0")?;
+        if beta != f64::INFINITY {
+            check_at_least("beta", beta, 0.0, "beta >= 0 (inf: no backward slip)")?;
+        }
         Ok(Coulomb { gamma, beta })
+    }
+
+    /// True when backward slip is possible (finite beta).
+    pub fn backward_slip(&self) -> bool {
+        self.beta.is_finite()
     }
 }
 
@@ -33,8 +47,14 @@ impl Friction for Coulomb {
     }
     #[inline(always)]
     fn excess(&self, s: f64, dir: f64) -> f64 {
-        // dir = +1: 2 gamma s; dir = -1: 2 gamma s - 2 beta (branch free)
-        2.0 * self.gamma * s + self.beta * (dir - 1.0)
+        // dir = +1: 2 gamma s; dir = -1: 2 gamma s - 2 beta (a branch, not beta (dir - 1):
+        // with beta = inf that is inf * 0 = NaN on the forward branch)
+        let r = 2.0 * self.gamma * s;
+        if dir < 0.0 {
+            r - 2.0 * self.beta
+        } else {
+            r
+        }
     }
     fn upper(&self) -> f64 {
         1.0
@@ -43,13 +63,18 @@ impl Friction for Coulomb {
         -(1.0 + 2.0 * self.beta)
     }
     fn beta(&self) -> f64 {
-        self.beta
+        // no backward slip: the books in the beta-free form (the beta terms cancel exactly)
+        if self.backward_slip() {
+            self.beta
+        } else {
+            0.0
+        }
     }
     #[inline(always)]
     fn power(&self, s: f64, dir: f64) -> (f64, f64) {
         // the force applied on this branch times the speed (not beta |s|): exact books even
         // when s has just crossed zero before its stick is located
-        (self.beta * s * dir, 2.0 * self.gamma * s * s)
+        (self.beta() * s * dir, 2.0 * self.gamma * s * s)
     }
 }
 
@@ -71,5 +96,25 @@ mod tests {
         }
         assert!(Coulomb::new(-0.1, 0.0).is_err());
         assert!(Coulomb::new(0.1, f64::NAN).is_err());
+        assert!(Coulomb::new(0.1, -1.0).is_err());
+        assert!(Coulomb::new(0.1, f64::NEG_INFINITY).is_err());
+    }
+
+    #[test]
+    fn infinite_beta_is_forward_only_and_finite() {
+        // the paper's model: no backward slip; nothing may turn into NaN (inf * 0)
+        let f = Coulomb::new(0.3, f64::INFINITY).unwrap();
+        assert!(!f.backward_slip());
+        assert_eq!(f.excess(0.5, 1.0), 0.3);
+        assert_eq!(f.excess(0.0, 1.0), 0.0);
+        assert_eq!(f.lower(), f64::NEG_INFINITY);
+        assert_eq!(f.upper(), 1.0);
+        // forward branch and power identical to any finite beta's (beta-free books)
+        let g = Coulomb::new(0.3, 0.0).unwrap();
+        for &s in &[0.0, 0.7, 1e-9] {
+            assert_eq!(f.excess(s, 1.0), g.excess(s, 1.0));
+            assert_eq!(f.power(s, 1.0), g.power(s, 1.0));
+        }
+        assert_eq!(f.beta(), 0.0);
     }
 }

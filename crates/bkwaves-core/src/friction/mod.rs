@@ -28,8 +28,9 @@ pub trait Friction: Clone + Send + Sync + std::fmt::Debug {
     fn upper(&self) -> f64;
     /// A stuck block slips backward when phi <= lower.
     fn lower(&self) -> f64;
-    /// beta = f_s/(f_r - f_s): the loader-spring force of a block is (u + beta)
-    /// in units of f_r - f_s (enters the energy books).
+    /// beta = f_s/(f_r - f_s) of the energy books: the loader-spring force of a block is
+    /// (u + beta) in units of f_r - f_s. A law without backward slip returns 0 (the
+    /// beta-free books): the beta terms then cancel exactly (../chain/energy.rs).
     fn beta(&self) -> f64;
     /// Dissipated power of one sliding block, split into (dry friction, viscous),
     /// in units of (f_r - f_s)^2 / sqrt(k_p m). Their sum is s * (R(s) + beta), the friction
