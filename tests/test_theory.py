@@ -195,3 +195,63 @@ def test_bad_input_is_named():
         bk.traveling_wave(float("nan"), 0.3)
     with pytest.raises(bk.ParameterError, match="gamma"):
         bk.traveling_wave(0.5, -1)
+
+
+@pytest.mark.parametrize("g", [0.05, 0.3, 0.45, 0.7, 0.9])
+def test_u_plus_equal_to_gamma_is_critically_damped_creep(g):
+    """gamma-tilde = c gamma/sqrt(c^2 - 1) = gamma/u_+ exactly: u_+ = gamma is the critically
+    damped wave, which never re-sticks (creep), for every gamma alike."""
+    w = bk.traveling_wave(g, g)
+    assert w.regime == "creep" and w.w is None and w.u_minus is None
+    sol = slidet_numerical(g, g, w.c, z_end=-400.0)
+    assert len(sol.t_events[0]) == 0  # no stick point
+    z = np.linspace(-300, -1e-3, 40)
+    np.testing.assert_allclose(w.profile(z), sol.sol(z)[0], rtol=1e-7, atol=1e-9)
+    assert bk.traveling_wave(g * (1 + 1e-9), g).regime == "pulse"
+
+
+def _mp_wave(u_plus, gamma):
+    """Eqs. (w) and (um) evaluated in 50-digit arithmetic with c = 1/sqrt(1 - u_+^2)."""
+    import mpmath as mp
+
+    with mp.workdps(50):
+        u, g = mp.mpf(u_plus), mp.mpf(gamma)
+        c = 1 / mp.sqrt(1 - u * u)
+        d = mp.sqrt(c * c * (1 - g * g) - 1)
+        return float(mp.pi * (c * c - 1) / d), float(-u * mp.exp(-mp.pi * g * c / d))
+
+
+@pytest.mark.parametrize(
+    "u_plus, gamma",
+    [(1e-5, 0.0), (1e-7, 0.0), (3e-8, 0.0), (1e-9, 0.0), (1e-12, 0.0), (2e-8, 1e-8), (0.31, 0.3)],
+)
+def test_width_and_u_minus_have_full_precision_for_any_u_plus(u_plus, gamma):
+    """c - 1 ~ u_+^2/2 cancels in floating point: w must not be computed from it."""
+    w = bk.traveling_wave(u_plus, gamma)
+    width, um = _mp_wave(u_plus, gamma)
+    assert w.regime == "pulse"
+    assert w.w == pytest.approx(width, rel=1e-13)
+    assert w.u_minus == pytest.approx(um, rel=1e-13)
+    # the formulas in terms of a given c agree where c carries the information
+    if u_plus > 1e-3:
+        assert th.width(w.c, gamma) == pytest.approx(width, rel=1e-12)
+
+
+def test_formulas_with_a_speed_near_one_do_not_cancel():
+    import mpmath as mp
+
+    for c, g in [(1 + 1e-12, 0.0), (1 + 1e-9, 1e-6), (1 + 2**-40, 0.0)]:
+        with mp.workdps(50):
+            cm = mp.mpf(c)
+            d = mp.sqrt(cm * cm * (1 - mp.mpf(g) ** 2) - 1)
+            exact = float(mp.pi * (cm * cm - 1) / d)
+        assert th.width(c, g) == pytest.approx(exact, rel=1e-13)
+
+
+def test_tiny_u_plus_errors_name_only_what_the_user_passed():
+    w = bk.traveling_wave(1e-9, 0.0)  # used to fail with an error about c
+    assert w.c == 1.0 and w.w > 0
+    for bad in (0.0, 1.0, -1e-9):
+        with pytest.raises(bk.ParameterError, match="u_plus") as e:
+            bk.traveling_wave(bad, 0.0)
+        assert "invalid c" not in str(e.value)

@@ -157,7 +157,7 @@ def critical_stress(gamma, speed=None):
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         c = float(speed(mid))
-        if np.sqrt(c * c - 1.0) / c < g:
+        if np.sqrt((c - 1.0) * (c + 1.0)) / c < g:
             lo = mid
         else:
             hi = mid
@@ -166,9 +166,9 @@ def critical_stress(gamma, speed=None):
 
 # ------------------------------------------------------------- the wave (App. B)
 def gamma_tilde(c, gamma):
-    """App. B: gamma-tilde = c gamma / sqrt(c^2 - 1); < 1 pulse, >= 1 creep."""
-    c = _c(c)
-    return _out(c * _gamma(gamma) / np.sqrt((c - 1.0) * (c + 1.0)))
+    """App. B: gamma-tilde = c gamma / sqrt(c^2 - 1); < 1 pulse, >= 1 creep (= 1: the
+    critically damped wave, which never re-sticks). With the exact c it is gamma/u_+."""
+    return _out(_core.gamma_tilde(_c(c), _gamma(gamma)))
 
 
 def width(c, gamma):

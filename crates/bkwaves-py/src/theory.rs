@@ -101,6 +101,16 @@ fn wave_profile<'py>(
     })
 }
 
+/// gamma-tilde = c gamma / sqrt(c^2 - 1) (App. B), elementwise over c.
+#[pyfunction]
+fn gamma_tilde<'py>(
+    py: Python<'py>,
+    c: PyReadonlyArrayDyn<'py, f64>,
+    gamma: f64,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    map_array(py, c, |c| Ok(wave::gamma_tilde(c, gamma)))
+}
+
 /// u_- (eq. um) and w (eq. w) for given speed c, elementwise over c; NaN in creep.
 #[pyfunction]
 fn wave_from_speed<'py>(
@@ -145,5 +155,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(traveling_wave, m)?)?;
     m.add_function(wrap_pyfunction!(wave_profile, m)?)?;
     m.add_function(wrap_pyfunction!(wave_from_speed, m)?)?;
+    m.add_function(wrap_pyfunction!(gamma_tilde, m)?)?;
     Ok(())
 }
