@@ -104,3 +104,120 @@ def test_plot_command(tmp_path):
     assert r.returncode == 2 and "not found" in r.stderr and "Traceback" not in r.stderr
     r = run("plot", str(out), "--format", "bmp")
     assert r.returncode == 2 and "fmt" in r.stderr
+
+
+def _modules_after(code):
+    """The top-level modules loaded by a fresh interpreter after running ``code``."""
+    probe = code + "\nimport sys; print(' '.join(sorted({m.split('.')[0] for m in sys.modules})))"
+    r = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return set(r.stdout.split())
+
+
+HEAVY = {"matplotlib", "xarray", "pandas", "pyarrow", "zarr", "h5netcdf", "h5py", "scipy", "tqdm"}
+
+
+def test_import_bkwaves_loads_no_plotting_or_io_libraries():
+    """`import bkwaves` is fast: plotting and heavy I/O load only when used."""
+    loaded = _modules_after("import bkwaves as bk; bk.front_speed(0.5); bk.Params(0.3, 0.0, 0.1)")
+    assert not loaded & HEAVY, sorted(loaded & HEAVY)
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["speed", "0.5", "--json"], ["run", "--help"]])
+def test_cli_commands_that_need_no_plotting_do_not_import_it(argv):
+    code = (
+        "import sys; from bkwaves.cli import app\n"
+        f"try:\n    app({argv!r}, prog_name='bkwaves')\nexcept SystemExit as e:\n"
+        "    assert e.code in (0, None), e.code"
+    )
+    loaded = _modules_after(code)
+    assert not loaded & HEAVY, sorted(loaded & HEAVY)
+
+
+def test_plot_module_leaves_matplotlib_global_state_alone():
+    """Importing bkwaves.plot (and drawing with it) changes neither the backend nor the
+    rcParams of the user's session."""
+    code = (
+        "import matplotlib; matplotlib.use('svg')\n"
+        "before = dict(matplotlib.rcParams)\n"
+        "import bkwaves as bk, bkwaves.plot as bp\n"
+        "ax = bp.speed_curve([0.5])\n"
+        "after = dict(matplotlib.rcParams)\n"
+        "changed = sorted(k for k in before if before[k] != after[k])\n"
+        "assert matplotlib.get_backend() == 'svg', matplotlib.get_backend()\n"
+        "assert not changed, changed\n"
+        "assert not ax.spines['top'].get_visible()  # the bkwaves style still applies\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+
+
+def test_plot_with_unknown_suffix_is_a_clear_error(tmp_path):
+    r = run("wave", "--u-plus", "0.6", "--gamma", "0.3", "--plot", str(tmp_path / "w.bmpx"))
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr + r.stdout
+    assert "--plot" in r.stderr and ".png" in r.stderr and ".pdf" in r.stderr
+    assert not (tmp_path / "w.bmpx").exists()
+    r = run("speed", "0.5", "--plot", str(tmp_path / "noext"))
+    assert r.returncode == 2 and "--plot" in r.stderr and "Traceback" not in r.stderr
+
+
+def _help(*cmd):
+    r = run(*cmd, "--help")
+    assert r.returncode == 0, r.stderr
+    return " ".join(r.stdout.replace("│", " ").split())
+
+
+def test_help_texts_show_brackets_and_plain_flags():
+    text = _help("run")
+    assert "[output] path" in text
+    for cmd in (("run",), ("wave",), ("speed",), ("paper",), ("front",)):
+        text = _help(*cmd)
+        assert "<bool>" not in text and "BOOLEAN" not in text, cmd
+        assert "--json" in text
+
+
+def test_run_summary_pluralises_events(tmp_path):
+    cfg = tmp_path / "one.toml"
+    cfg.write_text(
+        'model = "chain"\n[params]\ngamma = 0.3\nv = 0.0\ndx = 0.1\n'
+        '[domain]\nblocks = 60\n[initial]\nkind = "uniform"\nvalue = 0.6\n'
+        '[[triggers]]\ntime = 0.0\nblock = 0\nkind = "kick"\nvelocity = 2.0\n'
+        "[run]\nt_end = 40.0\n"
+    )
+    r = run("run", str(cfg), "-o", str(tmp_path / "one.nc"), "--quiet")
+    assert r.returncode == 0, r.stderr
+    assert " 1 event," in r.stdout and "1 events" not in r.stdout
+
+
+def test_one_progress_bar_library_for_both_engines():
+    """Both engines draw their progress bar with rich (on stderr), and tqdm is not used."""
+    code = (
+        "import numpy as np, bkwaves as bk\n"
+        "p = bk.Params(gamma=0.3, v=0.0, dx=0.1)\n"
+        "bk.Chain(40, p, u0=0.6).kick(0, -2.0).run(t_end=5.0, progress=True)\n"
+        "x = np.linspace(0.0, 10.0, 41)\n"
+        "bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-3, dx=0.1), x, 0.5 + 0.01 * x)"
+        ".run(t_end=1.0, progress=True)\n"
+    )
+    loaded = _modules_after(code)
+    assert "rich" in loaded and "tqdm" not in loaded
+
+
+def test_every_declared_dependency_is_used():
+    """pyproject's runtime dependencies are the libraries bkwaves imports (no dead ones)."""
+    import re
+    import tomllib
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    deps = tomllib.loads((root / "pyproject.toml").read_text())["project"]["dependencies"]
+    names = {re.match(r"[A-Za-z0-9_.-]+", d).group(0).lower().replace("-", "_") for d in deps}
+    source = "\n".join(p.read_text() for p in (root / "python" / "bkwaves").glob("*.py"))
+    imported = set(re.findall(r"^\s*(?:import|from)\s+([A-Za-z0-9_]+)", source, re.M))
+    # h5netcdf and zarr are reached through xarray's engine names
+    engines = set(re.findall(r"engine=\"([a-z0-9_]+)\"", source)) | {
+        "zarr" for _ in re.findall(r"open_zarr|to_zarr", source)
+    }
+    unused = sorted(names - imported - engines)
+    assert not unused, f"declared in pyproject.toml but never imported: {unused}"

@@ -280,7 +280,7 @@ class Chain:
         t_stop = t_end if math.isfinite(t_end) else 1e300
         events_left = max_events if max_events is not None else 2**62
         start_events = self._engine.events_finished
-        bar = _progress(progress, t_end, max_events, self.t)
+        bar = _progress(progress, t_end, max_events, self.t, start_events)
         t_wall = _time.perf_counter()
         interrupted = False
         stop = "steps"
@@ -288,16 +288,14 @@ class Chain:
             while True:
                 done = self._engine.events_finished - start_events
                 stop = self._engine.advance(t_stop, max(events_left - done, 0), int(chunk_steps))
-                if bar is not None:
-                    bar.update(self.t, self._engine.events_finished - start_events)
+                bar.advance(self.t, self._engine.events_finished)
                 if stop != "steps":
                     break
         except KeyboardInterrupt:
             interrupted = True
             stop = "interrupted"
         finally:
-            if bar is not None:
-                bar.close()
+            bar.close()
         return self._result(stop, interrupted, _time.perf_counter() - t_wall)
 
     # --- outputs -------------------------------------------------------------------
@@ -412,39 +410,14 @@ def _per_block(name, value, n) -> np.ndarray:
     return np.broadcast_to(a.reshape(-1) if a.ndim else a, (n,)).astype(float).copy()
 
 
-class _Bar:
-    def __init__(self, total, by_events, t0):
-        from tqdm.auto import tqdm
-
-        self.by_events = by_events
-        self.t0 = t0
-        fmt = (
-            "{l_bar}{bar}| {n:.0f}/{total:.0f} events [{elapsed}<{remaining}]"
-            if by_events
-            else "{l_bar}{bar}| t = {n:.4g}/{total:.4g} [{elapsed}<{remaining}]"
-        )
-        self.bar = tqdm(total=total, leave=False, dynamic_ncols=True, bar_format=fmt)
-        self.last = 0.0
-
-    def update(self, t, events):
-        now = events if self.by_events else t - self.t0
-        self.bar.update(now - self.last)
-        self.last = now
-
-    def close(self):
-        self.bar.close()
-
-
-def _progress(progress, t_end, max_events, t0):
+def _progress(progress, t_end, max_events, t0, events0):
     import sys
+
+    from ._progress import RunProgress
 
     if progress is None:
         progress = sys.stderr.isatty()
-    if not progress:
-        return None
-    if max_events is not None:
-        return _Bar(max_events, True, t0)
-    return _Bar(t_end - t0, False, t0)
+    return RunProgress(bool(progress), "chain", t0, t_end, max_events, events0)
 
 
 def smooth_random_stress(

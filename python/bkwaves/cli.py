@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 from typing import Annotated
 
@@ -12,25 +13,42 @@ import typer
 from . import __version__
 from ._core import ConvergenceError, ParameterError
 
+# Plain (click-style) help: rich's help panels cost a tenth of a second of imports on every
+# call, show boolean flags as "--json <bool>" and read "[...]" in help texts as markup.
 app = typer.Typer(
     name="bkwaves",
     help="Traveling slip waves in the Burridge-Knopoff chain with Coulomb friction "
     "(C. B. Muratov, Phys. Rev. E 59, 3847, 1999).",
     no_args_is_help=True,
-    rich_markup_mode="rich",
+    rich_markup_mode=None,
     add_completion=False,
     pretty_exceptions_enable=False,
 )
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object instead of text.")]
 PlotOpt = Annotated[
-    Path | None, typer.Option("--plot", help="Write a picture (png, svg or pdf by suffix).")
+    Path | None, typer.Option("--plot", help="Write a picture (.png, .svg or .pdf by suffix).")
 ]
 
 
 def _fail(err: Exception) -> None:
     typer.echo(f"Error: {err}", err=True)
     raise typer.Exit(2)
+
+
+def _check_plot(plot: Path | None) -> None:
+    """Refuse a --plot file of a format bkwaves does not write, before any work."""
+    if plot is not None:
+        from .plot import check_path
+
+        try:
+            check_path(plot, "--plot")
+        except ParameterError as e:
+            _fail(e)
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
 
 
 def _json_value(x):
@@ -55,7 +73,7 @@ def _main(
     """Simulate and analyse Burridge-Knopoff traveling waves."""
 
 
-@app.command()
+@app.command(short_help="The traveling wave behind the front: speed, regime, width, u_-, slip.")
 def wave(
     u_plus: Annotated[float, typer.Option("--u-plus", help="Stress ahead of the wave, 0 < U < 1.")],
     gamma: Annotated[float, typer.Option("--gamma", help="Viscous damping gamma >= 0.")],
@@ -68,6 +86,7 @@ def wave(
     """
     from .waves import traveling_wave
 
+    _check_plot(plot)
     try:
         w = traveling_wave(u_plus, gamma)
     except (ParameterError, ConvergenceError) as e:
@@ -94,7 +113,7 @@ def wave(
         typer.echo(f"plot    -> {plot}")
 
 
-@app.command()
+@app.command(short_help="Front speed c(u_+) from the tip problem, and eq. (c).")
 def speed(
     u_plus: Annotated[list[float], typer.Argument(help="Stresses ahead, each 0 < U < 1.")],
     method: Annotated[
@@ -107,6 +126,7 @@ def speed(
     from . import theory
     from .waves import front_speed
 
+    _check_plot(plot)
     try:
         c = [float(x) for x in __import__("numpy").atleast_1d(front_speed(u_plus, method=method))]
         ci = [float(x) for x in __import__("numpy").atleast_1d(theory.c_interpolation(u_plus))]
@@ -220,7 +240,7 @@ def run_cmd(
     state = "interrupted (resume with --resume)" if summary.interrupted else "done"
     typer.echo(
         f"{summary.model}: {state} at t = {summary.t:.6g} ({summary.units}), "
-        f"{summary.events} events, {summary.snapshots} snapshots, "
+        f"{_count(summary.events, 'event')}, {_count(summary.snapshots, 'snapshot')}, "
         f"{summary.wall_s:.2f} s -> {summary.out}"
     )
 
@@ -283,6 +303,8 @@ def front(
 
 
 def main():  # entry point
+    # pictures are written to files: draw off-screen unless the user chose a backend
+    os.environ.setdefault("MPLBACKEND", "Agg")
     app()
 
 

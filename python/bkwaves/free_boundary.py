@@ -27,6 +27,7 @@ import numpy as np
 
 from . import _core
 from . import _validate as V
+from ._progress import RunProgress
 from .params import Params
 
 __all__ = ["FreeBoundary", "FreeBoundaryResult", "NoCreepWarning"]
@@ -310,12 +311,14 @@ class FreeBoundary:
                 times = times[times <= t_end]
         chunk = int(V.number("chunk", chunk, lo=1))
         interrupted = False
-        bar = _Progress(progress, t0, t_end, max_events)
+        bar = RunProgress(
+            progress, "free boundary", t0, t_end, max_events, self._engine.completed_events
+        )
         try:
             for target in [*times.tolist(), t_end]:
                 while True:
                     status = self._engine.advance(float(target), chunk, target_events)
-                    bar.update(self._engine.time, self._engine.completed_events)
+                    bar.advance(self._engine.time, self._engine.completed_events)
                     if status != "steps":
                         break
                 if status == "events":
@@ -391,35 +394,3 @@ class FreeBoundary:
             steps=self._engine.steps,
             meta=meta,
         )
-
-
-class _Progress:
-    """A rich progress bar over time (or events when the end time is open)."""
-
-    def __init__(self, enabled, t0, t_end, max_events):
-        self.p = None
-        if not enabled:
-            return
-        from rich.progress import Progress
-
-        self.by_time = math.isfinite(t_end)
-        self.t0 = t0
-        total = (t_end - t0) if self.by_time else float(max_events or 1)
-        self.p = Progress(transient=True)
-        self.p.start()
-        self.task = self.p.add_task("free boundary", total=total)
-        self.ev0 = None
-
-    def update(self, t, events):
-        if self.p is None:
-            return
-        if self.by_time:
-            self.p.update(self.task, completed=t - self.t0)
-        else:
-            if self.ev0 is None:
-                self.ev0 = events
-            self.p.update(self.task, completed=events - self.ev0)
-
-    def close(self):
-        if self.p is not None:
-            self.p.stop()

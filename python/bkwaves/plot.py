@@ -1,17 +1,20 @@
-"""Pictures: matplotlib figures with the paper's axes (headless, Agg backend)."""
+"""Pictures: matplotlib figures with the paper's axes.
+
+matplotlib is imported only when a picture is drawn, and bkwaves never changes its global
+state: no backend is chosen (``bkwaves`` on the command line draws off-screen with Agg)
+and the bkwaves look (:data:`STYLE`) applies only inside these functions, through
+``matplotlib.rc_context``.
+"""
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from . import theory  # noqa: E402
-from .waves import TravelingWave, front_speed  # noqa: E402
+from . import theory
+from .waves import TravelingWave, front_speed
 
 __all__ = [
     "wave_profile",
@@ -22,24 +25,49 @@ __all__ = [
     "size_frequency",
     "plot_run",
     "save",
+    "FORMATS",
+    "STYLE",
 ]
 
-plt.rcParams.update(
-    {
-        "figure.dpi": 110,
-        "savefig.dpi": 200,
-        "font.size": 10,
-        "axes.spines.top": False,
-        "axes.spines.right": False,
-        "savefig.bbox": "tight",
-    }
-)
+FORMATS = ("png", "svg", "pdf")
+"""The picture formats bkwaves writes (chosen by the file suffix)."""
+
+STYLE = {
+    "figure.dpi": 110,
+    "savefig.dpi": 150,
+    "font.size": 10,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "savefig.bbox": "tight",
+}
+"""rcParams applied while bkwaves draws and saves a figure (never globally)."""
 
 
+def _styled(draw):
+    """Run ``draw`` with :data:`STYLE` in force, leaving the caller's rcParams alone."""
+
+    @functools.wraps(draw)
+    def styled(*args, **kwargs):
+        import matplotlib
+
+        with matplotlib.rc_context(STYLE):
+            return draw(*args, **kwargs)
+
+    return styled
+
+
+def _new_axes(figsize):
+    import matplotlib.pyplot as plt
+
+    _, ax = plt.subplots(figsize=figsize, layout="constrained")
+    return ax
+
+
+@_styled
 def wave_profile(wave: TravelingWave, ax=None):
     """u(z) behind the front (paper Fig. 4): front at z = 0, stick point at z = -w."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(6, 3.6), constrained_layout=True)
+        ax = _new_axes((6, 3.6))
     if wave.w is not None:
         z = np.linspace(-1.6 * wave.w, 0.25 * wave.w, 800)
     else:
@@ -58,11 +86,12 @@ def wave_profile(wave: TravelingWave, ax=None):
     return ax
 
 
+@_styled
 def speed_curve(u_points=None, ax=None):
     """c(u_+) (paper Fig. 3): exact tip-problem speed, the interpolation formula eq. (c)
     dashed, and the wrong formal continuum answer dotted; optional marked points."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(5, 3.8), constrained_layout=True)
+        ax = _new_axes((5, 3.8))
     u = np.linspace(0.005, 0.96, 400)
     ax.plot(u, front_speed(u), color="C0", lw=2, label="tip problem: 1/sqrt(1 - u+^2)")
     ax.plot(u, theory.c_interpolation(u), "k--", lw=1, label="interpolation, eq. (c)")
@@ -90,10 +119,11 @@ def _units(da) -> str:
     return f" [{u}]" if u and u != "1" else ""
 
 
+@_styled
 def spacetime(ds, var: str = "u", ax=None, cmap=None):
     """Space-time diagram of ``ds[var]`` (dimensions t, x): slip fronts are the edges."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
+        ax = _new_axes((7, 4.2))
     da = ds[var]
     discrete = da.dtype.kind in "iu"
     if cmap is None:
@@ -109,13 +139,16 @@ def spacetime(ds, var: str = "u", ax=None, cmap=None):
     return ax
 
 
+@_styled
 def profiles(ds, var: str = "u", n: int = 6, ax=None):
     """Profiles ``var(x)`` at ``n`` snapshots spread over the run."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 3.8), constrained_layout=True)
+        ax = _new_axes((7, 3.8))
     nt = ds.sizes["t"]
     idx = np.unique(np.linspace(0, nt - 1, min(n, nt)).round().astype(int))
-    colors = plt.cm.viridis(np.linspace(0, 1, len(idx)))
+    import matplotlib
+
+    colors = matplotlib.colormaps["viridis"](np.linspace(0, 1, len(idx)))
     for c, i in zip(colors, idx, strict=True):
         ax.plot(
             ds.x.values,
@@ -130,13 +163,14 @@ def profiles(ds, var: str = "u", n: int = 6, ax=None):
     return ax
 
 
+@_styled
 def trajectories(
     df, *, x: str = "x", t: str = "t", by: str | None = None, ax=None, points: bool = False
 ):
     """Front or shock trajectories x(t) from a table, one line per ``by`` group (or
     points, for fronts that spread both ways from their nucleation)."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
+        ax = _new_axes((7, 4.2))
     groups = [(None, df)] if by is None or by not in df else df.groupby(by)
     for _, g in groups:
         g = g.sort_values(t)
@@ -151,13 +185,14 @@ def trajectories(
     return ax
 
 
+@_styled
 def size_frequency(sizes, ax=None, label: str = "event size"):
     """Size-frequency (complementary cumulative) plot with the Aki b-value of the
     amplitude magnitudes log10(size)."""
     from . import stats
 
     if ax is None:
-        _, ax = plt.subplots(figsize=(5, 4), constrained_layout=True)
+        ax = _new_axes((5, 4))
     s = np.asarray(sizes, dtype=float)
     s = s[np.isfinite(s) & (s > 0)]
     x, ccdf = stats.size_frequency(s)
@@ -170,15 +205,16 @@ def size_frequency(sizes, ax=None, label: str = "event size"):
     return ax
 
 
+@_styled
 def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
     """The standard pictures of a run output (see :func:`bkwaves.io.load`): space-time
     diagrams of every field, profiles, trajectories and the catalog's size-frequency."""
     from .io import load_tables
 
-    if fmt not in ("png", "svg", "pdf"):
+    if fmt not in FORMATS:
         from ._validate import _fail
 
-        _fail("fmt", fmt, "'png', 'svg' or 'pdf'")
+        _fail("fmt", fmt, " or ".join(repr(f) for f in FORMATS))
     out = Path(out)
     ds, tables = load_tables(out)
     outdir = Path(outdir) if outdir is not None else out.parent
@@ -209,10 +245,25 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
     return written
 
 
+@_styled
 def save(ax, path) -> Path:
-    """Save the figure of ``ax`` (format from the suffix: png, svg, pdf)."""
-    path = Path(path)
+    """Save the figure of ``ax`` to ``path`` (format from the suffix: one of
+    :data:`FORMATS`) and close it."""
+    import matplotlib.pyplot as plt
+
+    path = check_path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    ax.figure.savefig(path, dpi=150)
+    ax.figure.savefig(path)
     plt.close(ax.figure)
+    return path
+
+
+def check_path(path, name: str = "path") -> Path:
+    """``path`` as a Path if its suffix is one of :data:`FORMATS`, else a ParameterError
+    naming ``name``."""
+    path = Path(path)
+    if path.suffix.lower().lstrip(".") not in FORMATS:
+        from ._validate import _fail
+
+        _fail(name, str(path), "a file name ending in " + ", ".join("." + f for f in FORMATS))
     return path

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
+from ._progress import ProgressBar
 from .config import RunConfig, initial_state
 from .io import RunWriter
 
@@ -294,25 +295,6 @@ class _Control:
             checkpoint_path(self.out).unlink(missing_ok=True)
 
 
-class _Bar:
-    def __init__(self, enabled, total, label):
-        self.p = None
-        if enabled:
-            from rich.progress import Progress
-
-            self.p = Progress(transient=True)
-            self.p.start()
-            self.task = self.p.add_task(label, total=total)
-
-    def update(self, done):
-        if self.p is not None:
-            self.p.update(self.task, completed=done)
-
-    def close(self):
-        if self.p is not None:
-            self.p.stop()
-
-
 def _open_writer(out, cfg, units, x, variables, ctl):
     """The output writer (None without an output) and the number of snapshots already in
     it (those the checkpoint counts when resuming)."""
@@ -361,7 +343,7 @@ def _run_chain(cfg, out, progress, table_every, chunk, ctl):
     written, writer = _open_writer(out, cfg, units, x, variables, ctl)
     t_stop = cfg.t_end if cfg.t_end is not None else 1e300
     max_events = cfg.max_events if cfg.max_events is not None else 2**62
-    bar = _Bar(progress, cfg.t_end if cfg.t_end else max_events, "chain")
+    bar = ProgressBar(progress, cfg.t_end if cfg.t_end else max_events, "chain")
     wall0 = last_tables = time.perf_counter()
     interrupted = False
 
@@ -459,7 +441,7 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
     written, writer = _open_writer(out, cfg, units, x, variables, ctl)
     t_end = cfg.t_end if cfg.t_end is not None else math.inf
     target_events = cfg.max_events if cfg.max_events is not None else 2**62
-    bar = _Bar(progress, cfg.t_end if cfg.t_end else target_events, "free boundary")
+    bar = ProgressBar(progress, cfg.t_end if cfg.t_end else target_events, "free boundary")
     wall0 = last_tables = time.perf_counter()
     interrupted = False
 

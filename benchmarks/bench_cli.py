@@ -1,0 +1,90 @@
+"""Start-up time of the command line (issue 12: a command line that answers at once).
+
+Run: python benchmarks/bench_cli.py [--repeat N]
+Every command is a fresh interpreter (subprocess); the rounds interleave the commands so
+that a shared, busy machine slows them alike. Prints a markdown table of medians and each
+command's ratio to two baselines measured in the same run: an empty interpreter
+(``python -c pass``) and ``python -c "import numpy"`` (which `bkwaves speed` needs anyway).
+``python -X importtime`` then shows where the remaining import time goes.
+"""
+
+import argparse
+import resource
+import statistics
+import subprocess
+import sys
+import time
+
+PY = sys.executable
+COMMANDS = {
+    "python -c pass": [PY, "-c", "pass"],
+    'python -c "import numpy"': [PY, "-c", "import numpy"],
+    'python -c "import typer"': [PY, "-c", "import typer"],
+    'python -c "import bkwaves"': [PY, "-c", "import bkwaves"],
+    "bkwaves --help": [PY, "-m", "bkwaves", "--help"],
+    "bkwaves speed 0.5 --json": [PY, "-m", "bkwaves", "speed", "0.5", "--json"],
+    "bkwaves run --help": [PY, "-m", "bkwaves", "run", "--help"],
+}
+
+
+def cpu_seconds() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def measure(cmd) -> tuple[float, float]:
+    """Wall and CPU (user + system) seconds of one run of ``cmd``."""
+    c0, t0 = cpu_seconds(), time.perf_counter()
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return time.perf_counter() - t0, cpu_seconds() - c0
+
+
+def top_imports(cmd, n=6):
+    """The ``n`` top-level imports with the largest cumulative time (ms)."""
+    r = subprocess.run([PY, "-X", "importtime", *cmd[1:]], capture_output=True, text=True)
+    rows = []
+    for line in r.stderr.splitlines():
+        parts = line.split("|")
+        if len(parts) == 3 and parts[1].strip().isdigit() and not parts[2].startswith("  "):
+            rows.append((int(parts[1]) / 1000.0, parts[2].strip()))
+    return sorted(rows, reverse=True)[:n]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=15)
+    args = ap.parse_args()
+    import bkwaves
+
+    print(f"bkwaves {bkwaves.__version__} from {bkwaves.__file__}; {args.repeat} rounds\n")
+    walls = {k: [] for k in COMMANDS}
+    cpus = {k: [] for k in COMMANDS}
+    for cmd in COMMANDS.values():  # warm the file cache
+        measure(cmd)
+    for _ in range(args.repeat):
+        for k, cmd in COMMANDS.items():
+            w, c = measure(cmd)
+            walls[k].append(w)
+            cpus[k].append(c)
+    wall = {k: statistics.median(v) for k, v in walls.items()}
+    cpu = {k: statistics.median(v) for k, v in cpus.items()}
+    base, np_base = "python -c pass", 'python -c "import numpy"'
+    print(
+        "| command | wall (median) | wall (min) | CPU (median) "
+        "| wall / `python -c pass` | wall / `import numpy` |"
+    )
+    print("|---|---|---|---|---|---|")
+    for k in COMMANDS:
+        print(
+            f"| `{k}` | {wall[k] * 1e3:.0f} ms | {min(walls[k]) * 1e3:.0f} ms "
+            f"| {cpu[k] * 1e3:.0f} ms | {wall[k] / wall[base]:.1f} "
+            f"| {wall[k] / wall[np_base]:.2f} |"
+        )
+    for k in ("bkwaves --help", "bkwaves speed 0.5 --json"):
+        print(f"\nlargest top-level imports of `{k}` (python -X importtime, ms):")
+        for ms, name in top_imports(COMMANDS[k]):
+            print(f"  {ms:8.1f}  {name}")
+
+
+if __name__ == "__main__":
+    main()
