@@ -171,6 +171,9 @@ def _help(*cmd):
 def test_help_texts_show_brackets_and_plain_flags():
     text = _help("run")
     assert "[output] path" in text
+    # --quick's help states the measured saving (docs/benchmarks.md), not "minutes -> seconds"
+    text = _help("paper")
+    assert "minutes -> seconds" not in text and "docs/benchmarks.md" in text
     for cmd in (("run",), ("wave",), ("speed",), ("paper",), ("front",)):
         text = _help(*cmd)
         assert "<bool>" not in text and "BOOLEAN" not in text, cmd
@@ -197,7 +200,7 @@ def test_one_progress_bar_library_for_both_engines():
         "p = bk.Params(gamma=0.3, v=0.0, dx=0.1)\n"
         "bk.Chain(40, p, u0=0.6).kick(0, -2.0).run(t_end=5.0, progress=True)\n"
         "x = np.linspace(0.0, 10.0, 41)\n"
-        "bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-3, dx=0.1), x, 0.5 + 0.01 * x)"
+        "bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-3, dx=0.1), x, 0.5 + 5e-4 * x)"
         ".run(t_end=1.0, progress=True)\n"
     )
     loaded = _modules_after(code)

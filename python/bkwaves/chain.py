@@ -154,53 +154,68 @@ class Chain:
         self._e0 = sum(self._engine.energy())
 
     # --- checkpoints -----------------------------------------------------------------
-    def __getstate__(self):
-        return {
+    def _record(self) -> tuple[dict, dict]:
+        """The whole state as (JSON-able meta, plain arrays): what checkpoints store."""
+        from ._checkpoint import params_record
+
+        meta = {
             "n": self.n,
-            "params": self.params,
+            "params": params_record(self.params),
             "boundary": self.boundary,
-            "fixed": self.fixed,
+            "fixed": list(self.fixed),
             "step": self.step,
             "integrator": self.integrator,
             "seed": self.seed,
             "e0": self._e0,
-            "engine": self._engine.checkpoint(),
         }
+        return meta, {"engine": np.frombuffer(self._engine.checkpoint(), dtype=np.uint8)}
 
-    def __setstate__(self, state):
+    def _restore(self, meta: dict, arrays: dict, source="the checkpoint") -> None:
+        from ._checkpoint import params_from_record, restore_engine
+
         Chain.__init__(
             self,
-            state["n"],
-            state["params"],
-            boundary=state["boundary"],
-            fixed=state["fixed"],
-            step=state["step"],
-            integrator=state["integrator"],
-            seed=state["seed"],
+            int(meta["n"]),
+            params_from_record(meta["params"]),
+            boundary=meta["boundary"],
+            fixed=tuple(meta["fixed"]),
+            step=meta["step"],
+            integrator=meta["integrator"],
+            seed=meta["seed"],
         )
-        self._engine.restore(state["engine"])
-        self._e0 = state["e0"]
+        restore_engine(self._engine, arrays, source)
+        self._e0 = meta["e0"]
+
+    @classmethod
+    def _from_record(cls, meta: dict, arrays: dict, source="the checkpoint") -> Chain:
+        chain = cls.__new__(cls)
+        chain._restore(meta, arrays, source)
+        return chain
+
+    def __getstate__(self):
+        return self._record()
+
+    def __setstate__(self, state):
+        self._restore(*state)
 
     def save(self, path) -> None:
-        """Write a checkpoint (pickle). ``Chain.load(path).run(...)`` continues bit for bit
-        like the uninterrupted run when the checkpoint was taken where a run stopped on
-        ``max_events``, on Ctrl-C or on its step budget (a ``t_end`` inside an event cuts
-        a step short, which an uninterrupted run would not do)."""
-        import pickle
+        """Write a checkpoint: data only (npz with JSON metadata and the engine's bytes,
+        see ``bkwaves._checkpoint``), never a pickle. ``Chain.load(path).run(...)``
+        continues bit for bit like the uninterrupted run when the checkpoint was taken
+        where a run stopped on ``max_events``, on Ctrl-C or on its step budget (a ``t_end``
+        inside an event cuts a step short, which an uninterrupted run would not do)."""
+        from . import _checkpoint
 
-        with open(path, "wb") as f:
-            pickle.dump(self, f, protocol=pickle.HIGHEST_PROTOCOL)
+        _checkpoint.write(path, "chain", *self._record())
 
     @staticmethod
     def load(path) -> Chain:
-        """Read a checkpoint written by :meth:`save`."""
-        import pickle
+        """Read a checkpoint written by :meth:`save`. Pickles, other files and checkpoints
+        of another format version are refused (:class:`bkwaves.ParameterError`)."""
+        from . import _checkpoint
 
-        with open(path, "rb") as f:
-            ch = pickle.load(f)
-        if not isinstance(ch, Chain):
-            V._fail("path", str(path), "a checkpoint written by Chain.save")
-        return ch
+        meta, arrays = _checkpoint.read(path, "chain", "Chain.save")
+        return Chain._from_record(meta, arrays, path)
 
     # --- triggers ------------------------------------------------------------------
     def kick(self, block: int, du_t: float, t: float = 0.0) -> Chain:

@@ -152,7 +152,12 @@ def paper(
         "bkwaves-paper"
     ),
     quick: Annotated[
-        bool, typer.Option("--quick", help="Smaller runs (minutes -> seconds).")
+        bool,
+        typer.Option(
+            "--quick",
+            help="Smaller, coarser runs: about 40% of the full run's CPU time, same figures "
+            "and claims (docs/benchmarks.md).",
+        ),
     ] = False,
     quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
     json_out: JsonOpt = False,

@@ -187,29 +187,37 @@ class FreeBoundary:
             )
 
     # ------------------------------------------------------------------ checkpoints
-    def __getstate__(self):
-        return {
-            "params": self.params,
-            "x": self.x,
+    def _record(self) -> tuple[dict, dict]:
+        """The whole state, snapshots included, as (JSON-able meta, plain arrays)."""
+        from ._checkpoint import params_record
+
+        meta = {
+            "params": params_record(self.params),
             "boundary": self.boundary,
             "creep": self.creep,
             "tol": self.tol,
             "record_path": self.record_path,
-            "engine": self._engine.checkpoint(),
-            "snap_t": list(self._snap_t),
-            "snap_u": [np.array(u) for u in self._snap_u],
-            "snap_n": list(self._snap_n),
         }
+        arrays = {
+            "x": self.x,
+            "engine": np.frombuffer(self._engine.checkpoint(), dtype=np.uint8),
+            "snap_t": np.asarray(self._snap_t, dtype=float),
+            "snap_u": np.asarray(self._snap_u, dtype=float).reshape(-1, self.x.size),
+            "snap_n": np.asarray(self._snap_n, dtype=np.int64),
+        }
+        return meta, arrays
 
-    def __setstate__(self, state):
-        x = np.asarray(state["x"], dtype=float)
-        self.params = state["params"]
+    def _restore(self, meta: dict, arrays: dict, source="the checkpoint") -> None:
+        from ._checkpoint import params_from_record, restore_engine
+
+        x = np.asarray(arrays["x"], dtype=float)
+        self.params = params_from_record(meta["params"])
         self.x = x
         self.h = float((x[-1] - x[0]) / (x.size - 1))
-        self.boundary = state["boundary"]
-        self.creep = state["creep"]
-        self.tol = float(state["tol"])
-        self.record_path = bool(state["record_path"])
+        self.boundary = meta["boundary"]
+        self.creep = meta["creep"]
+        self.tol = float(meta["tol"])
+        self.record_path = bool(meta["record_path"])
         # an engine of the same configuration; its field is replaced by the checkpoint's
         self._engine = _core.FreeBoundaryEngine(
             float(x[0]),
@@ -224,31 +232,41 @@ class FreeBoundary:
             self.tol,
             self.record_path,
         )
-        self._engine.restore(state["engine"])
-        self._snap_t = list(state["snap_t"])
-        self._snap_u = [np.array(u) for u in state["snap_u"]]
-        self._snap_n = list(state["snap_n"])
+        restore_engine(self._engine, arrays, source)
+        self._snap_t = [float(t) for t in arrays["snap_t"]]
+        self._snap_u = [np.array(u) for u in arrays["snap_u"]]
+        self._snap_n = [int(n) for n in arrays["snap_n"]]
+
+    @classmethod
+    def _from_record(cls, meta: dict, arrays: dict, source="the checkpoint") -> FreeBoundary:
+        fb = cls.__new__(cls)
+        fb._restore(meta, arrays, source)
+        return fb
+
+    def __getstate__(self):
+        return self._record()
+
+    def __setstate__(self, state):
+        self._restore(*state)
 
     def save(self, path) -> None:
-        """Write a checkpoint (pickle) of the whole state, snapshots included.
+        """Write a checkpoint of the whole state, snapshots included: data only (npz with
+        JSON metadata and the engine's bytes, see ``bkwaves._checkpoint``), never a pickle.
         ``FreeBoundary.load(path).run(...)`` continues bit for bit like the uninterrupted
         run when it makes the same engine calls (e.g. the checkpoint was taken where a run
         stopped on ``max_events`` or Ctrl-C, and the continuation asks for the same end)."""
-        import pickle
+        from . import _checkpoint
 
-        with open(path, "wb") as f:
-            pickle.dump(self, f, protocol=pickle.HIGHEST_PROTOCOL)
+        _checkpoint.write(path, "free_boundary", *self._record())
 
     @staticmethod
     def load(path) -> FreeBoundary:
-        """Read a checkpoint written by :meth:`save`."""
-        import pickle
+        """Read a checkpoint written by :meth:`save`. Pickles, other files and checkpoints
+        of another format version are refused (:class:`bkwaves.ParameterError`)."""
+        from . import _checkpoint
 
-        with open(path, "rb") as f:
-            fb = pickle.load(f)
-        if not isinstance(fb, FreeBoundary):
-            V._fail("path", str(path), "a checkpoint written by FreeBoundary.save")
-        return fb
+        meta, arrays = _checkpoint.read(path, "free_boundary", "FreeBoundary.save")
+        return FreeBoundary._from_record(meta, arrays, path)
 
     # ------------------------------------------------------------------ state
     @property

@@ -37,8 +37,6 @@ from .io import RunWriter
 
 __all__ = ["RunSummary", "run", "resume", "checkpoint_path"]
 
-CHECKPOINT_FORMAT = "bkwaves-run-checkpoint-1"
-
 
 def checkpoint_path(out) -> Path:
     """Where the checkpoint of the run writing ``out`` lives: ``OUT.checkpoint``."""
@@ -47,28 +45,25 @@ def checkpoint_path(out) -> Path:
 
 
 def _save_checkpoint(out, cfg: RunConfig, engine_obj, written: int, runner: dict):
-    import pickle
+    """A data-only checkpoint (``bkwaves._checkpoint``): the config, the loop state and
+    the engine's record."""
+    from . import _checkpoint
 
-    state = {
-        "format": CHECKPOINT_FORMAT,
-        "version": __version__,
+    engine_meta, arrays = engine_obj._record()
+    meta = {
         "model": cfg.model,
         "config": cfg.source,
         "base_dir": str(cfg.base_dir) if cfg.base_dir else "",
-        "engine": pickle.dumps(engine_obj, protocol=pickle.HIGHEST_PROTOCOL),
+        "engine": engine_meta,
         "written": int(written),
         "runner": runner,
     }
-    path = checkpoint_path(out)
-    tmp = path.with_name(path.name + ".tmp")
-    with open(tmp, "wb") as f:
-        pickle.dump(state, f, protocol=pickle.HIGHEST_PROTOCOL)
-    tmp.replace(path)
+    _checkpoint.write(checkpoint_path(out), "run", meta, arrays)
 
 
 def _read_checkpoint(out) -> dict:
-    import pickle
-
+    """The state of ``OUT.checkpoint``; its ``engine`` is the engine's (meta, arrays)."""
+    from . import _checkpoint
     from ._core import ParameterError
 
     path = checkpoint_path(out)
@@ -77,10 +72,10 @@ def _read_checkpoint(out) -> dict:
             f"cannot resume {out}: no checkpoint {path} (runs write one when interrupted, "
             "and every --checkpoint-every seconds)"
         )
-    with open(path, "rb") as f:
-        state = pickle.load(f)
-    if not isinstance(state, dict) or state.get("format") != CHECKPOINT_FORMAT:
-        raise ParameterError(f"{path} is not a bkwaves run checkpoint")
+    meta, arrays = _checkpoint.read(path, "run", "bkwaves run")
+    state = dict(meta)
+    state["engine"] = (meta["engine"], arrays)
+    state["path"] = str(path)
     return state
 
 
@@ -313,13 +308,11 @@ def _open_writer(out, cfg, units, x, variables, ctl):
 
 
 def _run_chain(cfg, out, progress, table_every, chunk, ctl):
-    import pickle
-
     from .chain import Chain
 
     p = cfg.params
     if ctl.resuming:
-        chain = pickle.loads(ctl.state["engine"])
+        chain = Chain._from_record(*ctl.state["engine"], ctl.state["path"])
     else:
         u0 = initial_state(cfg)
         u_t0 = (
@@ -417,7 +410,6 @@ def _run_chain(cfg, out, progress, table_every, chunk, ctl):
 
 
 def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
-    import pickle
     import warnings
 
     from .free_boundary import FreeBoundary
@@ -426,7 +418,7 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
     x = cfg.x()
     notes = []
     if ctl.resuming:
-        fb = pickle.loads(ctl.state["engine"])
+        fb = FreeBoundary._from_record(*ctl.state["engine"], ctl.state["path"])
     else:
         u0 = initial_state(cfg)
         with warnings.catch_warnings(record=True) as caught:
