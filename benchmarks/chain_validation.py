@@ -6,7 +6,8 @@ For gamma in {0, 0.3, 0.45} and u_+ in {0.3, 0.5, 0.7, 0.9}: the front speed c o
 chain at dx = 0.1, 0.05, 0.025, 0.0125 (1600 blocks, window 50-75%), the finite-dx tip
 solver at the same dx (the exact steady front), the observed order in dx, Richardson
 extrapolation to dx -> 0 against bk.front_speed; for gamma > 0 and u_+ > u_c = gamma,
-u_- and w from a pulse measurement (default chain length) extrapolated against App. B.
+u_- and w from ``bk.chain.front`` (default chain: the window two settling lengths from the
+trigger, docs/chain.md; beta = inf, no backward slip) extrapolated against App. B.
 """
 
 from __future__ import annotations
@@ -18,7 +19,6 @@ import time
 
 import bkwaves as bk
 from bkwaves import _core
-from bkwaves.chain import default_blocks
 
 DXS = (0.1, 0.05, 0.025, 0.0125)
 GAMMAS = (0.0, 0.3, 0.45)
@@ -72,11 +72,10 @@ def main():
                 row["u_minus_theory"], row["w_theory"] = tw.u_minus, tw.w
                 ums, ws, regimes = [], [], []
                 for dx in DXS:
-                    n = default_blocks(u, g, dx)
-                    r = _core.front_measure(u, g, dx, n)
-                    regimes.append(bool(r["pulse"]))
-                    ums.append(r["u_minus"])
-                    ws.append(r["w"])
+                    m = bk.chain.front(u, g, dx)
+                    regimes.append(m.regime == "pulse")
+                    ums.append(m.u_minus if m.u_minus is not None else math.nan)
+                    ws.append(m.w if m.w is not None else math.nan)
                 row["pulse"] = regimes
                 row["u_minus"], row["w"] = ums, ws
                 if all(regimes):
@@ -85,8 +84,7 @@ def main():
                     row["u_minus_R2"] = richardson(ums)[2][-1]
                     row["w_R2"] = richardson(ws)[2][-1]
             elif g > 0:
-                r = _core.front_measure(u, g, DXS[-1], default_blocks(u, g, DXS[-1]))
-                row["pulse"] = [bool(r["pulse"])]
+                row["pulse"] = [bk.chain.front(u, g, DXS[-1]).regime == "pulse"]
             rows.append(row)
             print(json.dumps(row), flush=True)
     steps = []

@@ -3,6 +3,7 @@ the gamma = 0 lattice closed form, App. B (u_-, w), energy balance, symmetry, SI
 the result objects, the command line."""
 
 import json
+import math
 import subprocess
 import sys
 
@@ -68,6 +69,152 @@ def test_pulse_u_minus_and_w_approach_app_b():
     assert w == pytest.approx(tw.w, abs=1e-2 * tw.w)
     # the raw values are off by O(dx), so the check can fail
     assert abs(res[0][0] - tw.u_minus) > 1e-4
+
+
+@pytest.mark.parametrize("g,u,dx", [(0.3, 0.4, 0.025), (0.0, 0.3, 0.025), (0.45, 0.7, 0.05)])
+def test_default_front_measures_a_pulse_as_a_pulse(g, u, dx):
+    # the first two were "creep" with the old default chain (1600 blocks, window in the
+    # trigger's transient); the third was not tuned for. The chain's w and u_- differ
+    # from App. B by O(dx) and O(gamma dx); c equals the finite-dx tip solution.
+    m = bk.chain.front(u, g, dx)
+    tw = bk.traveling_wave(u, g)
+    assert m.regime == "pulse", m.reason
+    assert m.settled and m.window[0] >= 2 * m.settling_length
+    assert m.steadiness < 1e-6
+    assert m.backward_slips == 0
+    assert abs(m.w - tw.w) < 2 * dx
+    assert abs(m.u_minus - tw.u_minus) < g * dx + 1e-6
+    assert m.c == pytest.approx(bk.tip_solve(u, dx=dx, gamma=g)["c"], rel=1e-6)
+    assert m.app_b == {"regime": "pulse", "c": tw.c, "w": tw.w, "u_minus": tw.u_minus}
+
+
+def test_pulse_w_and_u_minus_converge_to_app_b_at_first_order():
+    # a case no default was tuned for: halving dx halves the error of w and u_-
+    u, g = 0.8, 0.15
+    tw = bk.traveling_wave(u, g)
+    m1, m2 = (bk.chain.front(u, g, dx) for dx in (0.04, 0.02))
+    assert m1.regime == m2.regime == "pulse"
+    for k, exact in (("w", tw.w), ("u_minus", tw.u_minus)):
+        e1, e2 = abs(getattr(m1, k) - exact), abs(getattr(m2, k) - exact)
+        assert 1.6 < e1 / e2 < 2.5, (k, e1, e2)
+
+
+def test_narrow_pulses_at_gamma_zero():
+    # u_+ = 0.1, gamma = 0: App. B's pulse is 0.316 wide, 13 lattice spacings at dx =
+    # 0.025; the lattice slows the front (c - 1 is half the continuum value) and widens
+    # the pulse by ~5 dx. Still a steady pulse; c converges as dx^2, w as dx, u_- = -u_+.
+    u = 0.1
+    tw = bk.traveling_wave(u, 0.0)
+    ms = [bk.chain.front(u, 0.0, dx) for dx in (0.025, 0.0125)]
+    for m in ms:
+        assert m.regime == "pulse", m.reason
+        assert m.steadiness < 1e-4 and m.settled
+        assert m.u_minus == pytest.approx(-u, abs=2e-3)
+    ec = [abs(m.c - tw.c) for m in ms]
+    ew = [abs(m.w - tw.w) for m in ms]
+    assert 3.0 < ec[0] / ec[1] < 5.0, ec
+    assert 1.6 < ew[0] / ew[1] < 2.5, ew
+    assert ew[0] > 3 * 0.025  # the check can fail: several lattice spacings off
+
+
+def test_u_plus_near_one():
+    m = bk.chain.front(0.99, 0.3, 0.05)
+    tw = bk.traveling_wave(0.99, 0.3)
+    assert m.regime == "pulse" and m.settled
+    assert abs(m.w - tw.w) < 2 * 0.05 and abs(m.u_minus - tw.u_minus) < 0.3 * 0.05
+    assert m.c == pytest.approx(bk.tip_solve(0.99, dx=0.05, gamma=0.3)["c"], rel=1e-6)
+
+
+def test_near_the_pulse_creep_boundary_no_pulse_is_claimed_without_a_steady_front():
+    # u_+ just above gamma: App. B has a pulse with u_- = -1e-8 (a tail creeping to 0);
+    # the chain at dx = 0.1 re-sticks that tail at scattered times, a few % apart, in a
+    # window beyond twice the settling length (the finite dx moves the boundary up)
+    m = bk.chain.front(0.305, 0.3, 0.1)
+    assert m.regime == "creep" and m.w is None and m.u_minus is None
+    assert m.steadiness > 10 * bk.chain.STEADY_TOL and m.settled
+    assert "App. B" in m.reason and "pulse" in m.reason
+    # just below gamma App. B and the chain agree
+    m = bk.chain.front(0.29, 0.3, 0.05)
+    assert m.regime == "creep" and "App. B predicts creep" in m.reason
+
+
+def test_a_chain_too_short_is_undecided_not_creep():
+    m = bk.chain.front(0.4, 0.3, 0.025, blocks=400)
+    assert m.regime == "undecided" and m.w is None and not m.settled
+    assert "blocks would settle it" in m.reason
+    assert m.blocks == 400 and m.passes == 1
+
+
+def test_the_settling_length_is_where_the_healing_front_becomes_steady():
+    # what the default window rests on, measured: the sliding time of block x deviates
+    # from its steady value by > 1e-3 at half the settling length x_s = w v/(c - v) and
+    # by < 1e-5 beyond 2 x_s (v: the fastest lattice wave)
+    for u, g, dx in ((0.4, 0.3, 0.025), (0.3, 0.0, 0.025)):
+        m = bk.chain.front(u, g, dx)
+        n = int(4 * m.settling_length / dx)
+        r = _core.front_measure(u, g, dx, n, window=(0.8, 0.9))
+        dur = r["stick_times"] - r["slip_times"]
+        ref = dur[int(0.8 * n)]
+        dev = np.abs(dur / ref - 1)
+        xs = int(m.settling_length / dx)
+        assert dev[xs // 2 : xs].max() > 1e-3
+        assert dev[2 * xs : int(0.8 * n)].max() < 1e-5
+        # the window's sliding time is the long chain's
+        assert m.w == pytest.approx(r["c"] * ref, rel=1e-6)
+
+
+def test_a_settling_front_is_followed_further_not_called_creep(monkeypatch):
+    # with the window at only ~1 settling length, the narrow undamped pulse (gamma = 0,
+    # u_+ = 0.1) is still settling there (spread ~5e-3, falling exponentially with x):
+    # the default chain is lengthened until it is steady; a given chain is undecided
+    monkeypatch.setattr(bk.chain, "SETTLE_MARGIN", 1.0)
+    m = bk.chain.front(0.1, 0.0, 0.025)
+    assert m.regime == "pulse" and m.passes >= 2, m.reason
+    # a given chain whose window (100 blocks, 37 before the end) starts at 1.1 x_s
+    n = int(1.1 * m.settling_length / 0.025) + 137
+    m = bk.chain.front(0.1, 0.0, 0.025, blocks=n)
+    assert m.settled and m.steadiness > bk.chain.STEADY_TOL
+    assert m.regime == "undecided" and "still settling" in m.reason, m.reason
+
+
+def test_lattice_wave_speed():
+    for dx in (0.2, 0.05, 0.01):
+        q = np.linspace(1e-6, np.pi, 400001)
+        vg = np.sin(q) / (dx * np.sqrt(1 + 4 * np.sin(q / 2) ** 2 / dx**2))
+        assert bk.chain.lattice_wave_speed(dx) == pytest.approx(vg.max(), rel=1e-9)
+    assert 1 - bk.chain.lattice_wave_speed(1e-4) < 1e-3
+
+
+def test_front_has_no_backward_slip_by_default():
+    # with beta = 0 (f_s = 0) about half the slips at gamma = 0 go backward
+    m = bk.chain.front(0.5, 0.0, 0.1)
+    assert m.beta == math.inf and m.backward_slips == 0
+    m0 = bk.chain.front(0.5, 0.0, 0.1, beta=0.0)
+    assert m0.backward_slips > 0.3 * m0.slips
+    assert m0.regime == m.regime == "pulse" and m0.w != pytest.approx(m.w, rel=1e-3)
+    with pytest.raises(bk.ParameterError, match="beta"):
+        bk.chain.front(0.5, 0.0, 0.1, beta=-1.0)
+
+
+def test_chain_default_has_no_backward_slip_and_says_so():
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.1)
+    ch = bk.Chain(10, p, u0=0.6)
+    with pytest.raises(bk.ParameterError, match="trigger"):
+        ch.kick(0, 0.5)  # backward
+    with pytest.raises(bk.ParameterError, match="trigger"):
+        ch.release(0, direction=-1)
+    with pytest.raises(bk.ParameterError, match="u_t0"):
+        bk.Chain(10, p, u_t0=0.1)
+    ch.kick(0, -2.0)
+    res = ch.run(t_end=5.0, snapshots=[5.0])
+    assert (res.slips["direction"] > 0).all()
+    assert res.snapshots.attrs["beta"] == math.inf
+    assert "no backward slip" in res.snapshots.attrs["friction"]
+    # beta-free books (the closure itself is tested in the core, both integrators)
+    assert res.energy["friction_work"] == 0.0
+    assert abs(res.energy["residual"]) < 1e-6 * res.energy["injected"]
+    q = bk.Params(gamma=0.3, v=0.0, dx=0.1, beta=0.5)
+    bk.Chain(10, q).kick(0, 0.5)  # allowed with backward slip
 
 
 def test_below_u_c_blocks_creep():
@@ -287,11 +434,19 @@ def cli(*args):
     )
 
 
+SETTLED_KEYS = ["u_plus", "gamma", "dx", "blocks", "c", "regime", "u_minus", "w", "wall_s"]
+
+
 def test_cli_front_json():
     r = cli("front", "--u-plus", "0.6", "--gamma", "0.3", "--dx", "0.05", "--json")
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
-    assert list(d) == ["u_plus", "gamma", "dx", "blocks", "c", "regime", "u_minus", "w", "wall_s"]
+    # the settled keys first, in their order; then the new ones
+    assert list(d)[:9] == SETTLED_KEYS
+    for k in ("beta", "steadiness", "window", "settling_length", "settled", "reason", "app_b"):
+        assert k in d
+    assert d["beta"] == "inf" and d["backward_slips"] == 0 and d["settled"] is True
+    assert d["steadiness"] < 1e-6 and d["window"][0] >= 2 * d["settling_length"]
     assert d["regime"] == "pulse" and d["blocks"] == default_blocks(0.6, 0.3, 0.05)
     assert d["c"] == pytest.approx(bk.tip_solve(0.6, dx=0.05, gamma=0.3)["c"], rel=1e-7)
     r = cli("front", "--u-plus", "0.2", "--gamma", "0.3", "--dx", "0.05", "--json")
@@ -299,9 +454,21 @@ def test_cli_front_json():
     assert d["regime"] == "creep" and d["w"] is None and d["u_minus"] is None
 
 
+def test_cli_front_text_says_how_steady_and_takes_beta():
+    r = cli("front", "--u-plus", "0.5", "--gamma", "0", "--dx", "0.1", "--beta", "0")
+    assert r.returncode == 0, r.stderr
+    out = r.stdout
+    assert "regime  = pulse" in out and "steady  = " in out and "why     : " in out
+    assert "backward slip on" in out and " 0 backward slips" not in out
+    assert "App. B  : pulse" in out
+    r = cli("front", "--u-plus", "0.5", "--gamma", "0", "--dx", "0.1")
+    assert "no backward slip; 0 backward slips" in r.stdout
+
+
 @pytest.mark.parametrize(
     "args,name",
     [
+        (["--u-plus", "0.5", "--gamma", "0.3", "--dx", "0.1", "--beta", "-1"], "beta"),
         (["--u-plus", "1.5", "--gamma", "0.3", "--dx", "0.1"], "u_plus"),
         (["--u-plus", "0.5", "--gamma", "-1", "--dx", "0.1"], "gamma"),
         (["--u-plus", "0.5", "--gamma", "0.3", "--dx", "0"], "dx"),

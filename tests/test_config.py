@@ -1,5 +1,8 @@
 """TOML run configurations: validation with key paths, units, initial states."""
 
+import math
+import tomllib
+
 import numpy as np
 import pytest
 
@@ -38,9 +41,26 @@ def test_valid_config_and_defaults():
     np.testing.assert_allclose(initial_state(c), 0.6)
 
 
+def test_params_beta_defaults_to_no_backward_slip():
+    assert parse_config(cfg()).params.beta == math.inf
+    assert parse_config(cfg(params__beta=5.0)).params.beta == 5.0
+    assert parse_config(cfg(params__beta=math.inf)).params.beta == math.inf
+    text = 'model = "chain"\n[params]\ngamma = 0.3\nv = 0.0\ndx = 0.1\nbeta = inf\n'
+    text += "[domain]\nblocks = 10\n[run]\nt_end = 1.0\n"
+    assert parse_config(tomllib.loads(text)).params.beta == math.inf
+
+
 @pytest.mark.parametrize(
     "changes, where, words",
     [
+        ({"params__beta": -1.0}, "params.beta", "inf for no backward slip"),
+        ({"params__beta": "inf"}, "params.beta", "expected a number"),
+        ({"initial__velocity": -0.5}, "initial.velocity", "backward slip"),
+        (
+            {"triggers": [{"block": 1, "kind": "kick", "velocity": -1.0}]},
+            "triggers[0].velocity",
+            "backward slip",
+        ),
         ({"params__gama": 0.3}, "params.gama", "unknown key"),
         ({"modle": "chain"}, "modle", "unknown key"),
         ({"model": "chains"}, "model", "chain, free_boundary"),

@@ -18,6 +18,8 @@ import bkwaves as bk
         (dict(gamma=0.3, v=0.0, dx=0.0), "dx"),
         (dict(gamma=0.3, v=0.0, dx=-0.1), "dx"),
         (dict(gamma=0.3, v=0.0, dx=0.1, beta=-1.0), "beta"),
+        (dict(gamma=0.3, v=0.0, dx=0.1, beta=math.nan), "beta"),
+        (dict(gamma=0.3, v=0.0, dx=0.1, beta=-math.inf), "beta"),
         (dict(gamma="a lot", v=0.0, dx=0.1), "gamma"),
     ],
 )
@@ -34,6 +36,18 @@ def test_params_frozen_and_equal_by_value():
         p.gamma = 0.4
     assert p == bk.Params(0.3, 1e-3, 0.05, 2.0)
     assert p.to_dict() == {"gamma": 0.3, "v": 1e-3, "dx": 0.05, "beta": 2.0}
+
+
+def test_default_is_the_papers_model_without_backward_slip():
+    # the paper's chain has no backward slip: beta = f_s/(f_r - f_s) = inf by default
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.1)
+    assert p.beta == math.inf and not p.backward_slip
+    assert "no backward slip" in p.friction
+    q = bk.Params(gamma=0.3, v=0.0, dx=0.1, beta=5.0)
+    assert q.backward_slip and "-11" in q.friction  # threshold -(1 + 2 beta)
+    assert bk.Params(gamma=0.3, v=0.0, dx=0.1, beta=math.inf) == p
+    with pytest.raises(bk.ParameterError, match="inf for no backward slip"):
+        bk.Params(gamma=0.3, v=0.0, dx=0.1, beta=-1.0)
 
 
 SI = dict(mass=2.0, k_c=800.0, k_p=8.0, f_static=3.0, f_kinetic=1.0, alpha=1.6, V=0.5, spacing=0.1)

@@ -12,7 +12,9 @@ Dimensionless variables (``Params``): a stuck block drifts with the loader, u_t 
 sliding one obeys u_tt = Lap u/dx^2 - u - 2 gamma (u_t - v) (- 2 beta when sliding
 backward, u_t > v). phi = u - Lap u/dx^2: a stuck block slips forward at phi >= 1,
 backward at phi <= -(1 + 2 beta); a sliding block whose u_t returns to v sticks if
--(1 + 2 beta) < phi < 1, else it goes on sliding in the direction of the force.
+-(1 + 2 beta) < phi < 1, else it goes on sliding in the direction of the force. The
+default beta = inf is the paper's model: no backward slip (a block slides until its
+speed over the ground returns to zero; backward kicks and releases are refused).
 Boundaries: ``"free"`` (no spring beyond the ends), ``"fixed"`` (the end blocks are
 joined to walls fixed to the ground: ghost u = u_wall + v t, ``fixed=(left, right)``
 gives u_wall at t = 0, default: the end blocks' initial u), ``"periodic"`` (a ring).
@@ -399,6 +401,7 @@ class Chain:
                 "v": p.v,
                 "dx": p.dx,
                 "beta": p.beta,
+                "friction": p.friction,
                 "boundary": self.boundary,
                 "step": self.step,
                 "integrator": self.integrator,
@@ -450,7 +453,18 @@ def smooth_random_stress(
 
 @dataclass(frozen=True)
 class FrontMeasurement:
-    """One front measured in the chain (``bkwaves front``)."""
+    """One front measured in the chain (``bkwaves front``).
+
+    regime: "pulse" (a steady healing front in a settled window), "creep" (no steady
+    healing front, as App. B predicts for u_+ < gamma), or "undecided" (``reason`` says
+    why). steadiness: largest relative deviation of a window block's sliding time from
+    their mean (None when some window block never re-stuck). window: [x_a, x_b) where
+    c, w and u_- are measured; settling_length: x_s = w v/(c - v), the distance from the
+    trigger beyond which the trigger's transient cannot reach the healing front (v: the
+    fastest lattice wave); the window is settled when x_a >= SETTLE_MARGIN x_s. app_b:
+    the continuum traveling wave (App. B: regime, c, w, u_minus) for comparison; the
+    chain differs by O(dx) (w), O(gamma dx) (u_-) and O(dx^2) at gamma = 0 (c).
+    """
 
     u_plus: float
     gamma: float
@@ -464,31 +478,118 @@ class FrontMeasurement:
     unsteadiness: float
     slips: int
     backward_slips: int
+    beta: float = math.inf
+    steadiness: float | None = None
+    window: tuple[float, float] = (math.nan, math.nan)
+    settling_length: float | None = None
+    settled: bool = False
+    reason: str = ""
+    passes: int = 1
+    app_b: dict | None = None
 
     def to_dict(self) -> dict:
-        return {
+        d = {
             k: getattr(self, k)
             for k in ("u_plus", "gamma", "dx", "blocks", "c", "regime", "u_minus", "w", "wall_s")
         }
+        d.update(
+            beta="inf" if math.isinf(self.beta) else self.beta,
+            backward_slips=self.backward_slips,
+            steadiness=self.steadiness,
+            window=list(self.window),
+            settling_length=self.settling_length,
+            settled=self.settled,
+            reason=self.reason,
+            passes=self.passes,
+            app_b=self.app_b,
+        )
+        return d
+
+
+#: The measurement window starts this many settling lengths from the trigger (at 2 x_s the
+#: sliding times of all cases in docs/chain.md are steady to 3e-6 or better).
+SETTLE_MARGIN = 2.0
+#: A steady healing front: the window's sliding times agree to this relative spread.
+STEADY_TOL = 1e-3
+#: Default chain when App. B has no pulse (creep): this many blocks, at least 40 units long.
+CREEP_BLOCKS = 1600
+#: The default chain grows (from the measured w and c) while its estimated cost stays below
+#: this many sliding-block updates (~5 s) and at most MAX_PASSES runs are made.
+WORK_LIMIT = 5e8
+MAX_PASSES = 3
+
+
+def lattice_wave_speed(dx: float) -> float:
+    """Fastest group velocity of linear waves on a run of sliding blocks,
+    u_tt = Lap u/dx^2 - u (- 2 gamma u_t): omega^2 = 1 + 4 sin^2(q/2)/dx^2, so
+    v_g^2 = 4 y (1 - y)/(dx^2 + 4 y) with y = sin^2(q/2), largest at
+    y = (sqrt(dx^4 + 4 dx^2) - dx^2)/4. Tends to 1 (the continuum sound speed) as dx -> 0."""
+    d = dx * dx
+    y = (math.sqrt(d * d + 4.0 * d) - d) / 4.0
+    return math.sqrt(4.0 * y * (1.0 - y) / (d + 4.0 * y))
+
+
+def settling_length(c: float, w: float, dx: float) -> float:
+    """Distance from the trigger beyond which the healing front is out of reach of the
+    trigger's transient: a block at x re-sticks at (x + w)/c, a wave from the trigger gets
+    there at x/v at the earliest (v = :func:`lattice_wave_speed`), so x_s = w v/(c - v)
+    (inf when c <= v: a subsonic pulse never outruns the transient)."""
+    v = lattice_wave_speed(dx)
+    return w * v / (c - v) if c > v else math.inf
+
+
+def _plan(c: float, w: float, dx: float, blocks: int | None = None, margin=None):
+    """Chain length and window [a, b) (block indices) for a pulse of speed c, width w,
+    the window ``margin`` (default SETTLE_MARGIN) settling lengths from the trigger."""
+    margin = SETTLE_MARGIN if margin is None else margin
+    v = lattice_wave_speed(dx)
+    # planned with 15% to spare: the measured w and c differ a little from the estimate
+    x_a = max(1.15 * margin * settling_length(c, w, dx), 2.0 * w, 100 * dx)
+    length = max(w, 100 * dx)
+    # the far end's reflection reaches a block at distance d from the end after it healed
+    # when d > w v/(c + v); twice that, plus a few blocks
+    tail = 2.0 * w * v / (c + v) + 20 * dx
+    if blocks is None:
+        if not math.isfinite(x_a):
+            return None
+        blocks = int(math.ceil((x_a + length + tail) / dx))
+        a = int(round(x_a / dx))
+        return blocks, a, a + int(math.ceil(length / dx))
+    # a given chain: the window as far from the trigger as the end allows
+    b = blocks - int(math.ceil(tail / dx))
+    a = b - int(math.ceil(length / dx))
+    if a < blocks // 2:
+        a, b = blocks // 2, (3 * blocks) // 4
+    return blocks, a, b
 
 
 def default_blocks(u_plus: float, gamma: float, dx: float) -> int:
-    """Enough blocks for the measurement window to see a steady front and its healing
-    before anything comes back from the far end: the chain spans 16 pulse widths (App. B
-    width at these parameters; 8 length units for creep) and at least 1600 blocks. The
-    trigger's transient decays over a number of *blocks* that grows as c -> 1: at
-    u_+ = 0.3 the slip intervals still deviate by 2e-5 from the steady value 200 blocks
-    from the trigger and by 1e-9 after 800 (the window starts at half the chain). The
-    healing front settles more slowly than the slip front: with 8 widths the sliding
-    times across the window still spread by 3e-3 at u_+ = 0.6, gamma = 0.3, dx = 0.05."""
+    """Length of the first default chain: sized from App. B's c and w (the window starts
+    SETTLE_MARGIN settling lengths from the trigger); CREEP_BLOCKS (at least 40 units)
+    when App. B has no pulse. ``front`` lengthens it from the measured w and c if needed."""
+    tw = _app_b(u_plus, gamma)
+    creep = max(CREEP_BLOCKS, int(math.ceil(40.0 / dx)))
+    if tw is None or tw.regime != "pulse":
+        return creep
+    plan = _plan(tw.c, tw.w, dx)
+    return creep if plan is None else plan[0]
+
+
+def _app_b(u_plus, gamma):
+    """App. B's traveling wave (None if it cannot be computed)."""
     from .waves import traveling_wave
 
     try:
-        w = traveling_wave(u_plus, gamma).w
-    except Exception:  # noqa: BLE001 - a missing width only changes the default size
-        w = None
-    length = 16.0 * w if w is not None and math.isfinite(w) else 8.0
-    return max(1600, int(math.ceil(length / dx)))
+        tw = traveling_wave(u_plus, gamma)
+    except Exception:  # noqa: BLE001 - no estimate only changes the first chain length
+        return None
+    if tw.regime == "pulse" and (tw.w is None or not math.isfinite(tw.w)):
+        return None
+    return tw
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.3g}"
 
 
 def front(
@@ -498,34 +599,165 @@ def front(
     blocks: int | None = None,
     *,
     step: float = DEFAULT_STEP,
-    beta: float = 0.0,
+    beta: float = math.inf,
 ) -> FrontMeasurement:
-    """Measure one front at v = 0: uniform u_+ on a free chain, block 0 kicked forward;
-    c from the slip times of blocks 50%-75% along the chain (dx (b - a)/(t_b - t_a));
-    u_- (their u when they first re-stick) and w = c * (sliding time) if they re-stick
-    behind a steady healing front (pulse), else None (creep)."""
+    """Measure one front at v = 0: uniform u_+ on a free chain, block 0 kicked forward.
+
+    c = dx (b - a)/(t_b - t_a) from the first slip times of a window of blocks a..b; w =
+    c x (their sliding time) and u_- (their u when they first re-stick) if they re-stick
+    behind a steady healing front. The default chain puts the window SETTLE_MARGIN
+    settling lengths x_s = w v/(c - v) from the trigger (sized first from App. B, then
+    from the measured w and c, up to MAX_PASSES runs within WORK_LIMIT); a given
+    ``blocks`` is one run with the window as far from the trigger as the far end allows.
+    beta: inf (default) is the paper's model, no backward slip. See docs/chain.md.
+    """
+    from .params import check_beta
+
     u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     gamma = V.number("gamma", gamma, lo=0.0)
     dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-    if blocks is None:
-        blocks = default_blocks(u_plus, gamma, dx)
-    if isinstance(blocks, bool) or not isinstance(blocks, int | np.integer) or blocks < 16:
+    beta = check_beta(beta)
+    fixed = blocks is not None
+    if fixed and (
+        isinstance(blocks, bool) or not isinstance(blocks, int | np.integer) or blocks < 16
+    ):
         V._fail("blocks", blocks, "an integer blocks >= 16")
+    tw = _app_b(u_plus, gamma)
+    theory = (tw.c, tw.w, tw.u_minus) if tw is not None and tw.regime == "pulse" else None
+    creep_n = max(CREEP_BLOCKS, int(math.ceil(40.0 / dx)))
+    if fixed:
+        n = int(blocks)
+        plan = _plan(theory[0], theory[1], dx, n) if theory else (n, n // 2, 3 * n // 4)
+    else:
+        plan = _plan(theory[0], theory[1], dx) if theory else None
+        if plan is None:
+            plan = (creep_n, creep_n // 2, 3 * creep_n // 4)
     t0 = _time.perf_counter()
-    r = _core.front_measure(u_plus, gamma, dx, int(blocks), step=step, beta=beta)
+    passes = 0
+    while True:
+        passes += 1
+        n, a, b = plan
+        r = _core.front_measure(
+            u_plus, gamma, dx, n, step=step, beta=beta, window=((a + 0.5) / n, (b + 0.5) / n)
+        )
+        a, b = r["window"]
+        c = float(r["c"])
+        dur = (r["stick_times"] - r["slip_times"])[a:b]
+        healed = bool(np.all(np.isfinite(dur)))
+        steadiness = w = x_s = None
+        if healed:
+            mean = float(np.mean(dur))
+            steadiness = float(np.max(np.abs(dur - mean)) / mean)
+            w = c * mean
+            x_s = settling_length(c, w, dx)
+        settled = x_s is not None and a * dx >= SETTLE_MARGIN * x_s * (1 - 1e-12)
+        # (the core applies the same test to the same window to report u_-)
+        steady = healed and steadiness <= STEADY_TOL and bool(r["pulse"])
+        if steady and settled:
+            regime = "pulse"
+            reason = (
+                f"steady healing front: sliding times agree to {_fmt(steadiness)} over the "
+                f"window, which starts {_fmt(a * dx / x_s)} settling lengths from the trigger"
+            )
+            if theory is None:
+                reason += " (App. B, the continuum, has creep here: a lattice pulse)"
+            break
+        margin = SETTLE_MARGIN
+        if healed and settled:
+            # a settling pulse or a stationary scatter? The same test on a window half as
+            # far from the trigger: a settling healing front is much less steady there
+            # (the deviation falls exponentially with x beyond x_s), creep is not.
+            d_all = r["stick_times"] - r["slip_times"]
+            early = d_all[a // 2 : a // 2 + (b - a)]
+            early_spread = float(np.max(np.abs(early - mean)) / mean)
+            if steadiness > 0.3 * early_spread:
+                regime = "creep"
+                reason = (
+                    f"no steady healing front: the window blocks re-stick at scattered "
+                    f"times (sliding times spread by {_fmt(steadiness)} > {STEADY_TOL:g}, "
+                    f"{_fmt(early_spread)} half as far from the trigger) "
+                    f"{_fmt(a * dx / x_s)} settling lengths of a pulse as wide from the trigger"
+                )
+                reason += (
+                    " (App. B: creep)"
+                    if theory is None
+                    else f" (App. B, the continuum, has a pulse with u_- = {theory[2]:.3g} here)"
+                )
+                break
+            # still settling: a window twice as far out
+            margin = 2.0 * a * dx / x_s
+        if theory is None and not steady:
+            regime = "creep"
+            reason = (
+                f"no steady healing front (sliding times spread by {_fmt(steadiness)})"
+                if healed
+                else "the window blocks were still sliding when the run ended, long "
+                "after the front had passed"
+            ) + ", and App. B predicts creep (u_+ < gamma)"
+            break
+        # not settled: grow the chain from the measurement (or, with no re-stick to
+        # measure, from twice the width the chain has ruled out)
+        if healed:
+            est = (c, w)
+        else:
+            slid = float(np.nanmin(r["t_end"] - r["slip_times"][a:b]))
+            est = (c, max(2.0 * c * slid, 2.0 * (theory[1] if theory else 0.0)))
+        nxt = None if fixed or passes >= MAX_PASSES else _plan(*est, dx, margin=margin)
+        if nxt is not None and nxt[0] > n:
+            work = nxt[0] * (est[1] / est[0]) / (step * dx)
+            if work <= WORK_LIMIT:
+                plan = nxt
+                continue
+        regime = "undecided"
+        need = _plan(*est, dx, margin=margin)
+        more = f"; about {need[0]} blocks would settle it" if need is not None else ""
+        if healed and settled:
+            reason = (
+                f"the healing front is still settling {_fmt(a * dx / x_s)} settling lengths "
+                f"x_s = {_fmt(x_s)} from the trigger: sliding times spread by "
+                f"{_fmt(steadiness)} there, {_fmt(early_spread)} half as far out{more}"
+            )
+        elif healed and x_s is not None and math.isfinite(x_s):
+            reason = (
+                f"the window starts {_fmt(a * dx / x_s)} settling lengths x_s = "
+                f"{_fmt(x_s)} from the trigger (needs {SETTLE_MARGIN:g}); sliding times "
+                f"spread by {_fmt(steadiness)}{more}"
+            )
+        elif healed:
+            reason = (
+                f"c = {c:.6g} is below the lattice wave speed {lattice_wave_speed(dx):.6g}: "
+                f"the trigger's transient follows the pulse (sliding times spread by "
+                f"{_fmt(steadiness)})"
+            )
+        else:
+            reason = (
+                "window blocks were still sliding when the run ended and App. B predicts a "
+                f"pulse (w = {_fmt(theory[1])}): the chain is too short{more}"
+            )
+        break
     wall = _time.perf_counter() - t0
-    pulse = bool(r["pulse"])
+    pulse = regime == "pulse"
     return FrontMeasurement(
         u_plus=u_plus,
         gamma=gamma,
         dx=dx,
-        blocks=int(blocks),
-        c=float(r["c"]),
-        regime="pulse" if pulse else "creep",
+        blocks=int(n),
+        c=c,
+        regime=regime,
         u_minus=float(r["u_minus"]) if pulse else None,
-        w=float(r["w"]) if pulse else None,
+        w=w if pulse else None,
         wall_s=wall,
         unsteadiness=float(r["unsteadiness"]),
         slips=int(r["slips"]),
         backward_slips=int(r["backward_slips"]),
+        beta=beta,
+        steadiness=steadiness,
+        window=(a * dx, b * dx),
+        settling_length=x_s if x_s is not None and math.isfinite(x_s) else None,
+        settled=settled,
+        reason=reason,
+        passes=passes,
+        app_b=None
+        if tw is None
+        else {"regime": tw.regime, "c": tw.c, "w": tw.w, "u_minus": tw.u_minus},
     )

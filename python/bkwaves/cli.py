@@ -276,19 +276,41 @@ def front(
     dx: Annotated[float, typer.Option("--dx", help="Lattice spacing, 0 < DX < 1.")],
     blocks: Annotated[
         int | None,
-        typer.Option("--blocks", help="Chain length (default: 16 pulse widths, >= 1600 blocks)."),
+        typer.Option(
+            "--blocks",
+            help="Chain length (default: from the pulse's w and c, see above). A given "
+            "length is one run, the window as far from the trigger as the end allows.",
+        ),
     ] = None,
+    beta: Annotated[
+        float,
+        typer.Option(
+            "--beta",
+            help="f_s/(f_r - f_s): backward slip when u - Lap u/dx^2 <= -(1 + 2 beta). "
+            "Default inf: no backward slip, the paper's model.",
+        ),
+    ] = math.inf,
     json_out: JsonOpt = False,
 ):
     """One front in a direct simulation of the discrete chain at v = 0.
 
-    Uniform u_+ on a free chain, block 0 kicked forward; c from the slip times of the
-    blocks 50-75% along the chain, u_- and w from their re-sticking (null in creep).
+    Uniform u_+ on a free chain, block 0 kicked forward; c from the slip times
+    of a window of blocks, w and u_- from their re-sticking. Regime: pulse (a
+    steady healing front: sliding times agree to 1e-3), creep (none), or
+    undecided (the reason is printed).
+
+    Default chain length: the trigger's transient can reach the healing front
+    at x only if x < x_s = w v/(c - v) (v: the fastest lattice wave, < 1), so
+    the window starts 2 x_s from the trigger (every case measured in
+    docs/chain.md is steady to 3e-6 there). The chain is sized from App. B's w
+    and c, then re-run (at most twice) from the measured ones: typically
+    500-3000 blocks and under a second; near u_+ = gamma ~2e4 blocks and ~10 s.
+    Without an App. B pulse (u_+ < gamma): 1600 blocks (at least 40 units).
     """
     from .chain import front as measure
 
     try:
-        m = measure(u_plus, gamma, dx, blocks)
+        m = measure(u_plus, gamma, dx, blocks, beta=beta)
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
     d = {k: _json_value(v) for k, v in m.to_dict().items()}
@@ -296,14 +318,29 @@ def front(
         typer.echo(json.dumps(d))
         return
     typer.echo(f"u_plus  = {m.u_plus:.6g}   gamma = {m.gamma:.6g}   dx = {m.dx:.6g}")
-    typer.echo(f"blocks  = {m.blocks}")
+    slip = "no backward slip" if math.isinf(m.beta) else "backward slip on"
+    typer.echo(f"beta    = {m.beta:g}   ({slip}; {m.backward_slips} backward slips)")
+    typer.echo(f"blocks  = {m.blocks}   ({m.passes} run{'s' if m.passes > 1 else ''})")
     typer.echo(f"c       = {m.c:.12g}   (measured; continuum 1/sqrt(1 - u_plus^2))")
     typer.echo(f"regime  = {m.regime}")
     if m.regime == "pulse":
         typer.echo(f"w       = {m.w:.6g}   (pulse width)")
         typer.echo(f"u_minus = {m.u_minus:.6g}   (stress behind)")
-    else:
-        typer.echo("blocks do not re-stick behind a steady healing front (creep)")
+    steady = "-" if m.steadiness is None else f"{m.steadiness:.2g}"
+    xs = "-" if m.settling_length is None else f"{m.settling_length:.4g}"
+    typer.echo(
+        f"steady  = {steady}   (spread of the sliding times over the window x = "
+        f"{m.window[0]:.4g}-{m.window[1]:.4g}; settling length x_s = {xs})"
+    )
+    typer.echo(f"why     : {m.reason}")
+    if m.app_b is not None:
+        b = m.app_b
+        shape = (
+            f"c = {b['c']:.6g}, w = {b['w']:.6g}, u_minus = {b['u_minus']:.6g}"
+            if b["regime"] == "pulse"
+            else f"c = {b['c']:.6g}"
+        )
+        typer.echo(f"App. B  : {b['regime']}, {shape}   (continuum, dx -> 0)")
     typer.echo(f"wall    = {m.wall_s:.3g} s")
 
 

@@ -11,6 +11,8 @@ Schema (all sections optional except those marked)::
     title = "..."                              # free text
 
     [params]    gamma, v, dx, beta              # dimensionless  (exactly one of
+                (beta default inf: no backward slip, the paper's model; beta = 5.0:
+                 backward slip at phi <= -11; [physical] sets beta = f_s/(f_r - f_s))
     [physical]  mass, k_c, k_p, f_static, f_kinetic, alpha, V, spacing   # these two)
                 or  preset = "bristol_board" with V
 
@@ -50,7 +52,7 @@ import numpy as np
 
 from . import _validate as V
 from ._core import ParameterError
-from .params import Params
+from .params import Params, check_beta
 
 __all__ = ["RunConfig", "load_config", "parse_config", "initial_state"]
 
@@ -94,6 +96,21 @@ def _num(d: dict, key: str, path: str, default=None, **rng) -> float:
         return V.number(key, x, **rng)
     except ParameterError as e:
         _err(where, str(e))
+
+
+_NO_BACKWARD = (
+    "a backward speed needs backward slip: allowed velocity >= 0 unless params.beta is "
+    "finite (the default beta = inf is the paper's model, no backward slip)"
+)
+
+
+def _beta(x) -> float:
+    if isinstance(x, bool) or not isinstance(x, int | float):
+        _err("params.beta", f"expected a number (or inf), got {x!r}")
+    try:
+        return check_beta(x)
+    except ParameterError as e:
+        _err("params.beta", str(e))
 
 
 def _int(d: dict, key: str, path: str, default=None, lo=None) -> int:
@@ -195,7 +212,9 @@ def _params(doc: dict) -> Params:
     if has_p:
         t = _table(doc["params"], "params")
         _keys(t, "params", ("gamma", "v", "dx", "beta"), ("gamma", "v", "dx"))
-        vals = {k: _num(t, k, "params", 0.0 if k == "beta" else None) for k in t}
+        vals = {k: _num(t, k, "params") for k in t if k != "beta"}
+        if "beta" in t:
+            vals["beta"] = _beta(t["beta"])
         try:
             return Params(**vals)
         except ParameterError as e:
@@ -334,6 +353,10 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
                 velocity=_num(tr, "velocity", q, 1.0) if kind == "kick" else 0.0,
             )
         )
+        if triggers[-1].velocity < 0 and not params.backward_slip:
+            _err(f"{q}.velocity", _NO_BACKWARD)
+    if model == "chain" and initial.velocity < 0 and not params.backward_slip:
+        _err("initial.velocity", _NO_BACKWARD)
 
     r = _table(doc.get("run", {}), "run")
     _keys(r, "run", ("t_end", "max_events"))

@@ -2,6 +2,9 @@
 x' = (x/a) sqrt(k_p/k_c), t' = t sqrt(k_p/m), u = -(k_p X + f_s)/(f_r - f_s), and
 gamma = alpha / (2 sqrt(k_p m)), v = V sqrt(k_p m)/(f_r - f_s), dx = sqrt(k_p/k_c).
 ``beta = f_s/(f_r - f_s)`` sets the backward-slip threshold u - Lap u/dx^2 <= -(1 + 2 beta).
+The default ``beta = inf`` is the paper's model: no backward slip (a block slides until its
+speed over the ground returns to zero). The forward law does not contain beta, so a chain
+that only slides forward moves the same for every beta (see docs/chain.md).
 """
 
 from __future__ import annotations
@@ -11,7 +14,37 @@ from dataclasses import asdict, dataclass, field
 
 from . import _validate as V
 
-__all__ = ["Params", "PhysicalUnits"]
+__all__ = ["NO_BACKWARD_SLIP", "Params", "PhysicalUnits", "check_beta", "friction_note"]
+
+#: The value of beta that means "no backward slip" (the paper's model, the default).
+NO_BACKWARD_SLIP = math.inf
+
+
+def check_beta(value, name: str = "beta") -> float:
+    """beta = f_s/(f_r - f_s): a finite number >= 0 (backward slip at phi <= -(1 + 2 beta))
+    or inf (no backward slip, the paper's model)."""
+    allowed = f"{name} >= 0, or inf for no backward slip (the paper's model, the default)"
+    if isinstance(value, bool):
+        V._fail(name, value, allowed)
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        V._fail(name, value, allowed)
+    if not (x >= 0.0):  # NaN and negatives
+        V._fail(name, value, allowed)
+    return x
+
+
+def friction_note(beta: float) -> str:
+    """One line saying which friction model a beta gives (written into outputs)."""
+    if math.isinf(beta):
+        return (
+            "beta = inf: no backward slip (the paper's model; a block slides until its speed "
+            "over the ground returns to zero)"
+        )
+    return (
+        f"beta = {beta:g}: backward slip when u - Lap u/dx^2 <= -(1 + 2 beta) = {-(1 + 2 * beta):g}"
+    )
 
 
 @dataclass(frozen=True)
@@ -137,21 +170,22 @@ class Params:
     gamma: viscous damping alpha/(2 sqrt(k_p m)), >= 0.
     v: loading rate V sqrt(k_p m)/(f_r - f_s), >= 0.
     dx: lattice spacing sqrt(k_p/k_c) in units of x', > 0.
-    beta: f_s/(f_r - f_s) >= 0, the backward-slip threshold.
+    beta: f_s/(f_r - f_s) >= 0, the backward-slip threshold; default inf: no backward
+    slip, the paper's model (``from_physical`` sets the finite f_s/(f_r - f_s)).
     units: the SI description when built by :meth:`from_physical`, else None.
     """
 
     gamma: float
     v: float
     dx: float
-    beta: float = 0.0
+    beta: float = NO_BACKWARD_SLIP
     units: PhysicalUnits | None = field(default=None, compare=True)
 
     def __post_init__(self):
         object.__setattr__(self, "gamma", V.number("gamma", self.gamma, lo=0.0))
         object.__setattr__(self, "v", V.number("v", self.v, lo=0.0))
         object.__setattr__(self, "dx", V.number("dx", self.dx, lo=0.0, lo_open=True))
-        object.__setattr__(self, "beta", V.number("beta", self.beta, lo=0.0))
+        object.__setattr__(self, "beta", check_beta(self.beta))
         if self.units is not None and not isinstance(self.units, PhysicalUnits):
             V._fail("units", self.units, "a PhysicalUnits instance or None")
 
@@ -181,6 +215,16 @@ class Params:
             beta=f_kinetic / df,
             units=u,
         )
+
+    @property
+    def backward_slip(self) -> bool:
+        """True when blocks can slip backward (finite beta)."""
+        return math.isfinite(self.beta)
+
+    @property
+    def friction(self) -> str:
+        """The friction model in words (see :func:`friction_note`)."""
+        return friction_note(self.beta)
 
     def to_dict(self) -> dict:
         d = asdict(self)

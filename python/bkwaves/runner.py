@@ -190,6 +190,7 @@ def _attrs(cfg: RunConfig, units: _Units) -> dict:
         "seed": cfg.seed,
         "config": json.dumps(cfg.source, default=str),
         "params": json.dumps({k: v for k, v in p.to_dict().items() if k != "units"}),
+        "friction": p.friction if cfg.model == "chain" else "",
         "physical_units": json.dumps(p.units.__dict__) if p.units is not None else "",
         "units_system": units.name,
         "u_units": "dimensionless stress: u = -(k_p X + f_s)/(f_r - f_s)",
