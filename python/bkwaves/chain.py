@@ -456,7 +456,7 @@ class FrontMeasurement:
     """One front measured in the chain (``bkwaves front``).
 
     regime: "pulse" (a steady healing front in a settled window), "creep" (no steady
-    healing front, as App. B predicts for u_+ < gamma), or "undecided" (``reason`` says
+    healing front, as App. B predicts for u_+ <= gamma), or "undecided" (``reason`` says
     why). steadiness: largest relative deviation of a window block's sliding time from
     their mean (None when some window block never re-stuck). window: [x_a, x_b) where
     c, w and u_- are measured; settling_length: x_s = w v/(c - v), the distance from the
@@ -693,7 +693,7 @@ def front(
                 if healed
                 else "the window blocks were still sliding when the run ended, long "
                 "after the front had passed"
-            ) + ", and App. B predicts creep (u_+ < gamma)"
+            ) + ", and App. B predicts creep (u_+ <= gamma)"
             break
         # not settled: grow the chain from the measurement (or, with no re-stick to
         # measure, from twice the width the chain has ruled out)

@@ -301,11 +301,12 @@ def front(
 
     Default chain length: the trigger's transient can reach the healing front
     at x only if x < x_s = w v/(c - v) (v: the fastest lattice wave, < 1), so
-    the window starts 2 x_s from the trigger (every case measured in
-    docs/chain.md is steady to 3e-6 there). The chain is sized from App. B's w
+    the window starts 2 x_s from the trigger (of the cases measured in
+    docs/chain.md 9 of 10 are steady to 1e-6 there, a narrow undamped pulse to
+    8e-4; the spread is printed). The chain is sized from App. B's w
     and c, then re-run (at most twice) from the measured ones: typically
     500-3000 blocks and under a second; near u_+ = gamma ~2e4 blocks and ~10 s.
-    Without an App. B pulse (u_+ < gamma): 1600 blocks (at least 40 units).
+    Without an App. B pulse (u_+ <= gamma): 1600 blocks (at least 40 units).
     """
     from .chain import front as measure
 
