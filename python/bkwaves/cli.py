@@ -345,6 +345,73 @@ def front(
     typer.echo(f"wall    = {m.wall_s:.3g} s")
 
 
+@app.command("sweep")
+def sweep_cmd(
+    sweep_file: Annotated[Path, typer.Argument(help="A sweep description (SWEEP.toml).")],
+    out: Annotated[
+        Path | None,
+        typer.Option(
+            "-o", "--out", help="Output Zarr store (default: SWEEP.zarr beside the file)."
+        ),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler", help="Address of a running Dask scheduler (default: a local cluster)."
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option("--workers", help="Workers of the local cluster (default: one per core)."),
+    ] = None,
+    threads: Annotated[
+        bool,
+        typer.Option(
+            "--threads",
+            help="Local cluster of threads in this process instead of worker processes.",
+        ),
+    ] = False,
+    overwrite: Annotated[
+        bool, typer.Option("--overwrite", help="Replace an existing sweep store at OUT.")
+    ] = False,
+    retry_failed: Annotated[
+        bool, typer.Option("--retry-failed", help="Recompute points that failed before.")
+    ] = False,
+    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
+    json_out: JsonOpt = False,
+):
+    """A parameter sweep on Dask: every point of SWEEP.toml's axes is one task, the
+    summaries go into one Zarr store (an xarray Dataset indexed by the axes) as points
+    finish. Re-running computes only the points not yet done; Ctrl-C keeps every
+    finished point. See docs/sweeps.md for the schema."""
+    from .sweep import sweep
+
+    try:
+        r = sweep(
+            sweep_file,
+            out,
+            scheduler=scheduler,
+            workers=workers,
+            processes=not threads,
+            overwrite=overwrite,
+            retry_failed=retry_failed,
+            progress=not quiet and not json_out,
+        )
+    except (ParameterError, ConvergenceError) as e:
+        _fail(e)
+    d = r.to_dict()
+    if json_out:
+        typer.echo(json.dumps(d, default=str))
+    else:
+        typer.echo(
+            f"sweep: {d['points']} points ({r.computed} computed, {r.skipped} already done, "
+            f"{r.failed} failed) in {r.wall_s:.1f} s -> {r.out}"
+        )
+    if r.interrupted:
+        typer.echo("interrupted: run the same command again to compute the rest", err=True)
+        raise typer.Exit(130)
+
+
 def main():  # entry point
     # pictures are written to files: draw off-screen unless the user chose a backend
     os.environ.setdefault("MPLBACKEND", "Agg")

@@ -1,0 +1,873 @@
+"""Parameter sweeps on Dask: ``bkwaves sweep SWEEP.toml`` and :func:`bkwaves.sweep`.
+
+A sweep is a task (what one point computes), a base input and axes. Each point of the
+grid (the product of the axes, or their zip) is one call of the task, run on a Dask
+cluster (an embedded :class:`distributed.LocalCluster` by default, or any running
+scheduler). The scalars a point reports (its summary: c, w, u_minus, event counts,
+b-value, ...) are gathered into one :class:`xarray.Dataset` indexed by the axes and
+written to a Zarr store as points finish, so an interrupted sweep keeps every finished
+point and a re-run computes only the missing ones.
+
+Schema of SWEEP.toml (see ``examples/sweep_*.toml``)::
+
+    title = "..."                 # free text
+    task = "front"                # front | speed | wave | tip | run   (see TASKS)
+    combine = "product"           # product (grid) | zip (axes of equal length)
+    [base]                        # the task's inputs; for task = "run" a whole run config
+    gamma = 0.3                   #   (model = ..., [base.params], [base.run], ...)
+    [axes.u_plus]                 # one table per axis; the name is the input's key path
+    values = [0.3, 0.5, 0.7]      #   ("params.gamma" for nested keys); exactly one of:
+    [axes.dx]                     #   values = [...]
+    logspace = {start = 0.0125, stop = 0.1, num = 4}   # linspace / logspace {start, stop, num}
+    [axes.seed]                   #   range = {start, stop, step} (stop excluded)
+    seeds = 8                     #   seeds = N (the integers 0 .. N-1)
+    [adaptive]                    # optional, instead of a grid: refine 1 or 2 axes given as
+    output = "w"                  #   bounds = [lo, hi] where `output` changes fastest
+    npoints = 40                  #   (the `adaptive` package with the Dask executor)
+    [output]
+    path = "sweep.zarr"           # default: SWEEP.zarr beside the file
+    catalogs = false              # task = "run": write each point's tables (Parquet)
+
+The store: one variable per summary scalar (float, or string for text), plus ``status``
+(0 pending, 1 done, 2 failed), ``error`` (the failure's message), ``key`` (a hash of the
+point's full input, the task and the bkwaves version: a point is done only if its stored
+key equals the key it would have now) and ``wall_s``. A point's values are written before
+its status, so a store killed mid-write never shows a half-written point as done.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import inspect
+import json
+import math
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+from ._core import ParameterError
+
+__all__ = ["Axis", "SweepSpec", "SweepResult", "TASKS", "load_sweep", "parse_sweep", "sweep"]
+
+STORE_MARKER = "bkwaves-sweep-1"
+PENDING, DONE, FAILED = 0, 1, 2
+COMBINES = ("product", "zip")
+
+
+# --------------------------------------------------------------------------- tasks
+# A task is a pure function of a JSON-able dict (the point's full input) that returns a
+# flat dict of scalars (its summary). Tasks run on the workers; `check` runs on the
+# client before anything is submitted and raises ParameterError for bad input.
+
+
+@dataclass(frozen=True)
+class Task:
+    name: str
+    doc: str
+    run: Any  # callable(point: dict) -> dict of scalars (and tables for "run")
+    check: Any  # callable(point: dict) -> None, raises ParameterError
+
+
+def _kwargs_of(fn, point: dict, task: str, required: tuple[str, ...]) -> dict:
+    names = [
+        p.name
+        for p in inspect.signature(fn).parameters.values()
+        if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+    ]
+    for k in point:
+        if k not in names:
+            raise ParameterError(
+                f"base.{k}: unknown input of task {task!r}; valid: {', '.join(names)}"
+            )
+    for k in required:
+        if k not in point:
+            raise ParameterError(f"base.{k}: task {task!r} needs {k} (in [base] or an axis)")
+    return dict(point)
+
+
+def _scalars(d: dict) -> dict:
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, bool | np.bool_):
+            out[k] = float(v)
+        elif isinstance(v, int | float | np.integer | np.floating):
+            out[k] = float(v)
+        elif v is None:
+            out[k] = math.nan
+        elif isinstance(v, str):
+            out[k] = v
+    return out
+
+
+def _front(point: dict) -> dict:
+    from .chain import front
+
+    kw = _kwargs_of(front, point, "front", ("u_plus", "gamma", "dx"))
+    return _scalars(front(**kw).to_dict())
+
+
+def _front_check(point: dict) -> None:
+    from .chain import front
+
+    _kwargs_of(front, point, "front", ("u_plus", "gamma", "dx"))
+
+
+def _speed(point: dict) -> dict:
+    from .waves import front_speed
+
+    kw = _kwargs_of(front_speed, point, "speed", ("u_plus",))
+    return {"c": float(front_speed(kw.pop("u_plus"), **kw))}
+
+
+def _speed_check(point: dict) -> None:
+    from .waves import front_speed
+
+    _kwargs_of(front_speed, point, "speed", ("u_plus",))
+
+
+def _wave(point: dict) -> dict:
+    from .waves import traveling_wave
+
+    kw = _kwargs_of(traveling_wave, point, "wave", ("u_plus", "gamma"))
+    return _scalars(traveling_wave(**kw).to_dict())
+
+
+def _wave_check(point: dict) -> None:
+    from .waves import traveling_wave
+
+    _kwargs_of(traveling_wave, point, "wave", ("u_plus", "gamma"))
+
+
+def _tip(point: dict) -> dict:
+    from .waves import tip_solve
+
+    kw = _kwargs_of(tip_solve, point, "tip", ())
+    return _scalars(tip_solve(**kw))
+
+
+def _tip_check(point: dict) -> None:
+    from .waves import tip_solve
+
+    _kwargs_of(tip_solve, point, "tip", ())
+
+
+def _run(point: dict) -> dict:
+    from .runner import run_result
+
+    res = run_result(_run_config(point))
+    out = _scalars(res.summary)
+    out["__tables__"] = res.tables
+    return out
+
+
+def _run_config(point: dict):
+    from .config import parse_config
+
+    doc = copy.deepcopy(point)
+    doc.setdefault("output", {})
+    if isinstance(doc["output"], dict):
+        doc["output"].pop("path", None)
+    return parse_config(doc)
+
+
+def _run_check(point: dict) -> None:
+    _run_config(point)
+
+
+TASKS: dict[str, Task] = {
+    "front": Task(
+        "front",
+        "one front in the direct chain (bk.chain.front): c, w, u_minus",
+        _front,
+        _front_check,
+    ),
+    "speed": Task("speed", "front speed c (bk.front_speed)", _speed, _speed_check),
+    "wave": Task("wave", "traveling wave of App. B (bk.traveling_wave)", _wave, _wave_check),
+    "tip": Task("tip", "the tip problem solved numerically (bk.tip_solve)", _tip, _tip_check),
+    "run": Task("run", "a chain or free-boundary run (bk.run): its summary", _run, _run_check),
+}
+
+
+def run_point(task: str, point: dict) -> dict:
+    """Compute one point (what a worker runs): the task's summary plus ``wall_s``."""
+    t0 = time.perf_counter()
+    out = TASKS[task].run(point)
+    out["wall_s"] = time.perf_counter() - t0
+    return out
+
+
+# --------------------------------------------------------------------------- the spec
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One axis: ``path`` is the key path in the task's input (``("params", "gamma")``),
+    ``name`` its last part (the dimension name in the result)."""
+
+    path: tuple[str, ...]
+    values: tuple = ()
+    bounds: tuple[float, float] | None = None
+
+    @property
+    def name(self) -> str:
+        return self.path[-1]
+
+    @property
+    def key(self) -> str:
+        return ".".join(self.path)
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A validated sweep (frozen). ``to_dict()``/``from_dict()`` round-trip it."""
+
+    task: str
+    base: dict
+    axes: tuple[Axis, ...]
+    combine: str = "product"
+    title: str = ""
+    adaptive: dict | None = None
+    output_path: str | None = None
+    catalogs: bool = False
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        if self.combine == "zip":
+            return (len(self.axes[0].values),)
+        return tuple(len(a.values) for a in self.axes)
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        return ("point",) if self.combine == "zip" else tuple(a.name for a in self.axes)
+
+    def point(self, index: tuple[int, ...]) -> dict:
+        """The full input of the point at ``index`` (base with the axes' values set)."""
+        values = (
+            [a.values[index[0]] for a in self.axes]
+            if self.combine == "zip"
+            else [a.values[i] for a, i in zip(self.axes, index, strict=True)]
+        )
+        return self.point_at(values)
+
+    def point_at(self, values) -> dict:
+        p = copy.deepcopy(self.base)
+        for a, v in zip(self.axes, values, strict=True):
+            d = p
+            for k in a.path[:-1]:
+                d = d.setdefault(k, {})
+                if not isinstance(d, dict):
+                    raise ParameterError(f"axes.{a.key}: {k} in [base] is not a table")
+            d[a.path[-1]] = v
+        return p
+
+    def indices(self):
+        return list(np.ndindex(*self.shape))
+
+    def key(self, point: dict) -> str:
+        return point_key(self.task, point)
+
+    def to_dict(self) -> dict:
+        axes = {}
+        for a in self.axes:
+            axes[a.key] = {"bounds": list(a.bounds)} if a.bounds else {"values": list(a.values)}
+        d = {
+            "task": self.task,
+            "combine": self.combine,
+            "title": self.title,
+            "base": copy.deepcopy(self.base),
+            "axes": axes,
+            "output": {"catalogs": self.catalogs},
+        }
+        if self.output_path:
+            d["output"]["path"] = self.output_path
+        if self.adaptive:
+            d["adaptive"] = dict(self.adaptive)
+        return d
+
+    @classmethod
+    def from_dict(cls, d: dict, *, base_dir: Path | None = None) -> SweepSpec:
+        return parse_sweep(d, base_dir=base_dir)
+
+
+def point_key(task: str, point: dict) -> str:
+    """A hash of everything that determines a point's result."""
+    text = json.dumps(
+        {"task": task, "input": point, "version": __version__}, sort_keys=True, default=str
+    )
+    return hashlib.sha256(text.encode()).hexdigest()[:24]
+
+
+def _fail(path: str, msg: str):
+    raise ParameterError(f"{path}: {msg}")
+
+
+def _num(x, path: str) -> float:
+    if isinstance(x, bool) or not isinstance(x, int | float) or not math.isfinite(x):
+        _fail(path, f"expected a finite number, got {x!r}")
+    return float(x)
+
+
+def _count(x, path: str, lo: int = 1, hi: int = 100_000) -> int:
+    if isinstance(x, bool) or not isinstance(x, int) or not lo <= x <= hi:
+        _fail(path, f"expected an integer {lo} <= n <= {hi}, got {x!r}")
+    return x
+
+
+def _axis(key: str, t: Any) -> Axis:
+    q = f"axes.{key}"
+    if not isinstance(key, str) or not key or any(not k for k in key.split(".")):
+        _fail(q, "an axis name is a key path like u_plus or params.gamma")
+    if not isinstance(t, dict):
+        _fail(q, "expected a table with one of values, linspace, logspace, range, seeds, bounds")
+    kinds = ("values", "linspace", "logspace", "range", "seeds", "bounds")
+    given = [k for k in t if k in kinds]
+    for k in t:
+        if k not in kinds:
+            _fail(f"{q}.{k}", f"unknown key; valid: {', '.join(kinds)}")
+    if len(given) != 1:
+        _fail(q, f"give exactly one of {', '.join(kinds)}")
+    kind = given[0]
+    v = t[kind]
+    path = tuple(key.split("."))
+    if kind == "values":
+        if not isinstance(v, list) or not v:
+            _fail(f"{q}.values", "expected a non-empty array")
+        for i, x in enumerate(v):
+            if not isinstance(x, int | float | str) or isinstance(x, bool):
+                _fail(f"{q}.values[{i}]", f"expected a number or a string, got {x!r}")
+            if isinstance(x, float) and not math.isfinite(x):
+                _fail(f"{q}.values[{i}]", f"expected a finite number, got {x!r}")
+        if len({json.dumps(x) for x in v}) != len(v):
+            _fail(f"{q}.values", "values repeat")
+        return Axis(path, tuple(v))
+    if kind == "seeds":
+        return Axis(path, tuple(range(_count(v, f"{q}.seeds"))))
+    if kind == "bounds":
+        if not isinstance(v, list) or len(v) != 2:
+            _fail(f"{q}.bounds", "expected [lo, hi]")
+        lo, hi = _num(v[0], f"{q}.bounds[0]"), _num(v[1], f"{q}.bounds[1]")
+        if not lo < hi:
+            _fail(f"{q}.bounds", f"expected lo < hi, got {v!r}")
+        return Axis(path, (), (lo, hi))
+    if not isinstance(v, dict):
+        _fail(f"{q}.{kind}", "expected a table")
+    names = ("start", "stop", "step") if kind == "range" else ("start", "stop", "num")
+    for k in v:
+        if k not in names:
+            _fail(f"{q}.{kind}.{k}", f"unknown key; valid: {', '.join(names)}")
+    for k in names:
+        if k not in v:
+            _fail(f"{q}.{kind}.{k}", "missing required key")
+    start, stop = _num(v["start"], f"{q}.{kind}.start"), _num(v["stop"], f"{q}.{kind}.stop")
+    if kind == "range":
+        step = _num(v["step"], f"{q}.range.step")
+        if step == 0 or (stop - start) / step <= 0:
+            _fail(f"{q}.range", f"empty range from {start} to {stop} by {step}")
+        n = math.ceil((stop - start) / step - 1e-9)
+        _count(n, f"{q}.range (number of values)")
+        ints = all(isinstance(v[k], int) for k in names)
+        vals = [start + i * step for i in range(n)]
+        return Axis(path, tuple(int(x) if ints else x for x in vals))
+    num = _count(v["num"], f"{q}.{kind}.num")
+    if kind == "logspace":
+        if not (start > 0 and stop > 0):
+            _fail(f"{q}.logspace", "start and stop must be > 0")
+        vals = np.geomspace(start, stop, num)
+    else:
+        vals = np.linspace(start, stop, num)
+    return Axis(path, tuple(float(x) for x in vals))
+
+
+def parse_sweep(doc: dict, *, base_dir: Path | None = None) -> SweepSpec:
+    """Validate a parsed SWEEP.toml document (or ``SweepSpec.to_dict()``)."""
+    if not isinstance(doc, dict):
+        _fail("(top level)", "expected a table")
+    top = ("title", "task", "combine", "base", "axes", "adaptive", "output")
+    for k in doc:
+        if k not in top:
+            _fail(k, f"unknown key; valid keys here: {', '.join(top)}")
+    task = doc.get("task")
+    if task not in TASKS:
+        _fail("task", f"invalid value {task!r}; one of: {', '.join(TASKS)}")
+    combine = doc.get("combine", "product")
+    if combine not in COMBINES:
+        _fail("combine", f"invalid value {combine!r}; one of: {', '.join(COMBINES)}")
+    title = doc.get("title", "")
+    if not isinstance(title, str):
+        _fail("title", "expected a string")
+    base = doc.get("base", {})
+    if not isinstance(base, dict):
+        _fail("base", "expected a table")
+    base = copy.deepcopy(base)
+    if task == "run" and base_dir is not None:
+        ini = base.get("initial")
+        if isinstance(ini, dict) and isinstance(ini.get("path"), str):
+            if not Path(ini["path"]).is_absolute():
+                ini["path"] = str(Path(base_dir) / ini["path"])
+    raw_axes = doc.get("axes")
+    if not isinstance(raw_axes, dict) or not raw_axes:
+        _fail("axes", "expected at least one axis table [axes.NAME]")
+    axes = tuple(_axis(k, v) for k, v in raw_axes.items())
+    names = [a.name for a in axes]
+    if len(set(names)) != len(names):
+        _fail("axes", f"two axes end in the same name: {', '.join(names)}")
+    if "point" in names:
+        _fail("axes.point", "'point' is reserved (the dimension of zip sweeps)")
+    adaptive = doc.get("adaptive")
+    bounded = [a for a in axes if a.bounds is not None]
+    if adaptive is not None:
+        if not isinstance(adaptive, dict):
+            _fail("adaptive", "expected a table")
+        for k in adaptive:
+            if k not in ("output", "npoints", "loss_goal"):
+                _fail(f"adaptive.{k}", "unknown key; valid: output, npoints, loss_goal")
+        if not isinstance(adaptive.get("output"), str):
+            _fail("adaptive.output", "the summary scalar to refine on, e.g. 'c' or 'w'")
+        if "npoints" not in adaptive and "loss_goal" not in adaptive:
+            _fail("adaptive", "give npoints, loss_goal or both")
+        if "npoints" in adaptive:
+            _count(adaptive["npoints"], "adaptive.npoints", lo=2)
+        if "loss_goal" in adaptive:
+            lg = _num(adaptive["loss_goal"], "adaptive.loss_goal")
+            if not lg > 0:
+                _fail("adaptive.loss_goal", "expected > 0")
+        if len(bounded) != len(axes) or len(axes) not in (1, 2):
+            _fail("axes", "an adaptive sweep has 1 or 2 axes, each given as bounds = [lo, hi]")
+    elif bounded:
+        _fail(f"axes.{bounded[0].key}.bounds", "bounds need an [adaptive] table")
+    if combine == "zip" and adaptive is None:
+        lens = {len(a.values) for a in axes}
+        if len(lens) != 1:
+            _fail("axes", f"zip needs axes of equal length, got {[len(a.values) for a in axes]}")
+    out = doc.get("output", {})
+    if not isinstance(out, dict):
+        _fail("output", "expected a table")
+    for k in out:
+        if k not in ("path", "catalogs"):
+            _fail(f"output.{k}", "unknown key; valid: path, catalogs")
+    path = out.get("path")
+    if path is not None and (not isinstance(path, str) or not path.endswith(".zarr")):
+        _fail("output.path", f"expected a path ending in .zarr, got {path!r}")
+    if path is not None and base_dir is not None and not Path(path).is_absolute():
+        path = str(Path(base_dir) / path)
+    catalogs = out.get("catalogs", False)
+    if not isinstance(catalogs, bool):
+        _fail("output.catalogs", f"expected true or false, got {catalogs!r}")
+    if catalogs and task != "run":
+        _fail("output.catalogs", "only task = 'run' has catalogs")
+    spec = SweepSpec(
+        task=task,
+        base=base,
+        axes=axes,
+        combine=combine,
+        title=title,
+        adaptive=dict(adaptive) if adaptive else None,
+        output_path=path,
+        catalogs=catalogs,
+    )
+    # the base and one point must be valid before anything runs
+    probe = (
+        spec.point_at([a.bounds[0] for a in axes]) if adaptive else spec.point(spec.indices()[0])
+    )
+    TASKS[task].check(probe)
+    return spec
+
+
+def load_sweep(path) -> SweepSpec:
+    """Read and validate a SWEEP.toml."""
+    path = Path(path)
+    try:
+        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ParameterError(f"sweep file not found: {path}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as e:
+        raise ParameterError(f"{path}: not valid TOML: {e}") from None
+    spec = parse_sweep(doc, base_dir=path.parent)
+    if spec.output_path is None:
+        spec = SweepSpec(**{**spec.__dict__, "output_path": str(path.with_suffix(".zarr"))})
+    return spec
+
+
+# --------------------------------------------------------------------------- the store
+
+
+class _Store:
+    """The Zarr store of a grid sweep, written by the client as points finish."""
+
+    def __init__(self, path: Path, spec: SweepSpec, *, overwrite: bool):
+        import zarr
+
+        self.path, self.spec = Path(path), spec
+        self.signature = json.dumps(
+            {
+                "task": spec.task,
+                "dims": spec.dims,
+                "shape": spec.shape,
+                "base": spec.base,
+                "axes": spec.to_dict()["axes"],
+                "combine": spec.combine,
+            },
+            sort_keys=True,
+            default=str,
+        )
+        if self.path.exists():
+            g = self._open_existing()
+            if g is None:
+                raise ParameterError(
+                    f"-o {self.path}: exists and is not a bkwaves sweep store; "
+                    "bkwaves will not touch it (choose another output)"
+                )
+            same = g.attrs.get("signature") == self.signature
+            if not same and not overwrite:
+                raise ParameterError(
+                    f"-o {self.path}: holds a different sweep (other task, base or axes); "
+                    "give another output, or --overwrite to replace it"
+                )
+            if not overwrite:
+                self.g = zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
+                return
+            import shutil
+
+            shutil.rmtree(self.path)  # a bkwaves sweep store (marker checked above)
+        self._create()
+        self.g = zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
+
+    def _open_existing(self):
+        import zarr
+
+        try:
+            g = zarr.open_group(str(self.path), mode="r")
+        except Exception:  # noqa: BLE001 - anything unreadable is not ours
+            return None
+        return g if g.attrs.get("bkwaves_sweep") == STORE_MARKER else None
+
+    def _create(self):
+        import warnings
+
+        import xarray as xr
+
+        spec = self.spec
+        shape, dims = spec.shape, spec.dims
+        coords = {}
+        if spec.combine == "zip":
+            coords["point"] = np.arange(shape[0])
+            for a in spec.axes:
+                coords[a.name] = ("point", np.asarray(a.values))
+        else:
+            for a in spec.axes:
+                coords[a.name] = np.asarray(a.values)
+        ds = xr.Dataset(
+            {
+                "status": (dims, np.zeros(shape, np.int8)),
+                "error": (dims, np.full(shape, "", dtype=object)),
+                "key": (dims, np.full(shape, "", dtype=object)),
+                "wall_s": (dims, np.full(shape, np.nan)),
+            },
+            coords=coords,
+        )
+        ds["status"].attrs["doc"] = "0 pending, 1 done, 2 failed"
+        ds["key"].attrs["doc"] = "hash of the point's input, task and bkwaves version"
+        ds["wall_s"].attrs["units"] = "s"
+        for a in spec.axes:
+            ds[a.name].attrs["input_key"] = a.key
+        ds.attrs.update(
+            {
+                "bkwaves_sweep": STORE_MARKER,
+                "title": spec.title or f"bkwaves sweep of task {spec.task}",
+                "task": spec.task,
+                "sweep": json.dumps(spec.to_dict(), default=str),
+                "signature": self.signature,
+                "bkwaves_version": __version__,
+            }
+        )
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ds.to_zarr(str(self.path), mode="w-", consolidated=True)
+
+    def status(self) -> np.ndarray:
+        return np.asarray(self.g["status"][...])
+
+    def keys(self) -> np.ndarray:
+        return np.asarray(self.g["key"][...])
+
+    def _variable(self, name: str, value):
+        """The array of summary scalar ``name``, created at its first value."""
+        if name in self.g:
+            return self.g[name]
+
+        dims = list(self.spec.dims)
+        if isinstance(value, str):
+            arr = self.g.create_array(
+                name, shape=self.spec.shape, dtype=str, fill_value="", dimension_names=dims
+            )
+        else:
+            arr = self.g.create_array(
+                name,
+                shape=self.spec.shape,
+                dtype="f8",
+                fill_value=float("nan"),
+                dimension_names=dims,
+            )
+        _consolidate(self.path)
+        return arr
+
+    def write(self, index, key: str, summary: dict | None, error: str | None):
+        idx = tuple(int(i) for i in index)
+        reserved = {*self.spec.dims, *(a.name for a in self.spec.axes)}
+        for name, value in (summary or {}).items():
+            if name.startswith("__") or name in reserved:
+                continue  # inputs echoed back by the task are the coordinates
+            arr = self._variable(name, value)
+            if isinstance(value, str) != (arr.dtype.kind != "f"):
+                raise ParameterError(
+                    f"summary {name!r} changes type between points ({value!r}); "
+                    "a task must report one type per name"
+                )
+            arr[idx] = value
+        self.g["error"][idx] = error or ""
+        self.g["key"][idx] = key
+        # the status goes last: a point is done only once all its values are written
+        self.g["status"][idx] = FAILED if error else DONE
+
+
+def _consolidate(path: Path):
+    """Refresh the consolidated metadata (xarray opens the store without a warning)."""
+    import warnings
+
+    import zarr
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        zarr.consolidate_metadata(str(path))
+
+
+# --------------------------------------------------------------------------- running
+
+
+@dataclass
+class SweepResult:
+    """What :func:`sweep` did: the dataset and the counts."""
+
+    dataset: Any
+    out: str
+    computed: int
+    skipped: int
+    failed: int
+    wall_s: float
+    dashboard: str | None = None
+    interrupted: bool = False
+    workers: int = 0
+    extra: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        return {
+            "out": self.out,
+            "points": int(np.prod(self.dataset["status"].shape)),
+            "computed": self.computed,
+            "skipped": self.skipped,
+            "failed": self.failed,
+            "wall_s": self.wall_s,
+            "dashboard": self.dashboard,
+            "interrupted": self.interrupted,
+            "workers": self.workers,
+        }
+
+
+def _client(scheduler: str | None, workers: int | None, processes: bool):
+    """A distributed.Client: to ``scheduler`` if given, else to an embedded
+    LocalCluster of ``workers`` workers (default: one per core)."""
+    import os
+
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            return Client(scheduler, timeout="10s"), None
+        except OSError as e:
+            raise ParameterError(f"--scheduler {scheduler}: cannot connect ({e})") from None
+    n = workers or os.cpu_count() or 1
+    if processes:
+        cluster = LocalCluster(
+            n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0"
+        )
+    else:
+        cluster = LocalCluster(
+            n_workers=1, threads_per_worker=n, processes=False, dashboard_address=":0"
+        )
+    return Client(cluster), cluster
+
+
+def sweep(
+    spec,
+    out=None,
+    *,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    processes: bool = True,
+    overwrite: bool = False,
+    retry_failed: bool = False,
+    progress: bool = False,
+    client=None,
+    _stop_after: int | None = None,
+) -> SweepResult:
+    """Run a sweep (a :class:`SweepSpec`, a dict or a SWEEP.toml path) on Dask and
+    return the result dataset (also written to ``out``, a .zarr store).
+
+    Finished points are written as they arrive; a point already done in ``out`` (same
+    input, task and bkwaves version) is not recomputed; a point that fails records its
+    error and the sweep goes on (``retry_failed`` recomputes failed points). Ctrl-C stops
+    the sweep and keeps every finished point."""
+    if isinstance(spec, str | Path):
+        spec = load_sweep(spec)
+    elif isinstance(spec, dict):
+        spec = parse_sweep(spec)
+    elif not isinstance(spec, SweepSpec):
+        raise ParameterError(f"invalid spec = {spec!r}: a SweepSpec, a dict or a SWEEP.toml path")
+    out = out if out is not None else spec.output_path
+    if out is None:
+        raise ParameterError("no output: give out (a .zarr path) or [output] path")
+    out = Path(out)
+    if out.suffix != ".zarr":
+        raise ParameterError(f"invalid out = {str(out)!r}: a path ending in .zarr")
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
+    ):
+        raise ParameterError(f"invalid workers = {workers!r}: allowed an integer >= 1")
+    if spec.adaptive:
+        from .sweep_adaptive import run_adaptive
+
+        return run_adaptive(
+            spec,
+            out,
+            scheduler=scheduler,
+            workers=workers,
+            processes=processes,
+            overwrite=overwrite,
+            progress=progress,
+            client=client,
+        )
+    t0 = time.perf_counter()
+    store = _Store(out, spec, overwrite=overwrite)
+    status, keys = store.status(), store.keys()
+    todo, skipped = [], 0
+    for idx in spec.indices():
+        point = spec.point(idx)
+        k = spec.key(point)
+        done = status[idx] == DONE or (status[idx] == FAILED and not retry_failed)
+        if done and keys[idx] == k:
+            skipped += 1
+            continue
+        todo.append((idx, k, point))
+    computed = failed = 0
+    interrupted = False
+    dashboard = None
+    nworkers = 0
+    own = None
+    if todo:
+        if client is None:
+            client, own = _client(scheduler, workers, processes)
+        dashboard = getattr(client, "dashboard_link", None)
+        nworkers = len(client.scheduler_info().get("workers", {}))
+        try:
+            computed, failed, interrupted = _execute(
+                client, spec, store, todo, progress, dashboard, _stop_after
+            )
+        finally:
+            if own is not None:
+                client.close()
+                own.close()
+    ds = load_sweep_result(out)
+    return SweepResult(
+        dataset=ds,
+        out=str(out),
+        computed=computed,
+        skipped=skipped,
+        failed=failed,
+        wall_s=time.perf_counter() - t0,
+        dashboard=dashboard,
+        interrupted=interrupted,
+        workers=nworkers,
+    )
+
+
+def _execute(client, spec, store, todo, progress, dashboard, stop_after):
+    from distributed import as_completed
+
+    futures = {}
+    for idx, k, point in todo:
+        fut = client.submit(run_point, spec.task, point, key=f"bkwaves-point-{k}", pure=False)
+        futures[fut.key] = (idx, k, fut)
+    bar = None
+    if progress:
+        from rich.console import Console
+        from rich.progress import Progress
+
+        Console(stderr=True).print(f"dashboard: {dashboard}")
+        bar = Progress(transient=True)
+        bar.start()
+        task_id = bar.add_task(f"sweep ({spec.task})", total=len(todo))
+    computed = failed = 0
+    interrupted = False
+    try:
+        for fut in as_completed([f for _, _, f in futures.values()]):
+            idx, k, _ = futures[fut.key]
+            try:
+                # result() also waits for a point whose result was lost with a killed
+                # worker and is being recomputed elsewhere
+                summary = fut.result()
+            except Exception as exc:  # noqa: BLE001 - the point's own failure, recorded
+                store.write(idx, k, None, f"{type(exc).__name__}: {exc}")
+                failed += 1
+            else:
+                tables = summary.pop("__tables__", None)
+                if spec.catalogs and tables:
+                    _write_tables(store.path, k, tables)
+                store.write(idx, k, summary, None)
+                computed += 1
+            fut.release()
+            if bar is not None:
+                bar.update(task_id, completed=computed + failed)
+            if stop_after is not None and computed + failed >= stop_after:
+                interrupted = True
+                break
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        if bar is not None:
+            bar.stop()
+        if interrupted:
+            client.cancel([f for _, _, f in futures.values()])
+    return computed, failed, interrupted
+
+
+def points_dir(out) -> Path:
+    """Where the per-point tables of a sweep stored in ``out`` go: ``OUT.points/``."""
+    out = Path(out)
+    return out.with_name(out.name + ".points")
+
+
+def _write_tables(out: Path, key: str, tables: dict):
+    d = points_dir(out)
+    d.mkdir(exist_ok=True)
+    for name, df in tables.items():
+        tmp = d / f".{key}.{name}.parquet.tmp"
+        df.to_parquet(tmp)
+        tmp.replace(d / f"{key}.{name}.parquet")
+
+
+def load_sweep_result(out):
+    """Open a sweep store as an xarray Dataset (loaded into memory)."""
+    import warnings
+
+    import xarray as xr
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = xr.open_zarr(str(out), consolidated=True).load()
+    return ds

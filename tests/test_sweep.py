@@ -1,0 +1,307 @@
+"""Parameter sweeps on Dask (bkwaves sweep, bk.sweep): schema, results against direct
+calls, resume, failures, and a real scheduler with two worker processes, one of which is
+killed mid-sweep."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import bkwaves as bk
+from bkwaves.sweep import DONE, FAILED, SweepSpec, load_sweep, parse_sweep, sweep
+
+WAVE = {
+    "task": "wave",
+    "base": {"gamma": 0.3},
+    "axes": {
+        "u_plus": {"linspace": {"start": 0.2, "stop": 0.8, "num": 4}},
+        "gamma": {"values": [0.0, 0.3]},
+    },
+}
+
+
+@pytest.fixture(scope="module")
+def client():
+    """One in-process threaded cluster for the fast tests (the process-based default
+    LocalCluster is tested once below)."""
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(
+        n_workers=1, threads_per_worker=2, processes=False, dashboard_address=":0"
+    )
+    c = Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+# --------------------------------------------------------------------------- schema
+
+
+@pytest.mark.parametrize(
+    "doc, where",
+    [
+        ({**WAVE, "task": "nope"}, "task"),
+        ({**WAVE, "colour": 1}, "colour"),
+        ({**WAVE, "axes": {"u_plus": {"values": []}}}, "axes.u_plus.values"),
+        ({**WAVE, "axes": {"u_plus": {"values": [0.1], "linspace": {}}}}, "axes.u_plus"),
+        ({**WAVE, "axes": {"u_plus": {"linspace": {"start": 0.1, "stop": 0.5}}}}, "num"),
+        (
+            {**WAVE, "axes": {"u_plus": {"logspace": {"start": 0, "stop": 1, "num": 3}}}},
+            "axes.u_plus.logspace",
+        ),
+        ({**WAVE, "base": {"gamma": 0.3, "colour": 2}}, "base.colour"),
+        ({**WAVE, "combine": "zip"}, "zip"),
+        ({**WAVE, "axes": {"u_plus": {"bounds": [0.1, 0.9]}}}, "adaptive"),
+        ({**WAVE, "axes": {"u_plus": {"values": [0.1, 0.1]}}}, "repeat"),
+    ],
+)
+def test_bad_sweeps_name_the_key(doc, where):
+    with pytest.raises(bk.ParameterError, match=where.replace(".", r"\.")):
+        parse_sweep(doc)
+
+
+def test_spec_round_trip_and_points():
+    spec = parse_sweep(WAVE)
+    assert spec.shape == (4, 2) and spec.dims == ("u_plus", "gamma")
+    again = SweepSpec.from_dict(spec.to_dict())
+    assert again == spec
+    p = spec.point((1, 0))
+    assert p == {"gamma": 0.0, "u_plus": pytest.approx(0.4)}
+    # the key is a function of the whole input: another base gives another key
+    other = parse_sweep({**WAVE, "base": {"gamma": 0.1}})
+    assert spec.key(spec.point((1, 1))) == spec.key(spec.point((1, 1)))
+    assert spec.key(spec.point((1, 1))) != spec.key(spec.point((1, 0)))
+    assert other.key(other.point((1, 1))) == spec.key(spec.point((1, 1)))  # gamma on the axis
+    zipped = parse_sweep(
+        {
+            "task": "speed",
+            "combine": "zip",
+            "axes": {"u_plus": {"values": [0.1, 0.5]}, "dx": {"values": [0.05, 0.1]}},
+        }
+    )
+    assert zipped.shape == (2,) and zipped.point((1,)) == {"u_plus": 0.5, "dx": 0.1}
+    seeds = parse_sweep(
+        {"task": "speed", "axes": {"u_plus": {"range": {"start": 1, "stop": 4, "step": 1}}}},
+    )
+    assert seeds.axes[0].values == (1, 2, 3)
+
+
+def test_load_sweep_file_defaults_output_beside(tmp_path):
+    f = tmp_path / "s.toml"
+    f.write_text('task = "speed"\n[axes.u_plus]\nvalues = [0.3, 0.6]\n')
+    spec = load_sweep(f)
+    assert spec.output_path == str(tmp_path / "s.zarr")
+    f.write_bytes(b"task = \xff\n")
+    with pytest.raises(bk.ParameterError, match="not valid TOML"):
+        load_sweep(f)
+
+
+# --------------------------------------------------------------------------- results
+
+
+def test_results_equal_direct_calls_and_resume_recomputes_nothing(tmp_path, client):
+    out = tmp_path / "w.zarr"
+    r = sweep(WAVE, out, client=client)
+    assert (r.computed, r.skipped, r.failed) == (8, 0, 0)
+    ds = r.dataset
+    assert ds["status"].dims == ("u_plus", "gamma") and (ds["status"] == DONE).all()
+    for u in ds.u_plus.values:
+        for g in ds.gamma.values:
+            w = bk.traveling_wave(float(u), float(g))
+            cell = ds.sel(u_plus=u, gamma=g)
+            assert float(cell["c"]) == w.c
+            assert str(cell["regime"].values) == w.regime
+            if w.w is None:
+                assert np.isnan(float(cell["w"]))
+            else:
+                assert float(cell["w"]) == w.w
+    again = sweep(WAVE, out, client=client)
+    assert (again.computed, again.skipped) == (0, 8)
+
+
+def test_interrupted_sweep_keeps_points_and_resumes_the_rest(tmp_path, client):
+    out = tmp_path / "w.zarr"
+    r = sweep(WAVE, out, client=client, _stop_after=3)
+    assert r.interrupted and r.computed == 3
+    assert int((r.dataset["status"] == DONE).sum()) == 3
+    rest = sweep(WAVE, out, client=client)
+    assert (rest.computed, rest.skipped) == (5, 3)
+    assert (rest.dataset["status"] == DONE).all()
+
+
+def test_failed_point_records_its_error_and_the_sweep_goes_on(tmp_path, client):
+    doc = {"task": "speed", "axes": {"u_plus": {"values": [0.3, 1.5, 0.6]}}}
+    r = sweep(doc, tmp_path / "f.zarr", client=client)
+    ds = r.dataset
+    assert (r.computed, r.failed) == (2, 1)
+    assert list(ds["status"].values) == [DONE, FAILED, DONE]
+    assert "u_plus" in str(ds["error"].values[1])
+    assert float(ds["c"][2]) == float(bk.front_speed(0.6))
+    # failed points stay failed on a re-run unless asked
+    again = sweep(doc, tmp_path / "f.zarr", client=client)
+    assert (again.computed, again.failed, again.skipped) == (0, 0, 3)
+    retry = sweep(doc, tmp_path / "f.zarr", client=client, retry_failed=True)
+    assert (retry.computed, retry.failed, retry.skipped) == (0, 1, 2)
+
+
+def test_a_changed_input_is_recomputed_and_other_stores_are_refused(tmp_path, client):
+    out = tmp_path / "w.zarr"
+    sweep(WAVE, out, client=client)
+    with pytest.raises(bk.ParameterError, match="different sweep"):
+        sweep({**WAVE, "axes": {"u_plus": {"values": [0.5]}}}, out, client=client)
+    # someone else's directory that happens to end in .zarr is never touched
+    foreign = tmp_path / "theirs.zarr"
+    foreign.mkdir()
+    (foreign / "precious.txt").write_text("keep")
+    with pytest.raises(bk.ParameterError, match="not a bkwaves sweep"):
+        sweep(WAVE, foreign, client=client, overwrite=True)
+    assert (foreign / "precious.txt").read_text() == "keep"
+    r = sweep({**WAVE, "axes": {"u_plus": {"values": [0.5]}}}, out, client=client, overwrite=True)
+    assert r.computed == 1
+
+
+def test_default_local_cluster_of_processes(tmp_path):
+    doc = {"task": "speed", "axes": {"u_plus": {"values": [0.2, 0.4]}}}
+    r = sweep(doc, tmp_path / "p.zarr", workers=2)
+    assert r.workers == 2 and r.computed == 2 and r.dashboard
+    np.testing.assert_array_equal(r.dataset["c"].values, bk.front_speed(np.array([0.2, 0.4])))
+
+
+# --------------------------------------------------------------------------- a real cluster
+
+
+def _env():
+    env = dict(os.environ)
+    root = Path(bk.__file__).resolve().parents[1]
+    env["PYTHONPATH"] = os.pathsep.join([str(root), env.get("PYTHONPATH", "")])
+    return env
+
+
+def _wait_for(pred, timeout, what):
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout:
+        v = pred()
+        if v:
+            return v
+        time.sleep(0.1)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def _done_count(out: Path) -> int:
+    import zarr
+
+    try:
+        g = zarr.open_group(str(out), mode="r", use_consolidated=False)
+        return int((np.asarray(g["status"][...]) == DONE).sum())
+    except Exception:  # noqa: BLE001 - the store may not exist yet
+        return 0
+
+
+def test_real_scheduler_survives_a_killed_worker(tmp_path):
+    """A scheduler and two worker processes on 127.0.0.1 (ephemeral ports); the sweep runs
+    through --scheduler; one worker is killed mid-sweep; every point ends done exactly once,
+    with the values a direct call gives."""
+    env = _env()
+    sfile = tmp_path / "scheduler.json"
+    procs = []
+    try:
+        procs.append(
+            subprocess.Popen(
+                [
+                    "dask",
+                    "scheduler",
+                    "--host",
+                    "127.0.0.1",
+                    "--port",
+                    "0",
+                    "--no-dashboard",
+                    "--scheduler-file",
+                    str(sfile),
+                ],
+                env=env,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+        )
+        _wait_for(lambda: sfile.exists() and sfile.stat().st_size > 0, 60, "the scheduler")
+        addr = json.loads(sfile.read_text())["address"]
+        for _ in range(2):
+            procs.append(
+                subprocess.Popen(
+                    [
+                        "dask",
+                        "worker",
+                        addr,
+                        "--nthreads",
+                        "1",
+                        "--no-nanny",
+                        "--no-dashboard",
+                        "--host",
+                        "127.0.0.1",
+                    ],
+                    env=env,
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                )
+            )
+        n_u, n_dx = 6, 2
+        toml = tmp_path / "fronts.toml"
+        toml.write_text(
+            'task = "front"\n[base]\ngamma = 0.3\nblocks = 3000\n'
+            f"[axes.u_plus]\nlinspace = {{start = 0.5, stop = 0.8, num = {n_u}}}\n"
+            "[axes.dx]\nvalues = [0.05, 0.1]\n"
+        )
+        out = tmp_path / "fronts.zarr"
+        cli = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "bkwaves",
+                "sweep",
+                str(toml),
+                "-o",
+                str(out),
+                "--scheduler",
+                addr,
+                "--json",
+            ],
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        _wait_for(lambda: _done_count(out) >= 2 or cli.poll() is not None, 120, "2 points")
+        assert cli.poll() is None, "the sweep ended before a worker could be killed"
+        victim = procs[1]
+        victim.send_signal(signal.SIGKILL)
+        victim.wait(10)
+        stdout, stderr = cli.communicate(timeout=300)
+        assert cli.returncode == 0, stderr
+        summary = json.loads(stdout)
+        assert summary["points"] == n_u * n_dx
+        # every point computed once: no loss, no duplicate
+        assert summary["computed"] == n_u * n_dx and summary["skipped"] == 0, (summary, str(bk.sweep_result(out)["error"].values))
+        assert summary["failed"] == 0
+        ds = bk.sweep_result(out)
+        assert (ds["status"] == DONE).all()
+        for u in ds.u_plus.values[::3]:
+            m = bk.chain.front(float(u), 0.3, 0.1, blocks=3000)
+            assert float(ds["c"].sel(u_plus=u, dx=0.1)) == m.c
+    finally:
+        for p in procs:
+            if p.poll() is None:
+                p.terminate()
+        for p in procs:
+            try:
+                p.wait(10)
+            except subprocess.TimeoutExpired:
+                p.kill()
