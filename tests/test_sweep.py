@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import bkwaves as bk
-from bkwaves.sweep import DONE, FAILED, SweepSpec, load_sweep, parse_sweep, sweep
+from bkwaves.sweeps import DONE, FAILED, SweepSpec, load_sweep, parse_sweep, sweep
 
 WAVE = {
     "task": "wave",
@@ -289,7 +289,10 @@ def test_real_scheduler_survives_a_killed_worker(tmp_path):
         summary = json.loads(stdout)
         assert summary["points"] == n_u * n_dx
         # every point computed once: no loss, no duplicate
-        assert summary["computed"] == n_u * n_dx and summary["skipped"] == 0, (summary, str(bk.sweep_result(out)["error"].values))
+        assert summary["computed"] == n_u * n_dx and summary["skipped"] == 0, (
+            summary,
+            str(bk.sweep_result(out)["error"].values),
+        )
         assert summary["failed"] == 0
         ds = bk.sweep_result(out)
         assert (ds["status"] == DONE).all()
@@ -305,3 +308,26 @@ def test_real_scheduler_survives_a_killed_worker(tmp_path):
                 p.wait(10)
             except subprocess.TimeoutExpired:
                 p.kill()
+
+
+def test_adaptive_sweep_refines_where_the_output_changes_fastest(tmp_path, client):
+    """c = 1/sqrt(1 - u^2) is flat at small u and steep near 1: the learner puts far more
+    points near u = 1 than a uniform grid would; a re-run with a larger goal continues
+    from the stored points."""
+    doc = {
+        "task": "speed",
+        "axes": {"u_plus": {"bounds": [0.001, 0.999]}},
+        "adaptive": {"output": "c", "npoints": 24},
+    }
+    out = tmp_path / "a.zarr"
+    r = sweep(doc, out, client=client)
+    ds = r.dataset
+    u = ds.u_plus.values
+    assert r.computed == 24 and len(u) == 24 and (ds["status"] == DONE).all()
+    assert np.all(np.diff(u) > 0)
+    np.testing.assert_array_equal(ds["c"].values, bk.front_speed(u))
+    # uniform sampling would put 10 % of the points in [0.9, 0.999]
+    assert np.mean(u >= 0.9) > 0.3
+    more = sweep({**doc, "adaptive": {"output": "c", "npoints": 30}}, out, client=client)
+    assert (more.skipped, more.computed) == (24, 6)
+    assert len(more.dataset.u_plus) == 30

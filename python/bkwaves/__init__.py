@@ -15,8 +15,8 @@ from .chain import Chain, ChainResult  # noqa: E402
 from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning  # noqa: E402
 from .io import load  # noqa: E402
 from .params import Params, PhysicalUnits  # noqa: E402
-from .sweep import load_sweep_result as sweep_result  # noqa: E402
-from .sweep import sweep  # noqa: E402
+from .sweeps import load_sweep_result as sweep_result  # noqa: E402
+from .sweeps import sweep  # noqa: E402
 from .waves import TravelingWave, front_speed, tip_solve, traveling_wave  # noqa: E402
 
 __all__ = [

@@ -384,7 +384,7 @@ def sweep_cmd(
     summaries go into one Zarr store (an xarray Dataset indexed by the axes) as points
     finish. Re-running computes only the points not yet done; Ctrl-C keeps every
     finished point. See docs/sweeps.md for the schema."""
-    from .sweep import sweep
+    from .sweeps import sweep
 
     try:
         r = sweep(

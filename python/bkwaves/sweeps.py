@@ -740,7 +740,7 @@ def sweep(
     ):
         raise ParameterError(f"invalid workers = {workers!r}: allowed an integer >= 1")
     if spec.adaptive:
-        from .sweep_adaptive import run_adaptive
+        from .sweeps_adaptive import run_adaptive
 
         return run_adaptive(
             spec,
@@ -862,12 +862,23 @@ def _write_tables(out: Path, key: str, tables: dict):
 
 
 def load_sweep_result(out):
-    """Open a sweep store as an xarray Dataset (loaded into memory)."""
+    """Open a sweep store (grid or adaptive) as an xarray Dataset, loaded into memory."""
     import warnings
 
     import xarray as xr
+    import zarr
 
+    try:
+        g = zarr.open_group(str(out), mode="r", use_consolidated=False)
+        marker = g.attrs.get("bkwaves_sweep")
+    except Exception as e:  # noqa: BLE001 - reported as not a sweep store
+        raise ParameterError(f"{out}: not a bkwaves sweep store ({e})") from None
+    if marker == STORE_MARKER + "-adaptive":
+        from .sweeps_adaptive import load_adaptive_result
+
+        return load_adaptive_result(out)
+    if marker != STORE_MARKER:
+        raise ParameterError(f"{out}: not a bkwaves sweep store")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ds = xr.open_zarr(str(out), consolidated=True).load()
-    return ds
+        return xr.open_zarr(str(out), consolidated=True).load()
