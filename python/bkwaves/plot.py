@@ -24,6 +24,7 @@ __all__ = [
     "trajectories",
     "size_frequency",
     "plot_run",
+    "plot_sweep",
     "save",
     "FORMATS",
     "STYLE",
@@ -216,6 +217,8 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
 
         _fail("fmt", fmt, " or ".join(repr(f) for f in FORMATS))
     out = Path(out)
+    if _is_sweep(out):
+        return plot_sweep(out, outdir, fmt)
     ds, tables = load_tables(out)
     outdir = Path(outdir) if outdir is not None else out.parent
     stem = out.name.rsplit(".", 1)[0]
@@ -267,3 +270,149 @@ def check_path(path, name: str = "path") -> Path:
 
         _fail(name, str(path), "a file name ending in " + ", ".join("." + f for f in FORMATS))
     return path
+
+
+_SWEEP_BOOKKEEPING = ("status", "error", "key", "wall_s")
+
+
+def _is_sweep(out: Path) -> bool:
+    if out.suffix != ".zarr" or not out.is_dir():
+        return False
+    import zarr
+
+    try:
+        g = zarr.open_group(str(out), mode="r", use_consolidated=False)
+    except Exception:  # noqa: BLE001 - not a readable group: not a sweep
+        return False
+    return str(g.attrs.get("bkwaves_sweep", "")).startswith("bkwaves-sweep")
+
+
+@_styled
+def plot_sweep(out, outdir=None, fmt: str = "png") -> list[Path]:
+    """The summaries of a sweep store (``bkwaves sweep``) against its axes: one figure per
+    numeric summary, the first axis along x, one line per value of the second; an axis
+    named ``seed`` is averaged over (mean with its standard error, n realisations in the
+    legend). For the front speed c against u_plus, the exact continuum c = 1/sqrt(1 -
+    u_+^2) and, per dx, the finite-dx tip solver are drawn with the points, and a second
+    panel shows c - 1/sqrt(1 - u_+^2)."""
+    import matplotlib.pyplot as plt
+
+    from .sweeps import load_sweep_result
+
+    if fmt not in FORMATS:
+        from ._validate import _fail
+
+        _fail("fmt", fmt, " or ".join(repr(f) for f in FORMATS))
+    out = Path(out)
+    ds = load_sweep_result(out)
+    outdir = Path(outdir) if outdir is not None else out.parent
+    stem = out.name.rsplit(".", 1)[0]
+    done = ds["status"] == 1
+    axes = [d for d in ds["status"].dims if d != "point"] or [
+        c for c in ds.coords if c != "point" and ds[c].dims == ("point",)
+    ]
+    written = []
+    for var in ds.data_vars:
+        if var in _SWEEP_BOOKKEEPING or ds[var].dtype.kind != "f":
+            continue
+        da = ds[var].where(done)
+        vals = da.values[np.isfinite(da.values)]
+        if vals.size == 0 or np.all(vals == vals[0]):
+            continue  # nothing to show (an input echoed back, or no finished point)
+        fig, panels = _sweep_figure(ds, var, axes)
+        _sweep_panel(panels[0], da, axes, var)
+        if var == "c" and "u_plus" in axes:
+            _speed_theory(panels, ds, da, axes)
+        fig.suptitle(f"{ds.attrs.get('title', 'sweep')}: {var}", fontsize=10)
+        written.append(save(panels[0], outdir / f"{stem}_{var}.{fmt}"))
+        plt.close(fig)
+    return written
+
+
+def _sweep_figure(ds, var, axes):
+    import matplotlib.pyplot as plt
+
+    two = var == "c" and "u_plus" in axes
+    fig, panels = plt.subplots(1, 2 if two else 1, figsize=(9.5 if two else 5.5, 3.8))
+    return fig, np.atleast_1d(panels)
+
+
+def _sweep_panel(ax, da, axes, var):
+    """Lines of ``da`` against its first axis (mean and standard error over seeds)."""
+    if "point" in da.dims:  # zip or adaptive: points along the first axis coordinate
+        x = da[axes[0]].values
+        order = np.argsort(x)
+        ax.plot(x[order], da.values[order], "o-", ms=3)
+        ax.set_xlabel(axes[0])
+        ax.set_ylabel(var)
+        return
+    seed = "seed" if "seed" in da.dims else None
+    if seed:
+        n = da.count(seed)
+        mean = da.mean(seed)
+        sem = da.std(seed, ddof=1) / np.sqrt(n.where(n > 1))
+    else:
+        mean, sem = da, None
+    dims = [d for d in mean.dims]
+    x = dims[0]
+    other = dims[1] if len(dims) > 1 else None
+    rest = dims[2:]
+    if rest:  # more axes than a panel shows: the first value of each
+        mean = mean.isel({d: 0 for d in rest})
+        sem = sem.isel({d: 0 for d in rest}) if sem is not None else None
+    lines = mean[other].values if other else [None]
+    for v in lines:
+        m = mean.sel({other: v}) if other else mean
+        label = f"{other} = {v:g}" if other else None
+        if sem is not None:
+            s = sem.sel({other: v}) if other else sem
+            label = (label + ", " if label else "") + f"mean of {int(n.max())} seeds"
+            ax.errorbar(
+                m[x].values, m.values, yerr=s.values, fmt="o-", ms=3, capsize=2, label=label
+            )
+        else:
+            ax.plot(m[x].values, m.values, "o", ms=4, label=label)
+    ax.set_xlabel(x)
+    ax.set_ylabel(var)
+    if other or sem is not None:
+        ax.legend(fontsize=8)
+    if rest:
+        ax.set_title(", ".join(f"{d} = {mean[d].values!s}" for d in rest), fontsize=8)
+
+
+def _speed_theory(panels, ds, da, axes):
+    """c(u_+): the exact continuum curve, and per dx the finite-dx tip solver."""
+    from .waves import front_speed, tip_solve
+
+    u = ds["u_plus"].values
+    uu = np.linspace(u.min(), u.max(), 200)
+    panels[0].plot(uu, front_speed(uu), "k-", lw=1, label="1/sqrt(1 - u_+^2) (exact, dx -> 0)")
+    panels[0].legend(fontsize=8)
+    ax = panels[1]
+    gamma = float(ds["gamma"].values.ravel()[0]) if "gamma" in ds else _base(ds, "gamma", 0.0)
+    dxs = ds["dx"].values if "dx" in axes and "point" not in da.dims else []
+    for k, dx in enumerate(dxs):
+        color = f"C{k}"
+        pts = da.sel(dx=dx)
+        ax.plot(u, pts.values - front_speed(u), "o", color=color, ms=4, label=f"chain, dx = {dx:g}")
+        tip = []
+        for x in uu:
+            try:
+                tip.append(tip_solve(float(x), dx=float(dx), gamma=gamma)["c"] - front_speed(x))
+            except Exception:  # noqa: BLE001 - outside the tip solver's range: a gap
+                tip.append(np.nan)
+        ax.plot(uu, tip, "-", color=color, lw=1, label=f"tip solver, dx = {dx:g}")
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.set_xlabel("u_plus")
+    ax.set_ylabel("c - 1/sqrt(1 - u_+^2)")
+    if len(dxs):
+        ax.legend(fontsize=8)
+
+
+def _base(ds, key, default):
+    import json
+
+    try:
+        return float(json.loads(ds.attrs["sweep"])["base"].get(key, default))
+    except (KeyError, ValueError, TypeError):
+        return default

@@ -58,6 +58,8 @@ __all__ = ["Axis", "SweepSpec", "SweepResult", "TASKS", "load_sweep", "parse_swe
 STORE_MARKER = "bkwaves-sweep-1"
 PENDING, DONE, FAILED = 0, 1, 2
 COMBINES = ("product", "zip")
+FLUSH_SECONDS = 1.0  # a finished point is in the store at most this long after it arrives
+FLUSH_POINTS = 256
 
 
 # --------------------------------------------------------------------------- tasks
@@ -617,23 +619,37 @@ class _Store:
         _consolidate(self.path)
         return arr
 
-    def write(self, index, key: str, summary: dict | None, error: str | None):
-        idx = tuple(int(i) for i in index)
+    def write(self, records) -> None:
+        """Write finished points ``(index, key, summary or None, error or None)``: each
+        variable is read, updated and written once for the whole batch; the status goes
+        last, so a point is done only once all its values are on disk."""
+        if not records:
+            return
         reserved = {*self.spec.dims, *(a.name for a in self.spec.axes)}
-        for name, value in (summary or {}).items():
-            if name.startswith("__") or name in reserved:
-                continue  # inputs echoed back by the task are the coordinates
-            arr = self._variable(name, value)
-            if isinstance(value, str) != (arr.dtype.kind != "f"):
-                raise ParameterError(
-                    f"summary {name!r} changes type between points ({value!r}); "
-                    "a task must report one type per name"
-                )
-            arr[idx] = value
-        self.g["error"][idx] = error or ""
-        self.g["key"][idx] = key
-        # the status goes last: a point is done only once all its values are written
-        self.g["status"][idx] = FAILED if error else DONE
+        columns: dict[str, list] = {}
+        for index, _key, summary, _error in records:
+            idx = tuple(int(i) for i in index)
+            for name, value in (summary or {}).items():
+                if name.startswith("__") or name in reserved:
+                    continue  # inputs echoed back by the task are the coordinates
+                columns.setdefault(name, []).append((idx, value))
+        for name, cells in columns.items():
+            arr = self._variable(name, cells[0][1])
+            self._update(arr, cells, name)
+        self._update(self.g["error"], [(tuple(r[0]), r[3] or "") for r in records], "error")
+        self._update(self.g["key"], [(tuple(r[0]), r[1]) for r in records], "key")
+        status = [(tuple(r[0]), FAILED if r[3] else DONE) for r in records]
+        self._update(self.g["status"], status, "status")
+
+    @staticmethod
+    def _update(arr, cells, name):
+        values = arr[...]
+        text = arr.dtype.kind != "f" and arr.dtype.kind not in "iu"
+        for idx, value in cells:
+            if isinstance(value, str) != text:
+                value = math.nan if not text else str(value)
+            values[idx] = value
+        arr[...] = values
 
 
 def _consolidate(path: Path):
@@ -814,6 +830,15 @@ def _execute(client, spec, store, todo, progress, dashboard, stop_after):
         task_id = bar.add_task(f"sweep ({spec.task})", total=len(todo))
     computed = failed = 0
     interrupted = False
+    batch: list = []
+    last_flush = time.perf_counter()
+
+    def flush():
+        nonlocal last_flush
+        store.write(batch)
+        batch.clear()
+        last_flush = time.perf_counter()
+
     try:
         for fut in as_completed([f for _, _, f in futures.values()]):
             idx, k, _ = futures[fut.key]
@@ -822,15 +847,18 @@ def _execute(client, spec, store, todo, progress, dashboard, stop_after):
                 # worker and is being recomputed elsewhere
                 summary = fut.result()
             except Exception as exc:  # noqa: BLE001 - the point's own failure, recorded
-                store.write(idx, k, None, f"{type(exc).__name__}: {exc}")
+                batch.append((idx, k, None, f"{type(exc).__name__}: {exc}"))
                 failed += 1
             else:
                 tables = summary.pop("__tables__", None)
                 if spec.catalogs and tables:
                     _write_tables(store.path, k, tables)
-                store.write(idx, k, summary, None)
+                batch.append((idx, k, summary, None))
                 computed += 1
             fut.release()
+            # finished points reach the store within FLUSH_SECONDS (and in batches)
+            if time.perf_counter() - last_flush > FLUSH_SECONDS or len(batch) >= FLUSH_POINTS:
+                flush()
             if bar is not None:
                 bar.update(task_id, completed=computed + failed)
             if stop_after is not None and computed + failed >= stop_after:
@@ -839,6 +867,7 @@ def _execute(client, spec, store, todo, progress, dashboard, stop_after):
     except KeyboardInterrupt:
         interrupted = True
     finally:
+        flush()
         if bar is not None:
             bar.stop()
         if interrupted:
