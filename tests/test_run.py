@@ -16,7 +16,11 @@ import bkwaves as bk
 from bkwaves.config import load_config, parse_config
 from bkwaves.runner import run
 
-EXAMPLES = sorted((Path(__file__).parent.parent / "examples").glob("*.toml"))
+EXAMPLES = sorted(
+    p
+    for p in (Path(__file__).parent.parent / "examples").glob("*.toml")
+    if not p.name.startswith("sweep_")  # sweep descriptions: tests/test_sweep.py
+)
 BK = [sys.executable, "-m", "bkwaves"]
 
 

@@ -331,3 +331,48 @@ def test_adaptive_sweep_refines_where_the_output_changes_fastest(tmp_path, clien
     more = sweep({**doc, "adaptive": {"output": "c", "npoints": 30}}, out, client=client)
     assert (more.skipped, more.computed) == (24, 6)
     assert len(more.dataset.u_plus) == 30
+
+
+def test_run_task_over_seeds_with_catalogs(tmp_path, client):
+    """task = "run": each point is bk.run of the base config with the axes set; the summary
+    equals the direct in-memory run, and each point's catalog is written once beside."""
+    from bkwaves.sweeps import points_dir
+
+    base = bk.config.load_config(
+        Path(__file__).parents[1] / "examples" / "free_boundary_random.toml"
+    ).to_dict()
+    base["run"] = {"t_end": 600.0}
+    base["output"] = {"units": "native"}
+    doc = {
+        "task": "run",
+        "base": base,
+        "axes": {"seed": {"seeds": 3}, "initial.amplitude": {"values": [0.02, 0.2]}},
+        "output": {"catalogs": True},
+    }
+    out = tmp_path / "seeds.zarr"
+    r = sweep(doc, out, client=client)
+    ds = r.dataset
+    assert r.computed == 6 and (ds["status"] == DONE).all()
+    assert ds["n_events"].dims == ("seed", "amplitude")
+    direct = bk.run({**base, "seed": 2, "initial": {**base["initial"], "amplitude": 0.2}})
+    cell = ds.sel(seed=2, amplitude=0.2)
+    assert float(cell["n_events"]) == direct.summary["n_events"]
+    assert float(cell["t"]) == direct.summary["t"]
+    files = sorted(points_dir(out).glob("*.events.parquet"))
+    assert len(files) == 6
+    key = str(cell["key"].values)
+    import pandas as pd
+
+    pd.testing.assert_frame_equal(
+        pd.read_parquet(points_dir(out) / f"{key}.events.parquet"), direct.events
+    )
+
+
+@pytest.mark.parametrize(
+    "path",
+    sorted((Path(__file__).parents[1] / "examples").glob("sweep_*.toml")),
+    ids=lambda p: p.name,
+)
+def test_example_sweeps_are_valid(path):
+    spec = load_sweep(path)
+    assert spec.output_path.endswith(".zarr") and len(spec.indices()) > 1

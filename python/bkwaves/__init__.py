@@ -15,6 +15,8 @@ from .chain import Chain, ChainResult  # noqa: E402
 from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning  # noqa: E402
 from .io import load  # noqa: E402
 from .params import Params, PhysicalUnits  # noqa: E402
+from .runner import RunResult  # noqa: E402
+from .runner import simulate as run  # noqa: E402
 from .sweeps import load_sweep_result as sweep_result  # noqa: E402
 from .sweeps import sweep  # noqa: E402
 from .waves import TravelingWave, front_speed, tip_solve, traveling_wave  # noqa: E402
@@ -40,6 +42,8 @@ __all__ = [
     "sweep_result",
     "front_speed",
     "presets",
+    "run",
+    "RunResult",
     "theory",
     "tip_solve",
     "traveling_wave",

@@ -197,6 +197,18 @@ class RunConfig:
     def physical(self) -> bool:
         return self.params.units is not None
 
+    def to_dict(self) -> dict:
+        """This config as a document of the TOML schema, in the paper's dimensionless
+        units (``input_units = "dimensionless"`` when the config carries an SI
+        description in [physical]): ``RunConfig.from_dict(cfg.to_dict()) == cfg``
+        exactly. A config changed in code (``dataclasses.replace``) writes what it holds."""
+        return _to_doc(self)
+
+    @classmethod
+    def from_dict(cls, doc: dict, *, base_dir: Path | None = None) -> RunConfig:
+        """Validate a document of the TOML schema (see :meth:`to_dict`)."""
+        return parse_config(doc, base_dir=base_dir)
+
     def x(self) -> np.ndarray:
         """Node positions in dimensionless units (blocks at i*dx for the chain)."""
         if self.model == "chain":
@@ -303,6 +315,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         "triggers",
         "run",
         "output",
+        "input_units",
     )
     _keys(doc, "", top, ("model",))
     model = _choice(doc, "model", "", MODELS)
@@ -372,14 +385,28 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     out_path = o.get("path")
     if out_path is not None and (not isinstance(out_path, str) or not out_path):
         _err("output.path", f"expected a file name, got {out_path!r}")
-    # physical configs: convert times and lengths to the paper's units
+    # physical configs: convert times and lengths to the paper's units (unless the
+    # document says its values are dimensionless already, as RunConfig.to_dict writes)
+    input_units = _choice(
+        doc,
+        "input_units",
+        "",
+        ("SI", "dimensionless"),
+        "SI" if params.units is not None else "dimensionless",
+    )
+    if params.units is None and input_units != "dimensionless":
+        _err("input_units", "'SI' needs a [physical] table; with [params] values are dimensionless")
     ts = ls = vs = 1.0
-    if params.units is not None:
+    if params.units is not None and input_units == "SI":
         ts, ls, vs = params.units.time_scale, params.units.length_scale, params.units.velocity_scale
         initial = InitialSpec(
             **{
                 **initial.__dict__,
-                "correlation_length": initial.correlation_length / ls,
+                "correlation_length": (
+                    initial.correlation_length / ls
+                    if initial.kind == "random"
+                    else initial.correlation_length
+                ),
                 "bumps": tuple(Bump(b.center / ls, b.width / ls, b.height) for b in initial.bumps),
             }
         )
@@ -413,6 +440,62 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         source=doc,
         base_dir=base_dir,
     )
+
+
+def _to_doc(cfg: RunConfig) -> dict:
+    p = cfg.params
+    doc: dict = {"model": cfg.model, "seed": cfg.seed}
+    if cfg.title:
+        doc["title"] = cfg.title
+    if p.units is not None:
+        doc["input_units"] = "dimensionless"
+        doc["physical"] = dict(p.units.__dict__)
+    else:
+        doc["params"] = {k: v for k, v in p.to_dict().items() if k != "units"}
+    if cfg.model == "chain":
+        doc["domain"] = {"blocks": cfg.blocks, "boundary": cfg.boundary}
+    else:
+        doc["domain"] = {"length": cfg.length, "grid": cfg.grid, "boundary": cfg.boundary}
+    s = cfg.initial
+    ini: dict = {"kind": s.kind}
+    if s.kind == "uniform":
+        ini["value"] = s.value
+    elif s.kind == "ramp":
+        ini.update(start=s.start, end=s.end)
+    elif s.kind == "random":
+        ini.update(mean=s.mean, amplitude=s.amplitude, correlation_length=s.correlation_length)
+    elif s.kind == "bumps":
+        ini.update(
+            base=s.base,
+            slope=s.slope,
+            bumps=[{"center": b.center, "width": b.width, "height": b.height} for b in s.bumps],
+        )
+    else:
+        ini["path"] = s.path
+    if cfg.model == "chain":
+        ini["velocity"] = s.velocity
+    doc["initial"] = ini
+    if cfg.triggers:
+        doc["triggers"] = [
+            {"time": t.time, "block": t.block, "kind": t.kind}
+            | ({"velocity": t.velocity} if t.kind == "kick" else {})
+            for t in cfg.triggers
+        ]
+    run = {}
+    if cfg.t_end is not None:
+        run["t_end"] = cfg.t_end
+    if cfg.max_events is not None:
+        run["max_events"] = cfg.max_events
+    doc["run"] = run
+    out: dict = {"units": cfg.output_units}
+    if cfg.output_path is not None:
+        out["path"] = cfg.output_path
+    if cfg.snapshot_every is not None:
+        out["snapshot_every"] = cfg.snapshot_every
+    if cfg.snapshot_events is not None:
+        out["snapshot_events"] = cfg.snapshot_events
+    doc["output"] = out
+    return doc
 
 
 def load_config(path) -> RunConfig:

@@ -35,7 +35,15 @@ from ._progress import ProgressBar
 from .config import RunConfig, initial_state
 from .io import RunWriter
 
-__all__ = ["RunSummary", "run", "resume", "checkpoint_path"]
+__all__ = [
+    "RunResult",
+    "RunSummary",
+    "run",
+    "run_result",
+    "simulate",
+    "resume",
+    "checkpoint_path",
+]
 
 
 def checkpoint_path(out) -> Path:
@@ -188,7 +196,7 @@ def _attrs(cfg: RunConfig, units: _Units) -> dict:
         "title": cfg.title or f"bkwaves {cfg.model} run",
         "model": cfg.model,
         "seed": cfg.seed,
-        "config": json.dumps(cfg.source, default=str),
+        "config": json.dumps(cfg.to_dict(), default=str),
         "params": json.dumps({k: v for k, v in p.to_dict().items() if k != "units"}),
         "friction": p.friction if cfg.model == "chain" else "",
         "physical_units": json.dumps(p.units.__dict__) if p.units is not None else "",
@@ -208,6 +216,7 @@ def run(
     checkpoint_every: float | None = None,
     _stop_after_chunks: int | None = None,
     _state: dict | None = None,
+    _memory=None,
 ) -> RunSummary:
     """Run ``cfg`` and write its outputs to ``out`` (default ``cfg.output_path``; None:
     nothing written). Returns a summary; Ctrl-C or SIGTERM end the run cleanly and leave
@@ -224,7 +233,7 @@ def run(
         raise ParameterError(
             f"invalid checkpoint_every = {checkpoint_every}: allowed checkpoint_every > 0 (s)"
         )
-    ctl = _Control(out, cfg, checkpoint_every, _stop_after_chunks, _state)
+    ctl = _Control(out, cfg, checkpoint_every, _stop_after_chunks, _state, _memory)
     if cfg.model == "chain":
         return _run_chain(cfg, out, progress, table_every, chunk, ctl)
     return _run_free_boundary(cfg, out, progress, table_every, chunk, ctl)
@@ -257,11 +266,158 @@ def resume(
     )
 
 
+class _MemoryWriter:
+    """The writer interface of :class:`bkwaves.io.RunWriter`, keeping everything in
+    memory (for :func:`run_result`): tables always, snapshots when asked."""
+
+    def __init__(self, snapshots: bool):
+        self.keep_snapshots = snapshots
+        self.tables: dict = {}
+        self.table_units: dict = {}
+        self.times: list = []
+        self.fields: dict = {}
+
+    def start(self, x, variables, attrs, coord_units):
+        self.x, self.variables, self.attrs, self.coord_units = x, variables, attrs, coord_units
+
+    def append(self, t, **fields):
+        if self.keep_snapshots:
+            self.times.append(float(t))
+            for k, v in fields.items():
+                self.fields.setdefault(k, []).append(np.array(v, copy=True))
+
+    def write_table(self, name, df, units=None, csv=True):
+        self.tables[name] = df
+        self.table_units[name] = dict(units or {})
+
+    def close(self):
+        pass
+
+    def dataset(self):
+        """The snapshots as an xarray Dataset (dims t, x), as bk.load would read them."""
+        import xarray as xr
+
+        x_units, t_units = self.coord_units
+        data = {}
+        for k, rows in self.fields.items():
+            units, long_name, dtype = self.variables[k]
+            data[k] = (
+                ("t", "x"),
+                np.asarray(rows, dtype=dtype),
+                {"units": units, "long_name": long_name},
+            )
+        return xr.Dataset(
+            data,
+            coords={
+                "t": ("t", np.asarray(self.times), {"units": t_units}),
+                "x": ("x", np.asarray(self.x), {"units": x_units}),
+            },
+            attrs=self.attrs,
+        )
+
+
+@dataclass
+class RunResult:
+    """A run computed in memory (:func:`bkwaves.run`): ``summary`` (the scalars of the run:
+    time reached, event counts, event statistics), ``tables`` (``events`` and ``slips`` or
+    ``shocks`` as pandas DataFrames, in the output units) and ``snapshots`` (an xarray
+    Dataset, or None unless asked)."""
+
+    summary: dict
+    tables: dict
+    snapshots: object = None
+    config: RunConfig | None = None
+
+    @property
+    def events(self):
+        return self.tables.get("events")
+
+
+B_VALUE_MIN_EVENTS = 50  # fewer events: no b-value (its error would be ~b/sqrt(n) > 14 %)
+
+
+def _event_statistics(events) -> dict:
+    """Scalars of an event catalog: count, the largest event, the mean recurrence interval
+    and, with at least B_VALUE_MIN_EVENTS events of positive moment, the b-value of their
+    moment magnitudes (Aki's maximum likelihood above the smallest) with its error."""
+    from .stats import b_value, magnitudes
+
+    out = {
+        "n_events": 0.0,
+        "max_moment": math.nan,
+        "mean_interval": math.nan,
+        "b_value": math.nan,
+        "b_value_err": math.nan,
+    }
+    if events is None or len(events) == 0:
+        return out
+    out["n_events"] = float(len(events))
+    if "moment" in events:
+        m = events["moment"].to_numpy(dtype=float)
+        m = m[np.isfinite(m) & (m > 0)]
+        if m.size:
+            out["max_moment"] = float(m.max())
+        if m.size >= B_VALUE_MIN_EVENTS:
+            b = b_value(magnitudes(m, "moment"))
+            out["b_value"], out["b_value_err"] = b.b, b.sigma_shi_bolt
+    if "t_start" in events and len(events) >= 2:
+        out["mean_interval"] = float(np.mean(np.diff(np.sort(events["t_start"].to_numpy()))))
+    return out
+
+
+def run_result(cfg: RunConfig, *, snapshots: bool = False, chunk: int = 20_000) -> RunResult:
+    """Run ``cfg`` in memory: nothing is written to disk (``cfg.output_path`` is ignored).
+    Returns the summary scalars, the tables and, with ``snapshots=True``, the snapshots."""
+    mem = _MemoryWriter(snapshots)
+    s = run(cfg, None, chunk=chunk, _memory=mem)
+    summary = {k: v for k, v in s.to_dict().items() if k not in ("out", "units")}
+    summary.pop("counters", None)
+    summary.pop("warnings", None)
+    summary.update(_event_statistics(mem.tables.get("events")))
+    return RunResult(
+        summary=summary,
+        tables=mem.tables,
+        snapshots=mem.dataset() if snapshots else None,
+        config=cfg,
+    )
+
+
+def simulate(cfg, out=None, *, snapshots: bool = False, progress: bool = False) -> RunResult:
+    """Run a configuration and return its :class:`RunResult` (this is ``bk.run``).
+
+    ``cfg``: a :class:`RunConfig`, a dict of the TOML schema (``RunConfig.to_dict()``) or
+    the path of a TOML file. Without ``out`` nothing is written (``[output] path`` is
+    ignored); with ``out`` (.nc or .zarr) the outputs are written as ``bkwaves run`` writes
+    them and the result is read back from them."""
+    from .config import RunConfig, load_config
+
+    if isinstance(cfg, str | Path):
+        cfg = load_config(cfg)
+    elif isinstance(cfg, dict):
+        cfg = RunConfig.from_dict(cfg)
+    elif not isinstance(cfg, RunConfig):
+        from ._core import ParameterError
+
+        raise ParameterError(f"invalid cfg = {cfg!r}: a RunConfig, a dict or a TOML path")
+    if out is None:
+        return run_result(cfg, snapshots=snapshots)
+    from .io import load_tables
+
+    s = run(cfg, out, progress=progress)
+    ds, tables = load_tables(out)
+    summary = {k: v for k, v in s.to_dict().items() if k not in ("units", "counters", "warnings")}
+    summary.update(_event_statistics(tables.get("events")))
+    return RunResult(
+        summary=summary, tables=tables, snapshots=ds if snapshots else None, config=cfg
+    )
+
+
 class _Control:
     """Checkpoint timing, the resume state, and the stop request of a run."""
 
-    def __init__(self, out, cfg, every, stop_after, state):
+    def __init__(self, out, cfg, every, stop_after, state, memory=None):
         self.out, self.cfg, self.every = out, cfg, every
+        self.memory = memory
         self.stop_after = stop_after
         self.state = state
         self.chunks = 0
@@ -295,6 +451,9 @@ def _open_writer(out, cfg, units, x, variables, ctl):
     """The output writer (None without an output) and the number of snapshots already in
     it (those the checkpoint counts when resuming)."""
     written = ctl.state["written"] if ctl.resuming else 0
+    if ctl.memory is not None:  # run_result: everything kept in memory
+        ctl.memory.start(units.x(x), variables, _attrs(cfg, units), units.coord_units())
+        return written, ctl.memory
     if not out:
         return written, None
     writer = RunWriter(

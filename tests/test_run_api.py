@@ -1,0 +1,91 @@
+"""A run as a function of its config: RunConfig.to_dict()/from_dict() round trips, and
+bk.run(cfg) returns in memory what `bkwaves run` writes."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import bkwaves as bk
+from bkwaves.config import RunConfig, load_config
+
+EXAMPLES = sorted(
+    p
+    for p in (Path(__file__).parents[1] / "examples").glob("*.toml")
+    if not p.name.startswith("sweep_")
+)
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.name)
+def test_config_round_trips_exactly(path):
+    cfg = load_config(path)
+    doc = cfg.to_dict()
+    again = RunConfig.from_dict(json.loads(json.dumps(doc)), base_dir=cfg.base_dir)
+    assert again == cfg
+    assert again.to_dict() == doc
+
+
+def test_a_config_changed_in_code_writes_what_it_holds(tmp_path):
+    cfg = load_config(Path(__file__).parents[1] / "examples" / "free_boundary_source.toml")
+    changed = dataclasses.replace(
+        cfg, max_events=2, params=dataclasses.replace(cfg.params, gamma=0.2)
+    )
+    out = tmp_path / "c.nc"
+    bk.runner.run(changed, out)
+    ds, _tables = bk.load(out)
+    stored = RunConfig.from_dict(json.loads(ds.attrs["config"]))
+    assert stored == changed
+    assert json.loads(ds.attrs["params"])["gamma"] == 0.2
+    assert ds.attrs["model"] == "free_boundary"
+
+
+def test_run_in_memory_equals_the_written_run(tmp_path):
+    cfg = load_config(Path(__file__).parents[1] / "examples" / "free_boundary_random.toml")
+    cfg = dataclasses.replace(cfg, t_end=800.0)
+    mem = bk.run(cfg, snapshots=True)
+    assert mem.summary["model"] == "free_boundary" and mem.summary["t"] == 800.0
+    assert mem.summary["n_events"] == len(mem.events) > 0
+    out = tmp_path / "r.nc"
+    disk = bk.run(cfg, out, snapshots=True)
+    pd.testing.assert_frame_equal(
+        mem.events.reset_index(drop=True),
+        disk.events.reset_index(drop=True),
+        check_dtype=False,
+    )
+    np.testing.assert_array_equal(mem.snapshots["u"].values, disk.snapshots["u"].values)
+    np.testing.assert_array_equal(mem.snapshots["t"].values, disk.snapshots["t"].values)
+    assert mem.summary["events"] == disk.summary["events"]
+    # nothing was written by the in-memory run
+    assert not Path(cfg.output_path).exists()
+
+
+def test_run_accepts_dicts_and_paths_and_names_bad_input():
+    cfg = load_config(Path(__file__).parents[1] / "examples" / "chain_front.toml")
+    cfg = dataclasses.replace(cfg, t_end=20.0, blocks=200)
+    a = bk.run(cfg.to_dict())
+    b = bk.run(cfg)
+    pd.testing.assert_frame_equal(a.events, b.events)
+    with pytest.raises(bk.ParameterError, match="cfg"):
+        bk.run(42)
+    with pytest.raises(bk.ParameterError, match="input_units"):
+        RunConfig.from_dict({**cfg.to_dict(), "input_units": "SI"})
+
+
+def test_event_statistics_b_value_only_with_enough_events():
+    from bkwaves.runner import B_VALUE_MIN_EVENTS, _event_statistics
+
+    rng = np.random.default_rng(1)
+    # moments with a pure power law: P(M0 > m) ~ m^(-2/3 b) with b = 1
+    n = 4000
+    m0 = (1 - rng.random(n)) ** (-1.0 / (2.0 / 3.0))
+    ev = pd.DataFrame({"moment": m0, "t_start": np.arange(n, dtype=float)})
+    s = _event_statistics(ev)
+    assert s["n_events"] == n and s["mean_interval"] == 1.0
+    assert abs(s["b_value"] - 1.0) < 3 * s["b_value_err"]
+    few = _event_statistics(ev.iloc[: B_VALUE_MIN_EVENTS - 1])
+    assert np.isnan(few["b_value"]) and few["n_events"] == B_VALUE_MIN_EVENTS - 1
