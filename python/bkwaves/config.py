@@ -190,7 +190,6 @@ class RunConfig:
     output_units: str = "native"
     seed: int = 0
     title: str = ""
-    source: dict = field(default_factory=dict, compare=False, repr=False)
     base_dir: Path | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -437,7 +436,6 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         output_units=_choice(o, "units", "output", ("native", "dimensionless"), "native"),
         seed=seed,
         title=title,
-        source=doc,
         base_dir=base_dir,
     )
 

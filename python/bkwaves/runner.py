@@ -60,7 +60,7 @@ def _save_checkpoint(out, cfg: RunConfig, engine_obj, written: int, runner: dict
     engine_meta, arrays = engine_obj._record()
     meta = {
         "model": cfg.model,
-        "config": cfg.source,
+        "config": cfg.to_dict(),
         "base_dir": str(cfg.base_dir) if cfg.base_dir else "",
         "engine": engine_meta,
         "written": int(written),
