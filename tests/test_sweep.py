@@ -376,3 +376,68 @@ def test_run_task_over_seeds_with_catalogs(tmp_path, client):
 def test_example_sweeps_are_valid(path):
     spec = load_sweep(path)
     assert spec.output_path.endswith(".zarr") and len(spec.indices()) > 1
+
+
+def test_sigterm_keeps_finished_points_and_exits_143(tmp_path):
+    """SIGTERM to `bkwaves sweep` mid-sweep: exit 143 with a message saying how to go on;
+    the finished points are in the store; the same command computes only the rest."""
+    toml = tmp_path / "fronts.toml"
+    toml.write_text(
+        'task = "front"\n[base]\ngamma = 0.3\nblocks = 3000\ndx = 0.05\n'
+        "[axes.u_plus]\nlinspace = {start = 0.5, stop = 0.8, num = 40}\n"
+    )
+    out = tmp_path / "fronts.zarr"
+    cmd = [
+        sys.executable,
+        "-m",
+        "bkwaves",
+        "sweep",
+        str(toml),
+        "-o",
+        str(out),
+        "--workers",
+        "1",
+        "--threads",
+        "--json",
+    ]
+    cli = subprocess.Popen(
+        cmd, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    _wait_for(lambda: _done_count(out) >= 2 or cli.poll() is not None, 120, "2 points")
+    assert cli.poll() is None, "the sweep ended before it could be interrupted"
+    cli.send_signal(signal.SIGTERM)
+    _stdout, stderr = cli.communicate(timeout=120)
+    assert cli.returncode == 143, stderr
+    assert "run the same command again" in stderr
+    kept = _done_count(out)
+    assert 2 <= kept < 40
+    again = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=600)
+    assert again.returncode == 0, again.stderr
+    summary = json.loads(again.stdout)
+    assert summary["skipped"] == kept and summary["computed"] == 40 - kept
+
+
+def test_run_task_snapshots_per_point(tmp_path, client):
+    base = bk.config.load_config(
+        Path(__file__).parents[1] / "examples" / "free_boundary_source.toml"
+    ).to_dict()
+    base["run"] = {"max_events": 2}
+    doc = {
+        "task": "run",
+        "base": base,
+        "axes": {"params.gamma": {"values": [0.2, 0.3]}},
+        "output": {"snapshots": True},
+    }
+    out = tmp_path / "snap.zarr"
+    r = sweep(doc, out, client=client)
+    assert r.computed == 2
+    from bkwaves.sweeps import points_dir
+
+    for g in (0.2, 0.3):
+        key = str(r.dataset["key"].sel(gamma=g).values)
+        import xarray as xr
+
+        with xr.open_dataset(points_dir(out) / f"{key}.nc", engine="h5netcdf") as snap:
+            direct = bk.run({**base, "params": {**base["params"], "gamma": g}}, snapshots=True)
+            np.testing.assert_array_equal(snap["u"].values, direct.snapshots["u"].values)
+    assert not list(points_dir(out).glob("*.parquet"))  # catalogs were not asked for

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import signal
 from pathlib import Path
 from typing import Annotated
 
@@ -408,8 +409,11 @@ def sweep_cmd(
             f"{r.failed} failed) in {r.wall_s:.1f} s -> {r.out}"
         )
     if r.interrupted:
-        typer.echo("interrupted: run the same command again to compute the rest", err=True)
-        raise typer.Exit(130)
+        typer.echo(
+            "interrupted: finished points are kept; run the same command again to compute the rest",
+            err=True,
+        )
+        raise typer.Exit(143 if r.signal == signal.SIGTERM else 130)
 
 
 def main():  # entry point

@@ -27,6 +27,7 @@ Schema of SWEEP.toml (see ``examples/sweep_*.toml``)::
     [output]
     path = "sweep.zarr"           # default: SWEEP.zarr beside the file
     catalogs = false              # task = "run": write each point's tables (Parquet)
+    snapshots = false             # task = "run": write each point's snapshots (NetCDF)
 
 The store: one variable per summary scalar (float, or string for text), plus ``status``
 (0 pending, 1 done, 2 failed), ``error`` (the failure's message), ``key`` (a hash of the
@@ -42,6 +43,7 @@ import hashlib
 import inspect
 import json
 import math
+import signal
 import time
 import tomllib
 from dataclasses import dataclass, field
@@ -72,7 +74,7 @@ FLUSH_POINTS = 256
 class Task:
     name: str
     doc: str
-    run: Any  # callable(point: dict) -> dict of scalars (and tables for "run")
+    run: Any  # callable(point: dict, keep: tuple) -> dict of scalars (+ files for "run")
     check: Any  # callable(point: dict) -> None, raises ParameterError
 
 
@@ -107,7 +109,7 @@ def _scalars(d: dict) -> dict:
     return out
 
 
-def _front(point: dict) -> dict:
+def _front(point: dict, keep=()) -> dict:
     from .chain import front
 
     kw = _kwargs_of(front, point, "front", ("u_plus", "gamma", "dx"))
@@ -120,7 +122,7 @@ def _front_check(point: dict) -> None:
     _kwargs_of(front, point, "front", ("u_plus", "gamma", "dx"))
 
 
-def _speed(point: dict) -> dict:
+def _speed(point: dict, keep=()) -> dict:
     from .waves import front_speed
 
     kw = _kwargs_of(front_speed, point, "speed", ("u_plus",))
@@ -133,7 +135,7 @@ def _speed_check(point: dict) -> None:
     _kwargs_of(front_speed, point, "speed", ("u_plus",))
 
 
-def _wave(point: dict) -> dict:
+def _wave(point: dict, keep=()) -> dict:
     from .waves import traveling_wave
 
     kw = _kwargs_of(traveling_wave, point, "wave", ("u_plus", "gamma"))
@@ -146,7 +148,7 @@ def _wave_check(point: dict) -> None:
     _kwargs_of(traveling_wave, point, "wave", ("u_plus", "gamma"))
 
 
-def _tip(point: dict) -> dict:
+def _tip(point: dict, keep=()) -> dict:
     from .waves import tip_solve
 
     kw = _kwargs_of(tip_solve, point, "tip", ())
@@ -159,12 +161,15 @@ def _tip_check(point: dict) -> None:
     _kwargs_of(tip_solve, point, "tip", ())
 
 
-def _run(point: dict) -> dict:
+def _run(point: dict, keep=()) -> dict:
     from .runner import run_result
 
-    res = run_result(_run_config(point))
+    res = run_result(_run_config(point), snapshots="snapshots" in keep)
     out = _scalars(res.summary)
-    out["__tables__"] = res.tables
+    if "catalogs" in keep:
+        out["__tables__"] = res.tables
+    if "snapshots" in keep:
+        out["__snapshots__"] = res.snapshots
     return out
 
 
@@ -196,10 +201,11 @@ TASKS: dict[str, Task] = {
 }
 
 
-def run_point(task: str, point: dict) -> dict:
-    """Compute one point (what a worker runs): the task's summary plus ``wall_s``."""
+def run_point(task: str, point: dict, keep: tuple = ()) -> dict:
+    """Compute one point (what a worker runs): the task's summary plus ``wall_s``; with
+    ``keep`` ("catalogs", "snapshots"; task "run") also the point's tables/snapshots."""
     t0 = time.perf_counter()
-    out = TASKS[task].run(point)
+    out = TASKS[task].run(point, tuple(keep))
     out["wall_s"] = time.perf_counter() - t0
     return out
 
@@ -237,6 +243,12 @@ class SweepSpec:
     adaptive: dict | None = None
     output_path: str | None = None
     catalogs: bool = False
+    snapshots: bool = False
+
+    @property
+    def keep(self) -> tuple[str, ...]:
+        """What besides the summary each point hands back (task "run")."""
+        return tuple(k for k in ("catalogs", "snapshots") if getattr(self, k))
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -284,7 +296,7 @@ class SweepSpec:
             "title": self.title,
             "base": copy.deepcopy(self.base),
             "axes": axes,
-            "output": {"catalogs": self.catalogs},
+            "output": {"catalogs": self.catalogs, "snapshots": self.snapshots},
         }
         if self.output_path:
             d["output"]["path"] = self.output_path
@@ -451,18 +463,20 @@ def parse_sweep(doc: dict, *, base_dir: Path | None = None) -> SweepSpec:
     if not isinstance(out, dict):
         _fail("output", "expected a table")
     for k in out:
-        if k not in ("path", "catalogs"):
-            _fail(f"output.{k}", "unknown key; valid: path, catalogs")
+        if k not in ("path", "catalogs", "snapshots"):
+            _fail(f"output.{k}", "unknown key; valid: path, catalogs, snapshots")
     path = out.get("path")
     if path is not None and (not isinstance(path, str) or not path.endswith(".zarr")):
         _fail("output.path", f"expected a path ending in .zarr, got {path!r}")
     if path is not None and base_dir is not None and not Path(path).is_absolute():
         path = str(Path(base_dir) / path)
-    catalogs = out.get("catalogs", False)
-    if not isinstance(catalogs, bool):
-        _fail("output.catalogs", f"expected true or false, got {catalogs!r}")
-    if catalogs and task != "run":
-        _fail("output.catalogs", "only task = 'run' has catalogs")
+    files = {}
+    for k in ("catalogs", "snapshots"):
+        files[k] = out.get(k, False)
+        if not isinstance(files[k], bool):
+            _fail(f"output.{k}", f"expected true or false, got {files[k]!r}")
+        if files[k] and task != "run":
+            _fail(f"output.{k}", f"only task = 'run' has {k}")
     spec = SweepSpec(
         task=task,
         base=base,
@@ -471,7 +485,8 @@ def parse_sweep(doc: dict, *, base_dir: Path | None = None) -> SweepSpec:
         title=title,
         adaptive=dict(adaptive) if adaptive else None,
         output_path=path,
-        catalogs=catalogs,
+        catalogs=files["catalogs"],
+        snapshots=files["snapshots"],
     )
     # the base and one point must be valid before anything runs
     probe = (
@@ -680,6 +695,7 @@ class SweepResult:
     interrupted: bool = False
     workers: int = 0
     extra: dict = field(default_factory=dict)
+    signal: int | None = None  # the signal that interrupted the sweep (SIGINT, SIGTERM)
 
     def to_dict(self) -> dict:
         return {
@@ -791,9 +807,10 @@ def sweep(
         dashboard = getattr(client, "dashboard_link", None)
         nworkers = len(client.scheduler_info().get("workers", {}))
         try:
-            computed, failed, interrupted = _execute(
-                client, spec, store, todo, progress, dashboard, _stop_after
-            )
+            with _Signals() as signals:
+                computed, failed, interrupted = _execute(
+                    client, spec, store, todo, progress, dashboard, _stop_after
+                )
         finally:
             if own is not None:
                 client.close()
@@ -809,7 +826,35 @@ def sweep(
         dashboard=dashboard,
         interrupted=interrupted,
         workers=nworkers,
+        signal=signals.received if todo else None,
     )
+
+
+class _Signals:
+    """While active (in the main thread), SIGTERM interrupts the sweep like Ctrl-C: the
+    finished points are flushed and the pending ones cancelled. ``received`` is the
+    signal number (SIGINT for Ctrl-C)."""
+
+    def __init__(self):
+        self.received = None
+        self._old = {}
+
+    def _handler(self, signum, frame):
+        self.received = signum
+        raise KeyboardInterrupt
+
+    def __enter__(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            try:
+                self._old[sig] = signal.signal(sig, self._handler)
+            except ValueError:  # not the main thread: the defaults stay
+                pass
+        return self
+
+    def __exit__(self, *exc):
+        for sig, old in self._old.items():
+            signal.signal(sig, old)
+        return False
 
 
 def _execute(client, spec, store, todo, progress, dashboard, stop_after):
@@ -817,7 +862,9 @@ def _execute(client, spec, store, todo, progress, dashboard, stop_after):
 
     futures = {}
     for idx, k, point in todo:
-        fut = client.submit(run_point, spec.task, point, key=f"bkwaves-point-{k}", pure=False)
+        fut = client.submit(
+            run_point, spec.task, point, spec.keep, key=f"bkwaves-point-{k}", pure=False
+        )
         futures[fut.key] = (idx, k, fut)
     bar = None
     if progress:
@@ -850,9 +897,7 @@ def _execute(client, spec, store, todo, progress, dashboard, stop_after):
                 batch.append((idx, k, None, f"{type(exc).__name__}: {exc}"))
                 failed += 1
             else:
-                tables = summary.pop("__tables__", None)
-                if spec.catalogs and tables:
-                    _write_tables(store.path, k, tables)
+                _write_point_files(store.path, k, summary)
                 batch.append((idx, k, summary, None))
                 computed += 1
             fut.release()
@@ -876,18 +921,29 @@ def _execute(client, spec, store, todo, progress, dashboard, stop_after):
 
 
 def points_dir(out) -> Path:
-    """Where the per-point tables of a sweep stored in ``out`` go: ``OUT.points/``."""
+    """Where the per-point files of a sweep stored in ``out`` go: ``OUT.points/``, named
+    by the point's key: ``KEY.events.parquet`` (and the other tables), ``KEY.nc``."""
     out = Path(out)
     return out.with_name(out.name + ".points")
 
 
-def _write_tables(out: Path, key: str, tables: dict):
+def _write_point_files(out: Path, key: str, summary: dict):
+    """A point's tables and snapshots (popped from its summary), each written to a
+    temporary name and renamed, before the point is marked done."""
+    tables = summary.pop("__tables__", None) or {}
+    snapshots = summary.pop("__snapshots__", None)
+    if not tables and snapshots is None:
+        return
     d = points_dir(out)
     d.mkdir(exist_ok=True)
     for name, df in tables.items():
         tmp = d / f".{key}.{name}.parquet.tmp"
         df.to_parquet(tmp)
         tmp.replace(d / f"{key}.{name}.parquet")
+    if snapshots is not None:
+        tmp = d / f".{key}.nc.tmp"
+        snapshots.to_netcdf(tmp, engine="h5netcdf")
+        tmp.replace(d / f"{key}.nc")
 
 
 def load_sweep_result(out):

@@ -27,6 +27,7 @@ from .sweeps import (
     SweepResult,
     _client,
     _consolidate,
+    _write_point_files,
     run_point,
 )
 
@@ -212,7 +213,7 @@ def run_adaptive(spec, out, *, scheduler, workers, processes, overwrite, progres
                         p = spec.point_at(list(point_of(x)))
                         k = spec.key(p)
                         fut = client.submit(
-                            run_point, spec.task, p, key=f"bkwaves-point-{k}", pure=False
+                            run_point, spec.task, p, spec.keep, key=f"bkwaves-point-{k}", pure=False
                         )
                         pending[fut] = (x, k)
                 if not pending:
@@ -227,7 +228,7 @@ def run_adaptive(spec, out, *, scheduler, workers, processes, overwrite, progres
                         learner.tell(x, math.nan)
                         failed += 1
                     else:
-                        s.pop("__tables__", None)
+                        _write_point_files(store.path, k, s)
                         store.append(point_of(x), k, s, None)
                         learner.tell(x, value(s))
                         computed += 1
