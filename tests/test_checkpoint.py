@@ -162,3 +162,18 @@ def test_physical_units_and_snapshots_survive_a_checkpoint(tmp_path):
     np.testing.assert_array_equal(np.array(fb2._snap_u), np.array(fb._snap_u))
     np.testing.assert_array_equal(fb2.x, fb.x)
     assert _checkpoint.params_from_record(_checkpoint.params_record(p)) == p
+
+
+def test_an_archive_with_a_pickled_array_is_refused_without_running_it(tmp_path):
+    """The npz container itself can carry pickles (object arrays): never unpickled."""
+    payload, marker = _booby_trapped(tmp_path, "npz")
+    path = tmp_path / "c.ckpt"
+    chain().save(path)
+    with np.load(path, allow_pickle=False) as z:
+        arrays = {k: z[k] for k in z.files}
+    arrays["engine"] = np.array([_Touch(marker)], dtype=object)
+    with open(path, "wb") as f:
+        np.savez(f, **arrays)
+    with pytest.raises(bk.ParameterError, match="not a bkwaves chain checkpoint"):
+        bk.Chain.load(path)
+    assert not marker.exists()
