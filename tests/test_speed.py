@@ -150,7 +150,7 @@ def test_finite_dx_approaches_the_continuum_with_its_order():
 def test_lattice_speed_closed_form_at_gamma_zero():
     """Wiener-Hopf closed form for the discrete chain without damping vs the numerical
     finite-dx tip solver (two independent routes)."""
-    for u, dx in [(0.4, 0.1), (0.6, 0.3), (0.95, 0.05)]:
+    for u, dx in [(0.45, 0.1), (0.7, 0.3), (0.95, 0.05)]:
         c = bk.front_speed(u, dx=dx)
         assert c == pytest.approx(bk.tip_solve(u, dx=dx)["c"], rel=1e-11)
         assert c == pytest.approx(bk.front_speed(u, dx=dx, method="tip"), rel=1e-11)
@@ -163,3 +163,58 @@ def test_lattice_speed_closed_form_at_gamma_zero():
         bk.front_speed(0.01, dx=1.0)
     with pytest.raises(bk.ParameterError, match="dx"):
         bk.front_speed(0.5, dx=-0.1)
+
+
+@pytest.mark.parametrize("u", [1 - 1e-12, 1 - 1e-8, 5e-4, 1e-3])
+def test_tip_solve_outside_its_range_is_an_error_naming_u_plus_and_the_range(u):
+    """Beyond c = 1000 the collocation round-off grows like c^2 (1 - 1e-12 gave c 16 % too
+    high and u_plus = 4.5e-68); below c - 1 = 5e-5 it grows like 1/(c - 1)^2 and the lattice
+    behind the tip without bound (5e-4 failed with a negative theta, 1e-3 took 26 s)."""
+    with pytest.raises(bk.ParameterError, match="u_plus") as e:
+        bk.tip_solve(u)
+    msg = str(e.value)
+    assert "1000" in msg and "front_speed" in msg
+
+
+@pytest.mark.parametrize("u", [0.01, 0.0137, 0.99999, 0.99999949])
+def test_tip_solve_at_the_edges_of_its_range(u):
+    """0.0137 and 0.99999 are not range ends: untuned points near them."""
+    s = bk.tip_solve(u)
+    assert s["c"] == pytest.approx(closed(u), rel=1e-10)
+    assert s["u_plus"] == pytest.approx(u, rel=1e-5)  # the solved u_+, = 1/(1 + theta)
+    with pytest.raises(bk.ParameterError, match="c"):
+        bk.tip_solve(c=2000.0)
+
+
+def _lattice_formula(u, dx):
+    return dx / (2 * u * np.arcsin(dx * np.sqrt(1 - u * u) / (2 * u)))
+
+
+def _chain_c(u, dx, blocks, steady=1e-9):
+    import math
+
+    from bkwaves import _core
+
+    r = _core.front_measure(u, 0.0, dx, blocks, step=0.0125, beta=math.inf, heal=False)
+    assert r["unsteadiness"] < steady
+    return r["c"]
+
+
+@pytest.mark.parametrize("u, dx", [(0.1, 0.1), (0.2, 0.1), (0.25, 0.1), (0.3, 0.2)])
+def test_lattice_closed_form_refuses_narrow_pulses(u, dx):
+    """The closed form lets every block slide for ever; in the chain blocks re-stick ~w/dx
+    spacings behind the tip and that feeds back on c: (0.1, 0.1) runs at 0.97527, not 0.96023,
+    (0.2, 0.1) is 2.6e-4 off. Outside its domain front_speed names u_plus and dx and points to
+    the chain instead of returning a wrong number."""
+    chain = _chain_c(u, dx, 2400, steady=1e-7)
+    assert abs(_lattice_formula(u, dx) / chain - 1) > 1e-6  # the formula is wrong here
+    for method in ("exact", "tip"):
+        with pytest.raises(bk.ParameterError, match="u_plus") as e:
+            bk.front_speed(u, dx=dx, method=method)
+        assert "dx" in str(e.value) and "bk.chain.front" in str(e.value)
+
+
+@pytest.mark.parametrize("u, dx", [(0.45, 0.1), (0.35, 0.025)])
+def test_lattice_closed_form_is_the_chains_speed_inside_its_domain(u, dx):
+    """Untuned points inside the domain (X = 26 and 59): the chain agrees to its precision."""
+    assert bk.front_speed(u, dx=dx) == pytest.approx(_chain_c(u, dx, 2400), rel=2e-10)

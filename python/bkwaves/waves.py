@@ -23,8 +23,13 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
     Continuum limit (``dx = 0``, the paper's c(u_+)): c = 1/sqrt(1 - u_+^2), the exact
     solution of the tip problem of App. A (docs/theory.md); gamma drops out.
     Discrete chain (``dx > 0``): with ``gamma = 0`` the closed form
-    c = dx / (2 u_+ asin(dx sqrt(1 - u_+^2) / (2 u_+))); with ``gamma > 0`` the finite-dx
-    tip problem is solved numerically (the damping enters at order dx).
+    c = dx / (2 u_+ asin(dx sqrt(1 - u_+^2) / (2 u_+))), returned only where it is the
+    chain's speed: c > 1 and the pulse wide enough in lattice units that re-sticking
+    behind the tip does not feed back (X = lambda w/(c dx) >= 20, roughly
+    u_+^2/dx >= 2; elsewhere a ParameterError says to measure the front with
+    ``bk.chain.front``); with ``gamma > 0`` the finite-dx tip problem is solved
+    numerically (the damping enters at order dx; it too lets blocks slide for ever, so
+    it is the chain's speed only for wide pulses; see docs/theory.md).
     ``method="tip"`` always solves the tip problem numerically (about a millisecond
     per value); it agrees with the closed forms to ~1e-12.
     """
@@ -35,8 +40,11 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
         V._fail("method", method, "'exact' or 'tip'")
     if method == "exact" and dx == 0.0:
         return _scalar_or_array(_core.front_speed(u))
-    if method == "exact" and gamma == 0.0:
-        return _scalar_or_array(_core.lattice_front_speed(u, dx))
+    if dx > 0.0 and gamma == 0.0:
+        # the domain check (narrow pulses re-stick near the tip) applies to both methods
+        closed = _core.lattice_front_speed(u, dx)
+        if method == "exact":
+            return _scalar_or_array(closed)
     out = np.array([_core.tip_solve_u_plus(float(x), 16, 40.0, dx, gamma)["c"] for x in u.ravel()])
     return _scalar_or_array(out.reshape(u.shape))
 

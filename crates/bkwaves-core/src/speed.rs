@@ -17,6 +17,7 @@
 //! truth for c(u_+) used by every engine and by the Python package.
 
 use crate::error::{check_at_least, check_open, Error, Result};
+use std::f64::consts::PI;
 
 /// Front speed c(u_+) = 1/sqrt(1 - u_+^2) for 0 < u_+ < 1 (continuum limit, v = 0).
 pub fn front_speed(u_plus: f64) -> Result<f64> {
@@ -35,20 +36,68 @@ pub fn front_speed(u_plus: f64) -> Result<f64> {
 /// from the Wiener-Hopf solution of the finite-dx tip problem (docs/theory.md): the
 /// slip threshold is set by the lattice mode that co-moves with the front. It tends to
 /// [`front_speed`] as dx -> 0 with a relative correction -dx^2 (1 - u_+^2)/(24 u_+^2).
-/// Returns an error when dx sqrt(1 - u_+^2) > 2 u_+ (no steady front of this kind: the
-/// continuum description fails for u_+ of order dx, as the paper notes).
+///
+/// The tip problem behind it lets every block slide for ever; in the chain a block
+/// re-sticks about w/dx blocks behind the tip (w = pi u_+ c, the pulse width), and that
+/// feeds back on the tip speed by a relative ~0.1 exp(-X), X = [`resticking_exponent`].
+/// The closed form is returned only where it is the chain's speed to ~1e-10: c > 1 and
+/// X >= [`MIN_RESTICKING_EXPONENT`]; elsewhere the error names u_plus and dx and points to
+/// the chain (docs/theory.md, "Narrow pulses").
 pub fn lattice_front_speed(u_plus: f64, dx: f64) -> Result<f64> {
     let u = check_open("u_plus", u_plus, 0.0, 1.0, "0 < u_plus < 1")?;
     let dx = check_open("dx", dx, 0.0, f64::INFINITY, "dx > 0")?;
-    let arg = dx * ((1.0 - u) * (1.0 + u)).sqrt() / (2.0 * u);
-    if arg > 1.0 {
-        return Err(Error::InvalidParameter {
-            name: "u_plus",
-            value: u,
-            allowed: "dx sqrt(1 - u_plus^2) <= 2 u_plus (a steady lattice front exists)",
-        });
+    let narrow = Error::InvalidParameter {
+        name: "u_plus",
+        value: u,
+        allowed: "a pulse wide enough in lattice units for the closed form at this dx: \
+                  c > 1 and X = lambda w/(c dx) >= 20 (pulse width w = pi u_plus c; \
+                  re-sticking w/dx blocks behind the tip changes c by ~0.1 exp(-X)); \
+                  roughly u_plus^2/dx >= 2 for small u_plus. Narrower pulses: measure the \
+                  front in the chain, bk.chain.front(u_plus, 0.0, dx)",
+    };
+    let c = lattice_closed_form(u, dx).ok_or(narrow.clone())?;
+    if c <= 1.0 || resticking_exponent(u, c, dx) < MIN_RESTICKING_EXPONENT {
+        return Err(narrow);
     }
-    Ok(dx / (2.0 * u * arg.asin()))
+    Ok(c)
+}
+
+/// The Wiener-Hopf closed form of the linear (never re-sticking) finite-dx tip problem at
+/// gamma = 0, without the domain check of [`lattice_front_speed`]; `None` where
+/// dx sqrt(1 - u_+^2) >= 2 u_+ (no root). For comparisons with the numerical tip solver.
+pub fn lattice_closed_form(u_plus: f64, dx: f64) -> Option<f64> {
+    let arg = dx * ((1.0 - u_plus) * (1.0 + u_plus)).sqrt() / (2.0 * u_plus);
+    (arg < 1.0).then(|| dx / (2.0 * u_plus * arg.asin()))
+}
+
+/// Smallest [`resticking_exponent`] at which [`lattice_front_speed`] is trusted: the
+/// chain's speed differs from the closed form by |dc/c| ~ (0.01 ... 0.1) exp(-X) (measured
+/// for 0.2 <= u_+ <= 0.5, 0.025 <= dx <= 0.2), ~2e-10 or less for X >= 20.
+pub const MIN_RESTICKING_EXPONENT: f64 = 20.0;
+
+/// X = lambda tau_r: how far (in e-folds of the slowest transient of the tip lattice) the
+/// re-sticking of a block lies behind the tip of a gamma = 0 front of speed c > 1 at
+/// spacing dx. tau_r = w/(c dx) (tip time units) with the continuum pulse width
+/// w = pi u_+ c(u_+); lambda is the positive root of 4 sinh^2(lambda/(2c)) = lambda^2 + dx^2
+/// (K(lambda) = 0). For small u_+: X ~ sqrt(12) pi u_+^2/dx.
+pub fn resticking_exponent(u_plus: f64, c: f64, dx: f64) -> f64 {
+    let width = PI * u_plus * front_speed(u_plus).unwrap_or(f64::INFINITY);
+    let t = 1.0 / c;
+    // f(l) = ln(2 sinh(l T/2)) - ln(hypot(l, dx)): negative below the root, positive above
+    let f = |l: f64| (2.0 * (0.5 * l * t).sinh()).ln() - l.hypot(dx).ln();
+    let (mut lo, mut hi) = (1e-12_f64, 1.0_f64);
+    while f(hi) < 0.0 && hi < 1e6 {
+        hi *= 2.0;
+    }
+    for _ in 0..200 {
+        let mid = (lo * hi).sqrt();
+        if f(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi * width / (c * dx)
 }
 
 /// Inverse of [`front_speed`]: the stress u_+ ahead of a front moving at speed c > 1.
@@ -117,11 +166,22 @@ mod tests {
         for &u in &[0.2, 0.5, 0.9] {
             let c0 = front_speed(u).unwrap();
             let dx = 1e-3;
-            let c = lattice_front_speed(u, dx).unwrap();
+            let c = lattice_closed_form(u, dx).unwrap();
             let predicted = -dx * dx * (1.0 - u * u) / (24.0 * u * u);
             assert!(((c / c0 - 1.0) / predicted - 1.0).abs() < 1e-3, "u = {u}");
         }
         assert!(lattice_front_speed(0.01, 1.0).is_err());
+        // narrow pulses: re-sticking near the tip; the chain runs at 0.97527 and 1.01049
+        for &(u, dx) in &[(0.1, 0.1), (0.2, 0.1), (0.3, 0.1), (0.3, 0.2), (0.15, 0.05)] {
+            match lattice_front_speed(u, dx) {
+                Err(Error::InvalidParameter { name, allowed, .. }) => {
+                    assert_eq!(name, "u_plus");
+                    assert!(allowed.contains("dx") && allowed.contains("chain"));
+                }
+                other => panic!("u = {u}, dx = {dx}: {other:?}"),
+            }
+        }
+        assert!(lattice_front_speed(0.45, 0.1).is_ok() && lattice_front_speed(0.3, 0.025).is_ok());
         assert!(lattice_front_speed(0.5, 0.0).is_err());
     }
 

@@ -89,6 +89,27 @@ pub struct TipSolution {
     pub tip_velocity: f64,
 }
 
+/// Smallest c - 1 the solver accepts. The lattice kept behind the tip grows like
+/// 1/sqrt(c - 1) and the round-off in theta like 1/(c - 1)^2: at c - 1 = 5e-5 (u_+ = 0.01
+/// at dx = 0) c is still right to ~2e-11 relative (c - 1 to ~3e-7), one solve takes about a
+/// second, and below it the error and the cost grow without bound (c - 1 = 1.25e-7 gave a
+/// negative theta, c - 1 = 5e-7 took 26 s). docs/theory.md, "Range of the tip solver".
+pub const MIN_SPEED_EXCESS: f64 = 5e-5;
+/// Largest c the solver accepts: the collocation round-off in theta grows like c^2 eps
+/// (6e-11 relative at c = 1e3, 1e-8 at 1e4, 1e-4 at 1e6).
+pub const MAX_SPEED: f64 = 1e3;
+/// The range in words, for error messages.
+const SPEED_RANGE: &str = "1 + 5e-5 <= c <= 1000 (the range the tip solver resolves to ~1e-10; \
+                           at dx = 0 the closed form c = 1/sqrt(1 - u_plus^2) is exact for any \
+                           u_plus: bk.front_speed)";
+/// At dx = 0, the u_+ of the range ends: u_+(1 + 5e-5) = 0.00999963, u_+(1000) = 0.99999950.
+const U_PLUS_RANGE: &str = "0.0099997 <= u_plus <= 0.99999949 at dx = 0 (fronts with \
+                            1 + 5e-5 <= c <= 1000, the range the tip solver resolves to \
+                            ~1e-10); the closed form bk.front_speed(u_plus) is exact for any \
+                            0 < u_plus < 1";
+const U_PLUS_TOO_LARGE: &str = "a u_plus whose front has c <= 1000 (the tip solver's range; its \
+                                round-off grows like c^2)";
+
 /// Real positive root lambda of lambda = 2 sinh(lambda T/2), T = 1/c, c > 1: the decay
 /// rate of the slowest transient behind the tip. With y = lambda T/2: sinh(y)/y = c.
 pub fn slowest_decay_rate(c: f64) -> f64 {
@@ -126,6 +147,13 @@ pub fn slowest_decay_rate(c: f64) -> f64 {
 pub fn solve_for_speed(c: f64, opts: &TipOptions) -> Result<TipSolution> {
     opts.validate()?;
     let c = check_open("c", c, 1.0, f64::INFINITY, "c > 1 (fronts are supersonic)")?;
+    if !(c - 1.0 >= MIN_SPEED_EXCESS && c <= MAX_SPEED) {
+        return Err(Error::InvalidParameter {
+            name: "c",
+            value: c,
+            allowed: SPEED_RANGE,
+        });
+    }
     let t = 1.0 / c;
     let lambda = slowest_decay_rate(c);
     let per_interval = lambda * t;
@@ -213,37 +241,59 @@ pub fn solve_for_speed(c: f64, opts: &TipOptions) -> Result<TipSolution> {
 }
 
 /// The front speed c for stress u_+ ahead, by root finding on [`solve_for_speed`]
-/// in the variable ln(c - 1) (where ln theta is nearly linear at both ends).
+/// in the variable ln(c - 1) (where ln theta is nearly linear at both ends), within the
+/// solver's range 1 + [`MIN_SPEED_EXCESS`] <= c <= [`MAX_SPEED`]; a u_+ whose front lies
+/// outside it is an error naming u_plus and the range.
 pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
     let u = check_open("u_plus", u_plus, 0.0, 1.0, "0 < u_plus < 1")?;
     opts.validate()?;
-    let target = ((1.0 - u) / u).ln();
+    let out_of_range = |allowed| Error::InvalidParameter {
+        name: "u_plus",
+        value: u,
+        allowed,
+    };
+    // (pulled in by 1e-12 so that 1 + exp(x) stays inside the range after rounding)
+    let (x_lo, x_hi) = (
+        MIN_SPEED_EXCESS.ln() + 1e-12,
+        (MAX_SPEED - 1.0).ln() - 1e-12,
+    );
+    if opts.dx == 0.0 {
+        // the continuum root is c = 1/sqrt(1 - u^2): check the range before solving
+        let c = crate::speed::front_speed(u)?;
+        if !(c - 1.0 >= MIN_SPEED_EXCESS && c <= MAX_SPEED) {
+            return Err(out_of_range(U_PLUS_RANGE));
+        }
+    }
+    let target_theta = (1.0 - u) / u;
+    let target = target_theta.ln();
     let eval = |x: f64| -> Result<(f64, TipSolution)> {
         let s = solve_for_speed(1.0 + x.exp(), opts)?;
         Ok((s.theta.ln() - target, s))
     };
     // theta decreases with c. Crude start that has both limits right within a factor 2.
-    let x0 = (0.5 * u * u / (1.0 - u).sqrt()).ln();
-    let (mut xa, (mut fa, _)) = (x0, eval(x0)?);
+    let x0 = (0.5 * u * u / (1.0 - u).sqrt()).ln().clamp(x_lo, x_hi);
+    let (mut xa, (mut fa, sa)) = (x0, eval(x0)?);
+    if fa == 0.0 {
+        return Ok(sa);
+    }
     let mut step = 0.5;
     let (mut xb, mut fb) = loop {
-        let xn = if fa > 0.0 { xa + step } else { xa - step };
-        let (fn_, sn) = match eval(xn) {
-            Ok(r) => r,
-            // Towards c -> 1 the lattice kept behind the tip grows without bound. In the
-            // continuum the root is always supersonic; at finite dx with damping the
-            // discrete front can be subsonic (c <= 1), outside this solver's range.
-            Err(Error::NoConvergence { .. }) if xn < xa && opts.dx > 0.0 => {
-                return Err(Error::InvalidParameter {
-                    name: "u_plus",
-                    value: u,
-                    allowed: "a stress with a supersonic steady front (c > 1); at this dx \
-                              and gamma the discrete front is subsonic or marginal (measure \
-                              it in the chain: bkwaves front)",
-                });
-            }
-            Err(e) => return Err(e),
-        };
+        let at_bound = if fa > 0.0 { xa >= x_hi } else { xa <= x_lo };
+        if at_bound {
+            return Err(out_of_range(if fa > 0.0 {
+                U_PLUS_TOO_LARGE
+            } else if opts.dx > 0.0 {
+                // In the continuum the root is always supersonic; at finite dx with
+                // damping the discrete front can be subsonic (c <= 1), outside this solver.
+                "a stress with a supersonic steady front, c >= 1 + 5e-5; at this dx and \
+                 gamma the discrete front is subsonic, marginal or too close to c = 1 for \
+                 the tip solver (measure it in the chain: bkwaves front)"
+            } else {
+                U_PLUS_RANGE
+            }));
+        }
+        let xn = if fa > 0.0 { xa + step } else { xa - step }.clamp(x_lo, x_hi);
+        let (fn_, sn) = eval(xn)?;
         if fn_ == 0.0 {
             return Ok(sn);
         }
@@ -253,16 +303,10 @@ pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
         xa = xn;
         fa = fn_;
         step *= 2.0;
-        if step > 256.0 {
-            return Err(Error::NoConvergence {
-                what: "tip speed bracket",
-                detail: format!("no sign change found for u_plus = {u}"),
-            });
-        }
     };
     // Illinois (modified regula falsi): superlinear and always bracketed. Stop when the
     // step in x = ln(c - 1) moves c by less than 1e-13 relative: dc/c = dx (c - 1)/c.
-    // (Near c = 1 the solver's theta carries ~1e-9 relative noise, which moves c by far
+    // (Near c = 1 the solver's theta carries ~1e-7 relative noise, which moves c by far
     // less than that, so a tolerance on theta would never be met.)
     let mut side = 0i32;
     let mut x_prev = f64::NAN;
@@ -272,6 +316,17 @@ pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
         let c = 1.0 + xc.exp();
         let tol = 1e-13 * c / (c - 1.0);
         if fc == 0.0 || (xc - x_prev).abs() < tol || (xb - xa).abs() < tol {
+            // the reported u_plus = 1/(1 + theta) is the solved one; it must be the input
+            // to the solver's precision in theta
+            if (sc.theta / target_theta - 1.0).abs() > 1e-5 {
+                return Err(Error::NoConvergence {
+                    what: "tip speed root",
+                    detail: format!(
+                        "for u_plus = {u} the solved threshold theta = {} misses (1 - u_plus)/u_plus = {target_theta}",
+                        sc.theta
+                    ),
+                });
+            }
             return Ok(sc);
         }
         x_prev = xc;
@@ -405,7 +460,7 @@ mod tests {
                 ..Default::default()
             };
             let s = solve_for_u_plus(u, &o).unwrap();
-            let c = crate::speed::lattice_front_speed(u, dx).unwrap();
+            let c = crate::speed::lattice_closed_form(u, dx).unwrap();
             assert!(
                 (s.c - c).abs() < 1e-11 * c,
                 "u = {u}, dx = {dx}: {} vs {c}",
@@ -428,6 +483,42 @@ mod tests {
             other => panic!("expected an out-of-range error, got {other:?}"),
         }
         assert!(solve_for_u_plus(0.6, &o).unwrap().c > 1.0);
+    }
+
+    #[test]
+    fn u_plus_outside_the_solvers_range_is_a_named_error() {
+        let o = TipOptions::default();
+        // used to return c 16% too high with u_plus = 4.5e-68, a negative-theta failure,
+        // and a 26 s solve
+        for &u in &[1.0 - 1e-12, 1.0 - 1e-7, 0.999_999_5, 5e-4, 1e-3, 9.99e-3] {
+            match solve_for_u_plus(u, &o) {
+                Err(Error::InvalidParameter { name, allowed, .. }) => {
+                    assert_eq!(name, "u_plus");
+                    assert!(
+                        allowed.contains("u_plus") && allowed.contains("1000"),
+                        "{allowed}"
+                    );
+                }
+                other => panic!("u = {u}: expected a range error, got {other:?}"),
+            }
+        }
+        // the ends of the range are solved, and match the closed form
+        for &u in &[0.01, 0.999_999, 0.999_999_49] {
+            let s = solve_for_u_plus(u, &o).unwrap();
+            let c = front_speed(u).unwrap();
+            assert!((s.c / c - 1.0).abs() < 1e-10, "u = {u}: {} vs {c}", s.c);
+            assert!(
+                (s.u_plus / u - 1.0).abs() < 1e-5,
+                "u = {u}: reports {}",
+                s.u_plus
+            );
+        }
+        for &c in &[1.0 + 4e-5, 1001.0, 1e6] {
+            assert!(matches!(
+                solve_for_speed(c, &o),
+                Err(Error::InvalidParameter { name: "c", .. })
+            ));
+        }
     }
 
     #[test]
