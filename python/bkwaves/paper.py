@@ -22,6 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from . import __version__, presets, theory  # noqa: E402
+from ._validate import ParameterError  # noqa: E402
 from .waves import front_speed, tip_solve, traveling_wave  # noqa: E402
 
 __all__ = ["Claim", "Report", "reproduce", "CLAIMS", "FIGURES"]
@@ -488,11 +489,14 @@ def _richardson(values, dxs, orders):
 def claims_chain(quick: bool) -> list[Claim]:
     out = []
     m = chain_fronts(quick)
-    dev = max(
-        abs(c / float(front_speed(u, dx=dx)) - 1)
-        for dx, cs in m["fig3"].items()
-        for u, c in zip(m["us"], cs, strict=True)
-    )
+    devs, narrow = [], 0
+    for dx, cs in m["fig3"].items():
+        for u, c in zip(m["us"], cs, strict=True):
+            try:  # the lattice closed form refuses narrow pulses (docs/theory.md)
+                devs.append(abs(c / float(front_speed(u, dx=dx)) - 1))
+            except ParameterError:
+                narrow += 1
+    dev = max(devs)
     out.append(
         Claim(
             "c-chain",
@@ -500,7 +504,8 @@ def claims_chain(quick: bool) -> list[Claim]:
             "direct simulations support c(u_+) from the tip problem",
             "qualitative",
             f"chain fronts (gamma = 0, dx = 0.1, 0.05, u_+ = 0.3-0.9) equal the finite-dx tip "
-            f"problem within {dev:.1e}",
+            f"problem within {dev:.1e}"
+            + (f" ({narrow} too narrow for the lattice closed form skipped)" if narrow else ""),
             _verdict(dev < 1e-6),
             "c(u_+; dx) -> 1/sqrt(1 - u_+^2) at order dx^2",
         )
