@@ -198,6 +198,14 @@ def run_cmd(
         Path | None,
         typer.Option("-o", "--out", help="Output (.nc or .zarr); default: [output] path."),
     ] = None,
+    overwrite: Annotated[
+        bool,
+        typer.Option(
+            "--overwrite",
+            help="Replace an existing output (only files bkwaves wrote; once the new one is "
+            "complete).",
+        ),
+    ] = False,
     resume: Annotated[
         Path | None,
         typer.Option("--resume", help="Continue the run that wrote this output (.nc/.zarr)."),
@@ -211,41 +219,68 @@ def run_cmd(
 ):
     """Run a chain or free-boundary simulation described by CONFIG.toml.
 
-    Snapshots go to OUT (NetCDF or Zarr by suffix) as they are computed; the event catalog
-    and trajectories to OUT.events.parquet/.csv and OUT.slips/shocks.parquet. Ctrl-C or
-    SIGTERM stop the run, keep what was computed and leave OUT.checkpoint:
-    `bkwaves run --resume OUT` continues it, bit for bit like an uninterrupted run.
+    Snapshots go to OUT (NetCDF or Zarr by suffix); the event catalog and trajectories to
+    OUT.events.parquet/.csv and OUT.slips/shocks.parquet. Until the run is complete they are
+    kept in OUT.partial/, then published onto OUT at once. An existing OUT is refused unless
+    --overwrite. Ctrl-C or SIGTERM stop the run, keep what was computed and leave
+    OUT.checkpoint (exit status 130 or 143): `bkwaves run --resume OUT` continues it, bit
+    for bit like an uninterrupted run. A full disk keeps what was written (exit status 1).
     See docs/usage.md for the schema.
     """
-    from .config import load_config
-    from .runner import resume as resume_run
-    from .runner import run
+    from .runner import OutputFull, _StopRequest
 
     show = not quiet and not json_out
-    try:
-        if resume is not None:
-            if config is not None or out is not None:
-                raise ParameterError("--resume OUT takes no CONFIG and no -o (the output is OUT)")
-            summary = resume_run(resume, progress=show, checkpoint_every=checkpoint_every)
-        else:
-            if config is None:
-                raise ParameterError("give a CONFIG.toml, or --resume OUT")
-            cfg = load_config(config)
-            target = out if out is not None else cfg.output_path
-            if target is None:
-                raise ParameterError(
-                    "no output: give -o OUT (.nc or .zarr) or [output] path in the config"
+    with _StopRequest():  # before anything: a signal from here on keeps what was computed
+        from .config import load_config
+        from .runner import resume as resume_run
+        from .runner import run
+
+        try:
+            if resume is not None:
+                if config is not None or out is not None:
+                    raise ParameterError(
+                        "--resume OUT takes no CONFIG and no -o (the output is OUT)"
+                    )
+                summary = resume_run(resume, progress=show, checkpoint_every=checkpoint_every)
+            else:
+                if config is None:
+                    raise ParameterError("give a CONFIG.toml, or --resume OUT")
+                cfg = load_config(config)
+                target = out if out is not None else cfg.output_path
+                if target is None:
+                    raise ParameterError(
+                        "no output: give -o OUT (.nc or .zarr) or [output] path in the config"
+                    )
+                summary = run(
+                    cfg,
+                    target,
+                    progress=show,
+                    overwrite=overwrite,
+                    checkpoint_every=checkpoint_every,
                 )
-            summary = run(cfg, target, progress=show, checkpoint_every=checkpoint_every)
-    except (ParameterError, ConvergenceError) as e:
-        _fail(e)
+        except (ParameterError, ConvergenceError) as e:
+            _fail(e)
+        except OutputFull as e:
+            typer.echo(f"Error: {e.strerror}", err=True)
+            raise typer.Exit(1) from None
     d = summary.to_dict()
     if json_out:
         typer.echo(json.dumps(d, default=str))
+    if summary.interrupted:
+        name = summary.extra.get("signal") or "SIGINT"
+        typer.echo(
+            f"{summary.model}: interrupted by {name} at t = {summary.t:.6g} "
+            f"({summary.units}): kept {_count(summary.snapshots, 'snapshot')} and "
+            f"{_count(summary.events, 'event')} in {summary.out}.partial; continue with "
+            f"`bkwaves run --resume "
+            f"{summary.out}`",
+            err=True,
+        )
+        raise typer.Exit(128 + int(getattr(signal, name)))
+    if json_out:
         return
-    state = "interrupted (resume with --resume)" if summary.interrupted else "done"
     typer.echo(
-        f"{summary.model}: {state} at t = {summary.t:.6g} ({summary.units}), "
+        f"{summary.model}: done at t = {summary.t:.6g} ({summary.units}), "
         f"{_count(summary.events, 'event')}, {_count(summary.snapshots, 'snapshot')}, "
         f"{summary.wall_s:.2f} s -> {summary.out}"
     )

@@ -1,26 +1,46 @@
 """Self-describing run outputs: snapshots to NetCDF (h5netcdf) or Zarr, tables to Parquet
-and CSV, written incrementally so that an interrupted run keeps every completed record.
+and CSV, written in blocks so that an interrupted run keeps every committed record.
 
-Layout for an output ``OUT.nc`` (or ``OUT.zarr``):
+Layout of a published output ``OUT.nc`` (or ``OUT.zarr``):
 
 - ``OUT.nc``: snapshots, dimensions ``t`` and ``x``; variables as given
-  (e.g. ``u``, ``u_t``, ``state``) with CF attributes; global attributes ``title``,
-  ``Conventions``, ``bkwaves_version``, ``model``, ``seed``, ``config`` (the TOML text or
-  JSON of the run), ``units_system`` and the parameters;
+  (e.g. ``u``, ``u_t``, ``sliding``) with CF attributes; global attributes ``title``,
+  ``Conventions``, ``bkwaves_version``, ``bkwaves_run_id``, ``model``, ``seed``,
+  ``config`` (the TOML text or JSON of the run), ``units_system`` and the parameters;
 - ``OUT.events.parquet`` / ``OUT.events.csv``: the event catalog, and any other table
-  (``OUT.<name>.parquet``), each with its column units in the Parquet metadata.
+  (``OUT.<name>.parquet``), each with its column units and the run id in the Parquet
+  metadata (the CSV's SHA-256 too: that is how bkwaves recognises its own CSV).
 
-Crash safety: HDF5 (hence NetCDF-4) files are not safe against a crash while they are
-open for writing. So during a run each NetCDF snapshot goes to its own small, complete
-file in ``OUT.nc.parts/`` (written to a temporary name, then renamed); closing the writer,
-normally or on Ctrl-C/SIGTERM, merges the parts into ``OUT.nc``. After a hard crash the
-parts remain valid and :func:`load` reads them (or merges them: :func:`finalize`). Zarr
-appends are safe by construction (the array metadata is updated after the chunks).
+Never destroy data. A writer refuses an existing output unless ``overwrite=True``, and
+even then removes only files that carry bkwaves' marker (the ``bkwaves_version`` attribute
+or Parquet metadata, the CSV checksum, the marker file of an unfinished run). It holds a
+lock ``OUT.lock`` while it writes: a second writer on the same output fails at once.
+
+Never lose what was computed. While a run goes on everything goes to ``OUT.partial/``
+beside the output: NetCDF snapshots as complete block files (built in memory, written
+to a temporary name and renamed), a Zarr store whose records are all-or-nothing (the
+variables of a block are written first, then the group attribute ``bkwaves_records``,
+the committed length, advances), and each table as Parquet parts holding the rows
+appended since the previous commit (rows are appended, never rewritten). A commit writes
+the tables first, then the snapshots, so committed snapshots always have their
+catalog. Closing the writer after a complete run merges the parts and renames the
+results onto ``OUT`` and its tables (an earlier output is replaced only then), with
+the same run id in every file: :func:`load` never pairs snapshots with the catalog of
+another run. An interrupted or failed run leaves ``OUT.partial/``: :func:`load` reads
+it (up to its last committed record, saying what it dropped), ``bkwaves run --resume``
+continues it and :func:`finalize` publishes it as it is.
 """
 
 from __future__ import annotations
 
+import errno
+import hashlib
 import json
+import os
+import shutil
+import time
+import uuid
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -28,15 +48,39 @@ import numpy as np
 from . import __version__
 from ._core import ParameterError
 
-__all__ = ["RunWriter", "load", "load_tables", "finalize", "table_path"]
+__all__ = [
+    "RunWriter",
+    "load",
+    "load_tables",
+    "finalize",
+    "table_path",
+    "partial_path",
+    "NO_SPACE",
+]
 
 SUFFIXES = (".nc", ".zarr")
+PARTIAL_FORMAT = "bkwaves-partial-1"
+MARKER = "bkwaves-run.json"
+RECORDS_ATTR = "bkwaves_records"
+RUN_ID_ATTR = "bkwaves_run_id"
+#: errno values of a write that failed for lack of space
+NO_SPACE = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 
 def table_path(out, name: str, suffix: str = ".parquet") -> Path:
     """Path of the table ``name`` beside the main output ``out``."""
     out = Path(out)
     return out.with_name(f"{out.name}.{name}{suffix}")
+
+
+def partial_path(out) -> Path:
+    """Where the unfinished run writing ``out`` keeps its records: ``OUT.partial/``."""
+    out = Path(out)
+    return out.with_name(out.name + ".partial")
+
+
+def _lock_path(out: Path) -> Path:
+    return out.with_name(out.name + ".lock")
 
 
 def _check_path(path) -> Path:
@@ -58,13 +102,169 @@ def _attr(v):
     return v
 
 
-class RunWriter:
-    """Append snapshots of fields on a fixed grid ``x`` and write tables beside them.
+def human_bytes(n: float) -> str:
+    for unit in ("B", "kB", "MB", "GB", "TB"):
+        if abs(n) < 1000 or unit == "TB":
+            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
+        n /= 1000
+    return f"{n} B"  # pragma: no cover
 
-    ``variables`` maps names to ``(units, long_name, dtype)``; ``coord_units`` gives the
-    units of ``x`` and ``t``; ``attrs`` are global attributes (config, params, seed, ...).
-    Every :meth:`append` is complete on disk when it returns, so a crash loses at most the
-    record being written. Use as a context manager (closing merges NetCDF parts).
+
+def _write_bytes(path: Path, data) -> None:
+    """Write ``data`` to ``path`` completely or not at all (temporary name, rename)."""
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with open(tmp, "wb") as f:
+            f.write(data)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    tmp.replace(path)
+
+
+class _Lock:
+    """An exclusive ``flock`` on ``OUT.lock``, taken without waiting. The file is removed
+    on release; a taker checks that the file it locked is still the one at the path."""
+
+    def __init__(self, path: Path, out: Path):
+        import fcntl
+
+        self.path = path
+        while True:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = os.read(fd, 64).decode(errors="replace").strip()
+                os.close(fd)
+                who = f" (process {holder})" if holder else ""
+                raise ParameterError(
+                    f"output {out} is being written by another bkwaves run{who}: wait for "
+                    f"it to end or choose another output (lock {path})"
+                ) from None
+            try:
+                same = os.path.samestat(os.fstat(fd), os.stat(path))
+            except FileNotFoundError:
+                same = False
+            if same:
+                break
+            os.close(fd)  # the holder removed it meanwhile: lock the new one
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{os.getpid()}\n".encode())
+        self.fd = fd
+
+    def release(self):
+        if self.fd is None:
+            return
+        self.path.unlink(missing_ok=True)
+        os.close(self.fd)
+        self.fd = None
+
+
+# --- what bkwaves wrote ---------------------------------------------------------------
+
+
+def _parquet_meta(path: Path) -> dict:
+    import pyarrow.parquet as pq
+
+    try:
+        return dict(pq.read_schema(path).metadata or {})
+    except Exception:  # noqa: BLE001 - not Parquet: not ours
+        return {}
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _main_attrs(path: Path) -> dict:
+    """Global attributes of a NetCDF file or Zarr group ({} if it is neither)."""
+    try:
+        if path.suffix == ".zarr":
+            doc = json.loads((path / "zarr.json").read_text())
+            return dict(doc.get("attributes", {}))
+        import h5py
+
+        with h5py.File(path, "r") as f:
+            return {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
+    except Exception:  # noqa: BLE001 - unreadable: not ours
+        return {}
+
+
+def _is_ours(path: Path, out: Path) -> bool:
+    """Did bkwaves write ``path`` (an item of the output ``out``)? Checked before removing."""
+    if path == partial_path(out):
+        return _read_marker(path) is not None
+    if path == out:
+        if "bkwaves_version" not in _main_attrs(path):
+            return False
+        if path.is_dir():  # a Zarr group: its zarr.json and arrays, nothing else
+            return all(
+                e.name == "zarr.json" or (e.is_dir() and (e / "zarr.json").is_file())
+                for e in path.iterdir()
+            )
+        return True
+    if path.suffix == ".parquet":
+        return b"bkwaves_version" in _parquet_meta(path)
+    if path.suffix == ".csv":
+        meta = _parquet_meta(path.with_suffix(".parquet"))
+        sha = meta.get(b"bkwaves_csv_sha256")
+        return sha is not None and sha.decode() == _sha256(path)
+    if path.name == out.name + ".checkpoint":
+        from . import _checkpoint
+
+        try:  # data only (no pickle): safe to read whatever the file is
+            _checkpoint.read(path, "run", "bkwaves run")
+        except Exception:  # noqa: BLE001 - not a bkwaves run checkpoint
+            return False
+        return True
+    return False
+
+
+def _published_items(out: Path) -> list[Path]:
+    """The files of a published output: the main output and its tables."""
+    items = [out] if out.exists() or out.is_symlink() else []
+    for p in sorted(out.parent.glob(f"{out.name}.*")):
+        rest = p.name[len(out.name) + 1 :]
+        stem, _, suffix = rest.partition(".")
+        if suffix in ("parquet", "csv") and stem:
+            items.append(p)
+    return items
+
+
+def _read_marker(partial: Path) -> dict | None:
+    try:
+        m = json.loads((partial / MARKER).read_text())
+    except (OSError, ValueError):
+        return None
+    return m if isinstance(m, dict) and m.get("format") == PARTIAL_FORMAT else None
+
+
+# --- the writer ----------------------------------------------------------------------
+
+
+class RunWriter:
+    """Append snapshots of fields on a fixed grid ``x`` and tables of rows, in blocks.
+
+    ``variables`` maps names to ``(units, long_name, dtype)`` or ``(units, long_name,
+    dtype, {more attributes})``; ``coord_units`` gives the units of ``x`` and ``t`` and
+    ``coord_attrs`` more attributes of each (e.g. how they are scaled). ``attrs`` are
+    global attributes (config, params, seed, ...).
+
+    Records are buffered and committed in blocks: when the buffer holds ``block_bytes``,
+    when its oldest record is ``flush_every`` seconds old, on :meth:`commit` and on
+    closing. A crash loses at most the uncommitted buffer. Use as a context manager:
+    leaving the block normally publishes the output (see the module's docstring), an
+    exception leaves the committed records in ``OUT.partial/``.
+
+    An existing output is refused unless ``overwrite`` (then only files bkwaves wrote are
+    replaced, when the new output is published). ``resume_count`` continues the unfinished
+    run of ``OUT.partial/`` after its first ``resume_count`` records (and ``resume_rows``:
+    the first rows of each table), dropping those written later.
     """
 
     def __init__(
@@ -75,91 +275,159 @@ class RunWriter:
         *,
         attrs: dict | None = None,
         coord_units: tuple[str, str] = ("1", "1"),
-        overwrite: bool = True,
+        coord_attrs: tuple[dict, dict] = ({}, {}),
+        overwrite: bool = False,
         resume_count: int | None = None,
+        resume_rows: dict | None = None,
+        block_bytes: int = 8 << 20,
+        flush_every: float = 5.0,
     ):
         self.path = _check_path(path)
+        self.partial = partial_path(self.path)
         self.x = np.asarray(x, dtype=float)
-        self.variables = dict(variables)
-        self.count = 0
+        self.variables = {}
+        for name, spec in variables.items():
+            units, long_name, dtype, *more = spec
+            self.variables[name] = (units, long_name, np.dtype(dtype), dict(*more))
+        self.x_units, self.t_units = coord_units
+        self.x_attrs, self.t_attrs = (dict(a) for a in coord_attrs)
+        self.block_bytes = int(block_bytes)
+        self.flush_every = float(flush_every)
+        self.count = 0  # committed records
+        self.closed = False
+        self._buf_t: list[float] = []
+        self._buf: dict[str, list] = {name: [] for name in self.variables}
+        self._buf_bytes = 0
+        self._buf_since = None
+        self._tables: dict[str, dict] = {}
+        self._replaces: list[Path] = []
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._lock = _Lock(_lock_path(self.path), self.path)
+        try:
+            if resume_count is not None:
+                self._resume(int(resume_count), dict(resume_rows or {}), attrs)
+            else:
+                self._start(overwrite, attrs)
+        except BaseException:
+            self._lock.release()
+            raise
+
+    # --- opening -----------------------------------------------------------------------
+
+    def _global_attrs(self, attrs, run_id):
         attrs = {
             "Conventions": "CF-1.10",
             "bkwaves_version": __version__,
             "source": "bkwaves (Burridge-Knopoff chain with Coulomb friction)",
             **(attrs or {}),
+            RUN_ID_ATTR: run_id,
         }
-        self.attrs = {k: _attr(v) for k, v in attrs.items()}
-        self.x_units, self.t_units = coord_units
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        if resume_count is not None:
-            self._resume(int(resume_count))
-            return
-        if self.path.exists() and not overwrite:
-            raise ParameterError(f"output {self.path} exists (pass overwrite=True)")
-        import shutil
+        return {k: _attr(v) for k, v in attrs.items()}
 
-        for stale in (self.path, self.parts_dir):
-            if stale.is_dir():
-                shutil.rmtree(stale)
-            elif stale.exists():
-                stale.unlink()
+    def _start(self, overwrite: bool, attrs):
+        from .runner import checkpoint_path
 
-    @property
-    def parts_dir(self) -> Path:
-        return _parts_dir(self.path)
-
-    def _resume(self, count: int):
-        """Continue an existing output after its first ``count`` records (later records,
-        written after the checkpoint by a run that then crashed, are dropped)."""
-        import shutil
-
-        self.count = count
+        existing = _published_items(self.path)
+        leftovers = [p for p in (self.partial, checkpoint_path(self.path)) if p.exists()]
+        if existing or leftovers:
+            names = ", ".join(p.name for p in existing + leftovers)
+            if not overwrite:
+                raise ParameterError(
+                    f"output {self.path} exists ({names}): pass --overwrite (overwrite=True) "
+                    "to replace it, or --resume to continue its run"
+                )
+            foreign = [p for p in existing + leftovers if not _is_ours(p, self.path)]
+            if foreign:
+                raise ParameterError(
+                    f"not replacing {', '.join(str(p) for p in foreign)}: not written by "
+                    "bkwaves (no bkwaves marker); move it away or choose another output"
+                )
+            # an unfinished earlier run is discarded now; a published output is replaced
+            # only when the new one is complete
+            if self.partial.exists():
+                shutil.rmtree(self.partial)
+            checkpoint_path(self.path).unlink(missing_ok=True)
+            self._replaces = existing
+        self.run_id = uuid.uuid4().hex
+        self.attrs = self._global_attrs(attrs, self.run_id)
+        self.partial.mkdir()
+        (self.partial / "tables").mkdir()
+        marker = {
+            "format": PARTIAL_FORMAT,
+            "run_id": self.run_id,
+            "output": self.path.name,
+            "bkwaves_version": __version__,
+            "replaces": [p.name for p in self._replaces],
+        }
+        _write_bytes(self.partial / MARKER, json.dumps(marker).encode())
         if self.path.suffix == ".nc":
-            parts = self.parts_dir
-            parts.mkdir(exist_ok=True)
-            if self.path.exists():
-                # the merged file becomes the base of the parts
-                self.path.replace(parts / "base.nc")
-            base = parts / "base.nc"
-            n_base = 0
-            if base.exists():
-                import xarray as xr
+            self._blocks_dir.mkdir()
+        else:
+            self._create_zarr()
 
-                with xr.open_dataset(base, engine="h5netcdf") as ds:
-                    n_base = ds.sizes["t"]
-                    if n_base > count:
-                        kept = ds.isel(t=slice(0, count)).load()
-                if n_base > count:
-                    tmp = parts / "base.tmp"
-                    kept.to_netcdf(tmp, engine="h5netcdf")
-                    tmp.replace(base)
-                    n_base = count
-            for f in parts.glob("part-*.nc"):
-                if int(f.stem.split("-")[1]) >= count:
+    def _resume(self, count: int, rows: dict, attrs):
+        marker = _read_marker(self.partial)
+        if marker is None:
+            state = "was published" if self.path.exists() else "has no records"
+            raise ParameterError(
+                f"cannot resume {self.path}: no unfinished run in {self.partial} (the run {state})"
+            )
+        self.run_id = marker["run_id"]
+        self._replaces = [self.path.with_name(n) for n in marker.get("replaces", [])]
+        self.attrs = self._global_attrs(attrs, self.run_id)
+        if self.path.suffix == ".nc":
+            have = 0
+            for start, n, f in _blocks(self._blocks_dir):
+                if start >= count:
                     f.unlink()
-            have = n_base + len(list(parts.glob("part-*.nc")))
+                elif start + n > count:
+                    ds = _open_nc(f).isel(t=slice(0, count - start))
+                    _write_bytes(f, ds.to_netcdf(engine="h5netcdf"))
+                    have += count - start
+                else:
+                    have += n
         else:
             import zarr
 
-            if not self.path.exists():
-                raise ParameterError(f"cannot resume: output {self.path} not found")
-            g = zarr.open_group(str(self.path), mode="r+")
-            have = None
-            for name in list(g.array_keys()):
-                a = g[name]
-                dims = getattr(a.metadata, "dimension_names", None) or a.attrs.get(
-                    "_ARRAY_DIMENSIONS", ()
-                )
-                if dims and dims[0] == "t":
-                    have = a.shape[0] if have is None else min(have, a.shape[0])
-                    if a.shape[0] > count:
-                        a.resize((count, *a.shape[1:]))
-            have = count if have is None else min(have, count)
-            del shutil
+            g = zarr.open_group(str(self._zarr_store), mode="r+")
+            have = min(_zarr_committed(g), count)
+            g.attrs[RECORDS_ATTR] = have
+            for _, a in _zarr_t_arrays(g):
+                if a.shape[0] > have:
+                    a.resize((have, *a.shape[1:]))
         if have < count:
             raise ParameterError(
-                f"cannot resume: {self.path} holds {have} records, the checkpoint expects {count}"
+                f"cannot resume: {self.partial} holds {have} records, the checkpoint "
+                f"expects {count}"
             )
+        self.count = count
+        for d in sorted((self.partial / "tables").iterdir()):
+            keep = rows.get(d.name)
+            kept = 0
+            for start, n, f in _table_parts(d):
+                if keep is not None and start >= keep:
+                    f.unlink()
+                elif keep is not None and start + n > keep:
+                    _write_parquet_part(f, _read_parquet(f).slice(0, keep - start))
+                    kept += keep - start
+                else:
+                    kept += n
+            meta = _parquet_meta(next(iter(_table_parts(d)))[2]) if kept else {}
+            self._tables[d.name] = {
+                "rows": kept,
+                "buf": [],
+                "units": json.loads(meta.get(b"bkwaves_units", b"{}")),
+                "scales": json.loads(meta.get(b"bkwaves_scales", b"{}")),
+                "csv": meta.get(b"bkwaves_csv", b"1") == b"1",
+            }
+
+    @property
+    def _blocks_dir(self) -> Path:
+        return self.partial / "snapshots"
+
+    @property
+    def _zarr_store(self) -> Path:
+        return self.partial / self.path.name
 
     def _dataset(self, t, fields):
         import xarray as xr
@@ -168,140 +436,492 @@ class RunWriter:
             {
                 name: (
                     ("t", "x"),
-                    np.asarray(fields[name], dtype=dt)[None, :],
-                    {"units": u, "long_name": ln},
+                    np.asarray(fields[name], dtype=dt),
+                    {"units": u, "long_name": ln, **more},
                 )
-                for name, (u, ln, dt) in self.variables.items()
+                for name, (u, ln, dt, more) in self.variables.items()
             },
             coords={
-                "t": ("t", [t], {"units": self.t_units, "long_name": "time"}),
+                "t": (
+                    "t",
+                    np.asarray(t, dtype=float),
+                    {"units": self.t_units, "long_name": "time", **self.t_attrs},
+                ),
                 "x": (
                     "x",
                     self.x,
-                    {"units": self.x_units, "long_name": "position along the chain"},
+                    {
+                        "units": self.x_units,
+                        "long_name": "position along the chain",
+                        **self.x_attrs,
+                    },
                 ),
             },
             attrs=self.attrs,
         )
 
+    def _create_zarr(self):
+        nx = len(self.x)
+        empty = {n: np.zeros((0, nx), dtype=dt) for n, (_, _, dt, _) in self.variables.items()}
+        ds = self._dataset(np.zeros(0), empty)
+        row = max(1, nx * max(dt.itemsize for _, _, dt, _ in self.variables.values()))
+        chunk_t = int(min(max(1, (1 << 20) // row), 4096))
+        enc = {n: {"chunks": (chunk_t, nx)} for n in self.variables}
+        enc["t"] = {"chunks": (4096,)}
+        ds.to_zarr(self._zarr_store, mode="w", consolidated=False, encoding=enc)
+        import zarr
+
+        zarr.open_group(str(self._zarr_store), mode="r+").attrs[RECORDS_ATTR] = 0
+
+    # --- appending ---------------------------------------------------------------------
+
     def append(self, t: float, **fields):
         """Append one snapshot at time ``t``; every declared variable must be given."""
+        self.append_block([t], **{k: np.asarray(v)[None, ...] for k, v in fields.items()})
+
+    def append_block(self, t, **fields):
+        """Append snapshots at the times ``t`` (fields: one row per time)."""
         missing = set(self.variables) - set(fields)
         if missing:
             raise ParameterError(f"snapshot misses variables {sorted(missing)}")
-        ds = self._dataset(float(t), fields)
-        if self.path.suffix == ".nc":
-            self.parts_dir.mkdir(exist_ok=True)
-            part = self.parts_dir / f"part-{self.count:08d}.nc"
-            tmp = part.with_suffix(".tmp")
-            ds.to_netcdf(tmp, engine="h5netcdf")
-            tmp.replace(part)
-        elif self.count == 0:
-            ds.to_zarr(self.path, mode="w", consolidated=False)
-        else:
-            ds.to_zarr(self.path, append_dim="t", consolidated=False)
-        self.count += 1
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        nx = len(self.x)
+        for name, (_, _, dt, _) in self.variables.items():
+            a = np.asarray(fields[name], dtype=dt).reshape(len(t), nx)
+            self._buf[name].append(a)
+            self._buf_bytes += a.nbytes
+        self._buf_t.extend(t.tolist())
+        self._note_buffered()
 
-    def write_table(self, name: str, df, units: dict | None = None, csv: bool = True):
-        """Write a pandas table beside the output as Parquet (and CSV), atomically."""
+    def append_rows(
+        self,
+        name: str,
+        df,
+        units: dict | None = None,
+        csv: bool | None = None,
+        scales: dict | None = None,
+    ):
+        """Append the rows of the pandas table ``df`` to the table ``name`` (created on
+        first use, with CSV beside the Parquet unless ``csv=False``). ``units`` gives the
+        units of columns, ``scales`` how dimensionless columns are scaled."""
+        tb = self._tables.setdefault(
+            name, {"rows": 0, "buf": [], "units": {}, "scales": {}, "csv": True}
+        )
+        if units:
+            tb["units"] = dict(units)
+        if scales:
+            tb["scales"] = dict(scales)
+        if csv is not None:
+            tb["csv"] = bool(csv)
+        if len(df) or (tb["rows"] == 0 and not tb["buf"]):  # (an empty table: its schema)
+            tb["buf"].append(df)
+            self._buf_bytes += int(df.memory_usage(index=False).sum())
+        self._note_buffered()
+
+    def write_table(self, name: str, df, units: dict | None = None, csv: bool = True, scales=None):
+        """Set the whole table ``name`` (replacing rows written before)."""
+        d = self.partial / "tables" / name
+        if d.exists():
+            shutil.rmtree(d)
+        self._tables.pop(name, None)
+        self.append_rows(name, df, units, csv, scales)
+
+    def table_rows(self, name: str) -> int:
+        """Rows of the table ``name`` written or buffered so far."""
+        tb = self._tables.get(name)
+        return 0 if tb is None else tb["rows"] + sum(len(d) for d in tb["buf"])
+
+    @property
+    def record_bytes(self) -> int:
+        """Bytes of one snapshot in memory (the fields and its time)."""
+        return 8 + len(self.x) * sum(dt.itemsize for _, _, dt, _ in self.variables.values())
+
+    @property
+    def records(self) -> int:
+        """Snapshots appended so far (committed or buffered)."""
+        return self.count + len(self._buf_t)
+
+    def _note_buffered(self):
+        now = time.monotonic()
+        if self._buf_since is None:
+            self._buf_since = now
+        if self._buf_bytes >= self.block_bytes or now - self._buf_since >= self.flush_every:
+            self.commit()
+
+    def commit(self):
+        """Write the buffered rows of every table, then the buffered snapshots."""
+        for name, tb in self._tables.items():
+            if tb["buf"]:
+                import pandas as pd
+
+                df = pd.concat(tb["buf"], ignore_index=True)
+                d = self.partial / "tables" / name
+                d.mkdir(exist_ok=True)
+                _write_parquet_part(d / f"part-{tb['rows']:012d}.parquet", self._arrow(df, tb))
+                tb["rows"] += len(df)
+                tb["buf"] = []
+        if self._buf_t:
+            t = np.asarray(self._buf_t)
+            fields = {name: np.concatenate(rows) for name, rows in self._buf.items()}
+            if self.path.suffix == ".nc":
+                ds = self._dataset(t, fields)
+                _write_bytes(
+                    self._blocks_dir / f"block-{self.count:010d}.nc",
+                    ds.to_netcdf(engine="h5netcdf"),
+                )
+            else:
+                self._append_zarr(t, fields)
+            self.count += len(t)
+            self._buf_t = []
+            self._buf = {name: [] for name in self.variables}
+        self._buf_bytes = 0
+        self._buf_since = None
+
+    def _append_zarr(self, t, fields):
+        """Write the variables of the block, then advance the committed length."""
+        import zarr
+
+        g = zarr.open_group(str(self._zarr_store), mode="r+")
+        n, k = self.count, len(t)
+        for name, data in [*fields.items(), ("t", t)]:
+            a = g[name]
+            a.resize((n + k, *a.shape[1:]))
+            a[n : n + k] = data
+        g.attrs[RECORDS_ATTR] = n + k
+
+    def _arrow(self, df, tb):
         import pyarrow as pa
-        import pyarrow.parquet as pq
 
         table = pa.Table.from_pandas(df, preserve_index=False)
         meta = dict(table.schema.metadata or {})
-        meta[b"bkwaves_units"] = json.dumps(units or {}).encode()
+        meta[b"bkwaves_units"] = json.dumps(tb["units"]).encode()
+        meta[b"bkwaves_scales"] = json.dumps(tb["scales"]).encode()
         meta[b"bkwaves_version"] = __version__.encode()
-        table = table.replace_schema_metadata(meta)
-        target = table_path(self.path, name)
-        tmp = target.with_name(target.name + ".tmp")
-        pq.write_table(table, tmp)
-        tmp.replace(target)
-        if csv:
-            c = table_path(self.path, name, ".csv")
-            tmp = c.with_name(c.name + ".tmp")
-            df.to_csv(tmp, index=False)
-            tmp.replace(c)
+        meta[b"bkwaves_run_id"] = self.run_id.encode()
+        meta[b"bkwaves_csv"] = b"1" if tb["csv"] else b"0"
+        return table.replace_schema_metadata(meta)
 
-    def close(self):
-        """Finish the output (for NetCDF: merge the parts into one file)."""
-        if self.path.suffix == ".nc" and self.parts_dir.exists():
-            finalize(self.path)
+    # --- closing -----------------------------------------------------------------------
+
+    def close(self, publish: bool = True, remove=()):
+        """Commit the buffer; with ``publish`` (a complete run) merge the parts and rename
+        the output and its tables onto ``OUT``, replacing an earlier output, then remove
+        ``OUT.partial/`` and the files in ``remove``. Without: keep ``OUT.partial/``."""
+        if self.closed:
+            return
+        try:
+            self.commit()
+            if publish:
+                _publish(self.path, self.partial, self._replaces, remove)
+        finally:
+            self.closed = True
+            self._lock.release()
+
+    def abandon(self):
+        """Stop after a failed write: drop the buffer, keep what was committed, unlock."""
+        self._buf_t, self._buf_bytes = [], 0
+        self._buf = {name: [] for name in self.variables}
+        for tb in self._tables.values():
+            tb["buf"] = []
+        for tmp in self.partial.rglob("*.tmp"):
+            tmp.unlink(missing_ok=True)
+        if (self.partial / "final").exists():  # a publication cut short
+            shutil.rmtree(self.partial / "final")
+        self.closed = True
+        self._lock.release()
 
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
-        self.close()
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is None:
+            self.close()
+        elif isinstance(exc, OSError) and exc.errno in NO_SPACE:
+            self.abandon()
+        else:
+            self.close(publish=False)
         return False
 
 
-def _parts_dir(path: Path) -> Path:
-    return path.with_name(path.name + ".parts")
+# --- parts -----------------------------------------------------------------------------
 
 
-def _open_parts(parts: Path):
+def _blocks(d: Path):
+    """(first record, records, file) of the NetCDF blocks in ``d``, in order."""
+    out = []
+    for f in sorted(d.glob("block-*.nc")):
+        with _open_nc(f) as ds:
+            out.append((int(f.stem.split("-")[1]), ds.sizes["t"], f))
+    return out
+
+
+def _table_parts(d: Path):
+    """(first row, rows, file) of the Parquet parts in ``d``, in order."""
+    import pyarrow.parquet as pq
+
+    return [
+        (int(f.stem.split("-")[1]), pq.read_metadata(f).num_rows, f)
+        for f in sorted(d.glob("part-*.parquet"))
+    ]
+
+
+def _read_parquet(f: Path):
+    import pyarrow.parquet as pq
+
+    return pq.read_table(f)
+
+
+def _write_parquet_part(path: Path, table):
+    import pyarrow.parquet as pq
+
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        pq.write_table(table, tmp)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    tmp.replace(path)
+
+
+def _open_nc(f: Path):
     import xarray as xr
 
-    files = sorted(parts.glob("part-*.nc"))
-    base = parts / "base.nc"
-    if base.exists():
-        files = [base, *files]
+    return xr.open_dataset(f, engine="h5netcdf")
+
+
+def _zarr_t_arrays(g):
+    for name, a in g.arrays():
+        dims = getattr(a.metadata, "dimension_names", None) or a.attrs.get("_ARRAY_DIMENSIONS", ())
+        if dims and dims[0] == "t":
+            yield name, a
+
+
+def _zarr_committed(g) -> int:
+    """Complete records of a Zarr group: its committed length (stores written before
+    bkwaves committed lengths: the shortest time axis)."""
+    lengths = [a.shape[0] for _, a in _zarr_t_arrays(g)]
+    shortest = min(lengths) if lengths else 0
+    committed = g.attrs.get(RECORDS_ATTR)
+    return shortest if committed is None else min(int(committed), shortest)
+
+
+def _merged_nc(blocks_dir: Path):
+    import xarray as xr
+
+    files = [f for _, _, f in _blocks(blocks_dir)]
     if not files:
-        raise ParameterError(f"no completed records in {parts}")
-    dss = [xr.open_dataset(f, engine="h5netcdf") for f in files]
+        return None
+    dss = [_open_nc(f) for f in files]
     ds = xr.concat(dss, dim="t", combine_attrs="override").load()
     for d in dss:
         d.close()
     return ds
 
 
+def _merged_table(d: Path):
+    import pyarrow as pa
+
+    parts = _table_parts(d)
+    if not parts:
+        return None
+    tables = [_read_parquet(f) for _, _, f in parts]
+    meta = tables[0].schema.metadata
+    return pa.concat_tables(tables).replace_schema_metadata(meta)
+
+
+def _publish(out: Path, partial: Path, replaces, remove=()):
+    """Build the final files in ``partial/final`` and rename them onto ``out``."""
+    import pyarrow.parquet as pq
+
+    final = partial / "final"
+    if final.exists():
+        shutil.rmtree(final)
+    final.mkdir()
+    marker = _read_marker(partial) or {}
+    run_id = marker.get("run_id", "")
+    produced = []
+    for d in sorted((partial / "tables").iterdir()):
+        parts = _table_parts(d)
+        if not parts:
+            continue
+        target = final / table_path(out, d.name).name
+        meta = _parquet_meta(parts[0][2])
+        meta[b"bkwaves_run_id"] = run_id.encode()
+        if meta.get(b"bkwaves_csv", b"1") == b"1":
+            csv = target.with_suffix(".csv")
+            for k, (_, _, f) in enumerate(parts):
+                _read_parquet(f).to_pandas().to_csv(
+                    csv, index=False, mode="w" if k == 0 else "a", header=k == 0
+                )
+            meta[b"bkwaves_csv_sha256"] = _sha256(csv).encode()
+            produced.append(csv)
+        schema = pq.read_schema(parts[0][2]).with_metadata(meta)
+        with pq.ParquetWriter(target, schema) as w:
+            for _, _, f in parts:  # one row group per part: appended, never rewritten
+                w.write_table(_read_parquet(f).replace_schema_metadata(meta))
+        produced.append(target)
+    main = final / out.name
+    if out.suffix == ".nc":
+        blocks_dir = partial / "snapshots"
+        need = sum(f.stat().st_size for f in blocks_dir.glob("block-*.nc"))
+        free = shutil.disk_usage(final).free
+        if free < 1.1 * need + (1 << 20):
+            # HDF5 crashes the process on a full disk (h5py, ENOSPC): check first
+            raise OSError(
+                errno.ENOSPC,
+                f"No space left on device: merging {out.name} needs {human_bytes(need)}, "
+                f"{human_bytes(free)} free",
+            )
+        ds = _merged_nc(blocks_dir)
+        if ds is not None:
+            enc = {
+                v: {"chunksizes": (min(ds.sizes["t"], 4096) or 1, ds.sizes["x"])}
+                for v in ds.data_vars
+            }
+            ds.to_netcdf(main, engine="h5netcdf", unlimited_dims=["t"], encoding=enc)
+    else:
+        import zarr
+
+        store = partial / out.name
+        with warnings.catch_warnings():  # "consolidated metadata is not in the v3 spec"
+            warnings.simplefilter("ignore")
+            zarr.consolidate_metadata(str(store))
+        store.replace(main)
+    # install: tables first, the main output last; then drop what the old output had
+    # and the new one has not
+    old = partial / "replaced"
+    old.mkdir(exist_ok=True)
+    names = {p.name for p in produced} | {out.name}
+    for p in replaces:
+        if p.name not in names and p.exists() and _is_ours(p, out):
+            p.replace(old / p.name)
+    for p in produced:
+        p.replace(out.with_name(p.name))
+    if main.exists():
+        if out.is_dir():
+            out.replace(old / out.name)
+        main.replace(out)
+    for p in remove:
+        Path(p).unlink(missing_ok=True)
+    shutil.rmtree(partial)
+
+
 def finalize(path) -> Path:
-    """Merge the NetCDF parts of an output (left by a run that did not close) into ``path``."""
-    import shutil
+    """Publish the records an unfinished run left in ``OUT.partial/`` as ``OUT`` (after a
+    crash, an interruption or a full disk), replacing an earlier output: the run can then
+    no longer be resumed (its checkpoint is removed)."""
+    from .runner import checkpoint_path
 
     p = _check_path(path)
-    parts = _parts_dir(p)
-    if not parts.exists():
+    partial = partial_path(p)
+    marker = _read_marker(partial)
+    if marker is None:
         return p
-    ds = _open_parts(parts)
-    tmp = p.with_name(p.name + ".tmp")
-    enc = {v: {"chunksizes": (1, ds.sizes["x"])} for v in ds.data_vars}
-    ds.to_netcdf(tmp, engine="h5netcdf", unlimited_dims=["t"], encoding=enc)
-    tmp.replace(p)
-    shutil.rmtree(parts)
+    lock = _Lock(_lock_path(p), p)
+    try:
+        replaces = [p.with_name(n) for n in marker.get("replaces", [])]
+        _publish(p, partial, replaces, remove=[checkpoint_path(p)])
+    finally:
+        lock.release()
     return p
+
+
+# --- reading -----------------------------------------------------------------------------
 
 
 def load(path):
     """Open a run output: returns ``(dataset, catalog)``: the snapshots as an xarray
     Dataset and the event catalog as a pandas DataFrame (None if the run wrote none),
-    with its column units in ``catalog.attrs["units"]``. An output whose run crashed
-    before closing is read from its completed parts. Other tables: :func:`load_tables`."""
+    with its column units in ``catalog.attrs["units"]``. Without a published output the
+    records of an unfinished run (``OUT.partial/``) are read, up to the last committed
+    one, with a warning. Other tables: :func:`load_tables`."""
     ds, tables = load_tables(path)
     return ds, tables.get("events")
 
 
 def load_tables(path):
-    """Like :func:`load`, with every table: returns ``(dataset, {name: DataFrame})``."""
-    import pyarrow.parquet as pq
-    import xarray as xr
-
+    """Like :func:`load`, with every table: returns ``(dataset, {name: DataFrame})``.
+    A table written by another run than the snapshots (another run id) is left out,
+    with a warning."""
     p = _check_path(path)
-    parts = _parts_dir(p)
-    if p.suffix == ".nc" and parts.exists():
-        ds = _open_parts(parts)
-    elif not p.exists():
-        raise ParameterError(f"output not found: {p}")
-    elif p.suffix == ".nc":
-        ds = xr.open_dataset(p, engine="h5netcdf")
+    partial = partial_path(p)
+    marker = _read_marker(partial)
+    if p.exists():
+        if marker is not None:
+            warnings.warn(
+                f"{partial} holds an unfinished newer run (not read): continue it with "
+                f"`bkwaves run --resume {p}`",
+                stacklevel=2,
+            )
+        ds = _open_zarr(p, p) if p.suffix == ".zarr" else _open_nc(p)
+        raw = {}
+        for f in sorted(p.parent.glob(f"{p.name}.*.parquet")):
+            raw[f.name[len(p.name) + 1 : -len(".parquet")]] = _read_parquet(f)
+    elif marker is not None:
+        if p.suffix == ".zarr":
+            ds = _open_zarr(partial / p.name, p)
+        else:
+            ds = _merged_nc(partial / "snapshots")
+            if ds is None:
+                raise ParameterError(f"no completed records in {partial}")
+        raw = {}
+        for d in sorted((partial / "tables").iterdir()):
+            t = _merged_table(d)
+            if t is not None:
+                raw[d.name] = t
+        warnings.warn(
+            f"{p} is unfinished: read {ds.sizes['t']} committed records from {partial} "
+            f"(continue the run with `bkwaves run --resume {p}` if it left a checkpoint, "
+            "or publish it as it is with bkwaves.io.finalize)",
+            stacklevel=2,
+        )
     else:
-        ds = xr.open_zarr(p, consolidated=False)
+        raise ParameterError(f"output not found: {p}")
+    run_id = ds.attrs.get(RUN_ID_ATTR)
     tables = {}
-    for f in sorted(p.parent.glob(f"{p.name}.*.parquet")):
-        name = f.name[len(p.name) + 1 : -len(".parquet")]
-        t = pq.read_table(f)
-        df = t.to_pandas()
+    for name, t in raw.items():
         meta = t.schema.metadata or {}
+        tid = meta.get(b"bkwaves_run_id", b"").decode() or None
+        if run_id is not None and tid != run_id:
+            warnings.warn(
+                f"table {name!r} of {p} belongs to another run ({tid or 'no run id'}, the "
+                f"snapshots are run {run_id}): left out",
+                stacklevel=2,
+            )
+            continue
+        df = t.to_pandas()
         df.attrs["units"] = json.loads(meta.get(b"bkwaves_units", b"{}"))
+        df.attrs["scales"] = json.loads(meta.get(b"bkwaves_scales", b"{}"))
         tables[name] = df
     return ds, tables
+
+
+def _open_zarr(store: Path, out: Path):
+    """A Zarr store read up to its last committed record (a warning says what a torn
+    store had beyond it)."""
+    import xarray as xr
+    import zarr
+
+    g = zarr.open_group(str(store), mode="r")
+    n = _zarr_committed(g)
+    lengths = {name: a.shape[0] for name, a in _zarr_t_arrays(g)}
+    consolidated = "consolidated_metadata" in json.loads((store / "zarr.json").read_text())
+    if lengths and max(lengths.values()) > n:
+        warnings.warn(
+            f"{out}: dropped the uncommitted records beyond record {n} "
+            f"({', '.join(f'{k}: {v}' for k, v in sorted(lengths.items()))} rows written)",
+            stacklevel=3,
+        )
+    if all(v == n for v in lengths.values()):
+        ds = xr.open_zarr(store, consolidated=consolidated)
+        return ds
+    # a torn store: arrays of different lengths, built here from the committed rows
+    data, coords = {}, {}
+    for name, a in g.arrays():
+        dims = tuple(
+            getattr(a.metadata, "dimension_names", None) or a.attrs.get("_ARRAY_DIMENSIONS", ())
+        )
+        values = a[:n] if dims and dims[0] == "t" else a[:]
+        attrs = {k: v for k, v in a.attrs.items() if k != "_ARRAY_DIMENSIONS"}
+        (coords if name in ("t", "x") else data)[name] = (dims, values, attrs)
+    return xr.Dataset(data, coords=coords, attrs=dict(g.attrs))

@@ -1,21 +1,27 @@
 """Run a configuration (``bkwaves run CONFIG.toml``): build the engine, advance it, and
-write self-describing outputs incrementally (see :mod:`bkwaves.io`).
+write self-describing outputs (see :mod:`bkwaves.io`).
 
 Outputs of a run to ``OUT.nc`` (or ``.zarr``):
 
 - snapshots of the fields on the grid at the configured times / every k events
-  (chain: ``u``, ``u_t``, ``mode``; free boundary: ``u``), appended as they are computed;
+  (chain: ``u``, ``u_t``, ``sliding``; free boundary: ``u``), the first one the initial
+  state;
 - ``OUT.events.parquet`` / ``.csv``: the event catalog;
 - ``OUT.slips.parquet`` (chain: every slip of every block: the slip-front trajectories) or
   ``OUT.shocks.parquet`` (free boundary: shock trajectories);
-- global attributes: the config (TOML as JSON), version, seed, params, units.
+- global attributes: the config (TOML as JSON), version, run id, seed, params, units.
 
-Tables are rewritten atomically at least every ``table_every`` seconds of wall time and
-at the end, so an interrupted run (Ctrl-C, SIGTERM) keeps every completed snapshot and
-the tables; the run then ends normally with ``interrupted = True``. (Ctrl-C and SIGTERM
-are noted and acted on between engine chunks of ``chunk`` steps, never inside a write.)
+Records are buffered and committed in blocks (every ``flush_every`` seconds of wall time
+or 8 MB, before every checkpoint and at the end): the rows of the tables that are final
+(events that ended and their slips) first, then the snapshots. Until the run is complete
+they live in ``OUT.partial/``; a complete run is published onto ``OUT`` atomically. The
+signal handlers are installed before anything else: Ctrl-C (SIGINT) and SIGTERM are noted
+and acted on between engine chunks of ``chunk`` steps, never inside a write; the run then
+commits what was computed, leaves ``OUT.checkpoint`` and ends with ``interrupted = True``
+(``bkwaves run`` exits 130 or 143). A full disk keeps what was committed and raises
+:class:`OutputFull` with one line saying what was kept and what was needed.
 With a physical ([physical]) config the outputs are in SI units unless
-``output.units = "dimensionless"``: x in m, t in s, slips in m; u stays the
+``output.units = "dimensionless"``: x in m, t in s, slips in m, u_t in 1/s; u stays the
 dimensionless stress (0: kinetic level, 1: static threshold).
 """
 
@@ -23,6 +29,7 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
 import signal
 import time
 from dataclasses import dataclass, field
@@ -33,9 +40,10 @@ import numpy as np
 from . import __version__
 from ._progress import ProgressBar
 from .config import RunConfig, initial_state
-from .io import RunWriter
+from .io import NO_SPACE, RunWriter, human_bytes, partial_path
 
 __all__ = [
+    "OutputFull",
     "RunResult",
     "RunSummary",
     "run",
@@ -44,6 +52,11 @@ __all__ = [
     "resume",
     "checkpoint_path",
 ]
+
+
+class OutputFull(OSError):
+    """The disk filled up during a run: what was committed is kept in ``OUT.partial/``;
+    the message (one line) says what was kept and how much space the output needs."""
 
 
 def checkpoint_path(out) -> Path:
@@ -114,33 +127,55 @@ class RunSummary:
 
 
 class _StopRequest:
-    """While active, SIGINT (Ctrl-C) and SIGTERM only set a flag: the run loop checks it
-    between engine chunks, so a write is never cut in half and the summary counts exactly
-    what is on disk."""
+    """While active, SIGINT (Ctrl-C) and SIGTERM only set a flag (and note the signal):
+    the run loop checks it between engine chunks, so a write is never cut in half and the
+    summary counts exactly what is on disk. Nested uses share the outermost one (the
+    command line installs it before it reads the config)."""
+
+    active: _StopRequest | None = None
 
     def __init__(self):
         self.requested = False
+        self.signal: int | None = None
         self._old = {}
+        self._outer = None
 
     def _handler(self, signum, frame):
         self.requested = True
+        self.signal = signum
 
     def __enter__(self):
+        if _StopRequest.active is not None:
+            self._outer = _StopRequest.active
+            return self._outer
         for sig in (signal.SIGINT, signal.SIGTERM):
             try:
                 self._old[sig] = signal.signal(sig, self._handler)
             except ValueError:  # not in the main thread: leave the defaults
                 pass
+        _StopRequest.active = self
         return self
 
     def __exit__(self, *exc):
+        if self._outer is not None:
+            return False
         for sig, old in self._old.items():
             signal.signal(sig, old)
+        _StopRequest.active = None
         return False
 
 
+_SCALES = {
+    "t": "t' = t sqrt(k_p/m) (paper eq. dimless)",
+    "x": "x' = (x/a) sqrt(k_p/k_c) (paper eq. dimless)",
+    "slip": "displacement in units of (f_r - f_s)/k_p",
+    "u_t": "du/dt' (t' = t sqrt(k_p/m), paper eq. dimless)",
+}
+
+
 class _Units:
-    """Conversion of outputs to SI for physical configs."""
+    """Conversion of outputs to SI for physical configs. Dimensionless quantities carry
+    the UDUNITS unit "1" and say how they are scaled in their own ``scale`` attribute."""
 
     def __init__(self, cfg: RunConfig):
         self.si = cfg.physical and cfg.output_units == "native"
@@ -159,33 +194,46 @@ class _Units:
     def slip(self, s):
         return self.u.slip(s) if self.si else s
 
+    def rate(self, u_t):
+        """du/dt: per second in SI."""
+        return np.asarray(u_t) / self.u.time_scale if self.si else u_t
+
     def coord_units(self):
-        return ("m", "s") if self.si else ("x' (paper eq. dimless)", "t' (paper eq. dimless)")
+        return ("m", "s") if self.si else ("1", "1")
+
+    def coord_attrs(self):
+        if self.si:
+            return ({}, {})
+        return ({"scale": _SCALES["x"]}, {"scale": _SCALES["t"]})
+
+    def rate_spec(self):
+        """Units and extra attributes of u_t."""
+        return ("s-1", {}) if self.si else ("1", {"scale": _SCALES["u_t"]})
 
     def convert_table(self, df, times=(), xs=(), slips=()):
-        units = {}
+        """(df in output units, {column: units}, {column: scale})."""
+        units, scales = {}, {}
         df = df.copy()
-        for c in times:
-            if c in df:
-                df[c] = self.t(df[c].to_numpy())
-                units[c] = "s" if self.si else "t'"
-        for c in xs:
-            if c in df:
-                df[c] = self.x(df[c].to_numpy())
-                units[c] = "m" if self.si else "x'"
-        for c in slips:
-            if c in df:
-                df[c] = self.slip(df[c].to_numpy())
-                units[c] = "m" if self.si else "(f_r - f_s)/k_p"
-        return df, units
+        for cols, conv, si_unit, key in (
+            (times, self.t, "s", "t"),
+            (xs, self.x, "m", "x"),
+            (slips, self.slip, "m", "slip"),
+        ):
+            for c in cols:
+                if c in df:
+                    df[c] = conv(df[c].to_numpy())
+                    units[c] = si_unit if self.si else "1"
+                    if not self.si:
+                        scales[c] = _SCALES[key]
+        return df, units, scales
 
 
 def _snapshot_times(cfg: RunConfig) -> np.ndarray:
     if cfg.snapshot_every is None:
         return np.array([], dtype=float)
     if cfg.t_end is None:
-        # open-ended by events: snapshot times far enough ahead
-        return np.arange(1, 10**6) * cfg.snapshot_every
+        # open-ended by events: snapshot times far enough ahead, from the initial state
+        return np.arange(0, 10**6) * cfg.snapshot_every
     n = int(math.floor(cfg.t_end / cfg.snapshot_every * (1 + 1e-12)))
     return cfg.snapshot_every * np.arange(n + 1)
 
@@ -211,7 +259,8 @@ def run(
     out=None,
     *,
     progress: bool = False,
-    table_every: float = 5.0,
+    overwrite: bool = False,
+    flush_every: float = 5.0,
     chunk: int = 20_000,
     checkpoint_every: float | None = None,
     _stop_after_chunks: int | None = None,
@@ -219,31 +268,36 @@ def run(
     _memory=None,
 ) -> RunSummary:
     """Run ``cfg`` and write its outputs to ``out`` (default ``cfg.output_path``; None:
-    nothing written). Returns a summary; Ctrl-C or SIGTERM end the run cleanly and leave
-    a checkpoint ``OUT.checkpoint`` from which :func:`resume` continues. With
-    ``checkpoint_every`` (seconds of wall time) checkpoints are also written during the
-    run. A resumed run equals the uninterrupted one bit for bit: checkpoints are taken
-    between engine chunks, where the engines restart exactly."""
+    nothing written). An existing output is refused unless ``overwrite`` (then only files
+    bkwaves wrote are replaced, once the new output is complete). Returns a summary;
+    Ctrl-C or SIGTERM end the run cleanly, keep what was computed in ``OUT.partial/`` and
+    leave a checkpoint ``OUT.checkpoint`` from which :func:`resume` continues (the
+    summary's ``signal`` names the signal). With ``checkpoint_every`` (seconds of wall
+    time) checkpoints are also written during the run. A resumed run equals the
+    uninterrupted one bit for bit: checkpoints are taken between engine chunks, where the
+    engines restart exactly. A full disk raises :class:`OutputFull`."""
     from ._core import ParameterError
 
-    out = out if out is not None else cfg.output_path
-    if checkpoint_every is not None and out is None:
-        raise ParameterError("checkpoints need an output path (-o OUT)")
-    if checkpoint_every is not None and not checkpoint_every > 0:
-        raise ParameterError(
-            f"invalid checkpoint_every = {checkpoint_every}: allowed checkpoint_every > 0 (s)"
+    with _StopRequest() as stop_request:  # first: a signal from here on is never lost
+        out = out if out is not None else cfg.output_path
+        if checkpoint_every is not None and out is None:
+            raise ParameterError("checkpoints need an output path (-o OUT)")
+        if checkpoint_every is not None and not checkpoint_every > 0:
+            raise ParameterError(
+                f"invalid checkpoint_every = {checkpoint_every}: allowed checkpoint_every > 0 (s)"
+            )
+        ctl = _Control(
+            out, cfg, checkpoint_every, _stop_after_chunks, _state, stop_request, _memory
         )
-    ctl = _Control(out, cfg, checkpoint_every, _stop_after_chunks, _state, _memory)
-    if cfg.model == "chain":
-        return _run_chain(cfg, out, progress, table_every, chunk, ctl)
-    return _run_free_boundary(cfg, out, progress, table_every, chunk, ctl)
+        body = _run_chain if cfg.model == "chain" else _run_free_boundary
+        return body(cfg, out, progress, overwrite, flush_every, chunk, ctl)
 
 
 def resume(
     out,
     *,
     progress: bool = False,
-    table_every: float = 5.0,
+    flush_every: float = 5.0,
     chunk: int = 20_000,
     checkpoint_every: float | None = None,
     _stop_after_chunks: int | None = None,
@@ -251,24 +305,28 @@ def resume(
     """Continue the run that wrote ``out`` from its checkpoint ``OUT.checkpoint``."""
     from .config import parse_config
 
-    state = _read_checkpoint(out)
-    base = Path(state["base_dir"]) if state["base_dir"] else None
-    cfg = parse_config(state["config"], base_dir=base)
-    return run(
-        cfg,
-        out,
-        progress=progress,
-        table_every=table_every,
-        chunk=chunk,
-        checkpoint_every=checkpoint_every,
-        _stop_after_chunks=_stop_after_chunks,
-        _state=state,
-    )
+    with _StopRequest():
+        state = _read_checkpoint(out)
+        base = Path(state["base_dir"]) if state["base_dir"] else None
+        cfg = parse_config(state["config"], base_dir=base)
+        return run(
+            cfg,
+            out,
+            progress=progress,
+            flush_every=flush_every,
+            chunk=chunk,
+            checkpoint_every=checkpoint_every,
+            _stop_after_chunks=_stop_after_chunks,
+            _state=state,
+        )
 
 
 class _MemoryWriter:
     """The writer interface of :class:`bkwaves.io.RunWriter`, keeping everything in
     memory (for :func:`run_result`): tables always, snapshots when asked."""
+
+    path = None
+    record_bytes = 0
 
     def __init__(self, snapshots: bool):
         self.keep_snapshots = snapshots
@@ -276,22 +334,48 @@ class _MemoryWriter:
         self.table_units: dict = {}
         self.times: list = []
         self.fields: dict = {}
+        self.count = 0
+        self.closed = False
+        self._rows: dict = {}
 
     def start(self, x, variables, attrs, coord_units):
         self.x, self.variables, self.attrs, self.coord_units = x, variables, attrs, coord_units
 
+    @property
+    def records(self) -> int:
+        return self.count
+
     def append(self, t, **fields):
+        self.append_block([t], **{k: np.asarray(v)[None, ...] for k, v in fields.items()})
+
+    def append_block(self, t, **fields):
+        t = np.atleast_1d(np.asarray(t, dtype=float))
         if self.keep_snapshots:
-            self.times.append(float(t))
+            self.times.extend(t.tolist())
             for k, v in fields.items():
-                self.fields.setdefault(k, []).append(np.array(v, copy=True))
+                self.fields.setdefault(k, []).append(np.array(v, copy=True).reshape(len(t), -1))
+        self.count += len(t)
 
-    def write_table(self, name, df, units=None, csv=True):
-        self.tables[name] = df
-        self.table_units[name] = dict(units or {})
+    def append_rows(self, name, df, units=None, csv=None, scales=None):
+        self._rows.setdefault(name, []).append(df)
+        if units:
+            self.table_units[name] = dict(units)
 
-    def close(self):
+    def table_rows(self, name) -> int:
+        return sum(len(d) for d in self._rows.get(name, []))
+
+    def commit(self):
         pass
+
+    def close(self, publish=True, remove=()):
+        import pandas as pd
+
+        for name, dfs in self._rows.items():
+            self.tables[name] = pd.concat(dfs, ignore_index=True)
+        self.closed = True
+
+    def abandon(self):
+        self.closed = True
 
     def dataset(self):
         """The snapshots as an xarray Dataset (dims t, x), as bk.load would read them."""
@@ -300,10 +384,10 @@ class _MemoryWriter:
         x_units, t_units = self.coord_units
         data = {}
         for k, rows in self.fields.items():
-            units, long_name, dtype = self.variables[k]
+            units, long_name, dtype, *_ = self.variables[k]
             data[k] = (
                 ("t", "x"),
-                np.asarray(rows, dtype=dtype),
+                np.concatenate(rows).astype(dtype),
                 {"units": units, "long_name": long_name},
             )
         return xr.Dataset(
@@ -415,11 +499,12 @@ def simulate(cfg, out=None, *, snapshots: bool = False, progress: bool = False) 
 class _Control:
     """Checkpoint timing, the resume state, and the stop request of a run."""
 
-    def __init__(self, out, cfg, every, stop_after, state, memory=None):
+    def __init__(self, out, cfg, every, stop_after, state, stop_request, memory=None):
         self.out, self.cfg, self.every = out, cfg, every
         self.memory = memory
         self.stop_after = stop_after
         self.state = state
+        self.stop_request = stop_request
         self.chunks = 0
         self.last = time.perf_counter()
 
@@ -427,47 +512,113 @@ class _Control:
     def resuming(self) -> bool:
         return self.state is not None
 
-    def chunk_done(self, stop_request) -> None:
+    @property
+    def stop(self) -> bool:
+        return self.stop_request.requested
+
+    def chunk_done(self) -> None:
         self.chunks += 1
         if self.stop_after is not None and self.chunks >= self.stop_after:
-            stop_request.requested = True
+            self.stop_request.requested = True
 
     def due(self) -> bool:
         return self.every is not None and time.perf_counter() - self.last > self.every
 
-    def save(self, engine_obj, written, runner=None):
+    def save(self, engine_obj, writer, runner=None):
+        """Commit what is buffered, then checkpoint: the checkpoint never counts records
+        that are not on disk."""
         if self.out is None:
             return
-        _save_checkpoint(self.out, self.cfg, engine_obj, written, runner or {})
+        writer.commit()
+        _save_checkpoint(self.out, self.cfg, engine_obj, writer.count, runner or {})
         self.last = time.perf_counter()
 
-    def finished(self):
-        """The run ended on its own: no checkpoint is needed any more."""
-        if self.out is not None:
-            checkpoint_path(self.out).unlink(missing_ok=True)
+    def signal_name(self) -> str | None:
+        sig = self.stop_request.signal
+        return None if sig is None else signal.Signals(sig).name
 
 
-def _open_writer(out, cfg, units, x, variables, ctl):
-    """The output writer (None without an output) and the number of snapshots already in
-    it (those the checkpoint counts when resuming)."""
-    written = ctl.state["written"] if ctl.resuming else 0
+def _open_writer(out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows):
+    """The output writer (None without an output); when resuming it continues after the
+    records and table rows the checkpoint counts."""
     if ctl.memory is not None:  # run_result: everything kept in memory
         ctl.memory.start(units.x(x), variables, _attrs(cfg, units), units.coord_units())
-        return written, ctl.memory
+        return ctl.memory
     if not out:
-        return written, None
-    writer = RunWriter(
+        return None
+    return RunWriter(
         out,
         units.x(x),
         variables,
         attrs=_attrs(cfg, units),
         coord_units=units.coord_units(),
-        resume_count=written if ctl.resuming else None,
+        coord_attrs=units.coord_attrs(),
+        overwrite=overwrite,
+        resume_count=ctl.state["written"] if ctl.resuming else None,
+        resume_rows=resume_rows if ctl.resuming else None,
+        flush_every=flush_every,
     )
-    return written, writer
 
 
-def _run_chain(cfg, out, progress, table_every, chunk, ctl):
+def _expected_snapshots(cfg) -> int | None:
+    if cfg.t_end is None or cfg.snapshot_events:
+        return None
+    return len(_snapshot_times(cfg))
+
+
+def _finish(writer, ctl, engine_obj, runner_state, give_all, interrupted):
+    """End a run: a complete one is published; an interrupted one commits, checkpoints,
+    then adds the rows of the running event (dropped again when resuming)."""
+    if writer is None:
+        return
+    if ctl.memory is not None:
+        give_all()
+        writer.close()
+        return
+    if interrupted:
+        ctl.save(engine_obj, writer, runner_state)
+        give_all()
+        writer.close(publish=False)
+    else:
+        give_all()
+        writer.close(publish=True, remove=[checkpoint_path(ctl.out)])
+
+
+def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
+    """The one-line report of a full disk (the committed records stay in OUT.partial/)."""
+    writer.abandon()
+    partial = partial_path(writer.path)
+    kept = sum(f.stat().st_size for f in partial.rglob("*") if f.is_file())
+    per_record = kept / writer.count if writer.count else writer.record_bytes
+    expected = _expected_snapshots(cfg)
+    free = shutil.disk_usage(partial).free
+    if expected:
+        total = human_bytes(per_record * expected)
+        need = f"the output needs about {total} for {expected} snapshots"
+    else:
+        need = f"the output needs about {human_bytes(per_record)} per snapshot"
+    ck = checkpoint_path(writer.path)
+    then = (
+        f"then continue with `bkwaves run --resume {writer.path}`"
+        if ck.exists()
+        else "then run again with --overwrite (or publish what was kept: bkwaves.io.finalize)"
+    )
+    return OutputFull(
+        err.errno,
+        f"disk full writing {writer.path} (the run reached t = {t_now:.6g}): kept "
+        f"{writer.count} snapshots and the catalog of {events} events in {partial} "
+        f"({human_bytes(kept)}); {need}, {human_bytes(free)} free; free space, {then}",
+    )
+
+
+def _frame(cols: dict, stop: int | None = None):
+    import pandas as pd
+
+    df = pd.DataFrame(cols)
+    return df if stop is None else df.iloc[:stop]
+
+
+def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     from .chain import Chain
 
     p = cfg.params
@@ -488,88 +639,97 @@ def _run_chain(cfg, out, progress, table_every, chunk, ctl):
     eng = chain._engine
     units = _Units(cfg)
     x = np.arange(cfg.blocks) * p.dx
+    rate_units, rate_attrs = units.rate_spec()
     variables = {
         "u": ("1", "stress u (0: kinetic level, 1: static threshold)", "f8"),
-        "u_t": ("(f_r - f_s)/sqrt(k_p m)", "du/dt", "f8"),
+        "u_t": (rate_units, "du/dt", "f8", rate_attrs),
         "sliding": ("1", "sliding state: 0 stuck, 1 forward, -1 backward", "i1"),
     }
-    written, writer = _open_writer(out, cfg, units, x, variables, ctl)
+    resume_rows = {"events": eng.events_finished, "slips": eng.slips_final}
+    writer = _open_writer(out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows)
     t_stop = cfg.t_end if cfg.t_end is not None else 1e300
     max_events = cfg.max_events if cfg.max_events is not None else 2**62
     bar = ProgressBar(progress, cfg.t_end if cfg.t_end else max_events, "chain")
-    wall0 = last_tables = time.perf_counter()
+    wall0 = time.perf_counter()
     interrupted = False
 
-    def flush_snapshots():
-        nonlocal written
+    def give(final=True):
+        """Hand the writer the rows and snapshots it does not have yet (with ``final``:
+        only rows that never change again: events that ended and their slips)."""
         if writer is None:
             return
-        ts, us, uts = eng.snapshots()
-        for i in range(written, len(ts)):
+        k = writer.table_rows("events")
+        n = eng.events_finished if final else None
+        cat = _frame(eng.catalog(k), None if n is None else max(n - k, 0))
+        if len(cat) or not final:  # (at the end: the table even when it is empty)
+            cat["duration"] = cat["t_end"] - cat["t_start"]
+            cat, cu, cs = units.convert_table(
+                cat, times=("t_start", "t_end", "duration"), slips=("moment",)
+            )
+            writer.append_rows("events", cat, cu, scales=cs)
+        k = writer.table_rows("slips")
+        sl = _frame(eng.slips(k, eng.slips_final if final else None))
+        if len(sl) or not final:
+            sl.insert(2, "x", sl["block"] * p.dx)
+            sl, su, ss = units.convert_table(
+                sl, times=("t_start", "t_end"), xs=("x",), slips=("slip",)
+            )
+            writer.append_rows("slips", sl, su, csv=False, scales=ss)
+        # the snapshots last: a commit they trigger writes their catalog rows first
+        ts, us, uts = eng.snapshots(writer.records)
+        if len(ts):
             # stuck blocks drift with the loader exactly (u_t == v to the bit), so the
             # sign of the speed over the ground v - u_t is the sliding state
-            sliding = np.sign(p.v - np.asarray(uts[i])).astype(np.int8)
-            writer.append(units.t(ts[i]), u=us[i], u_t=uts[i], sliding=sliding)
-        written = len(ts)
-
-    def flush_tables():
-        if writer is None:
-            return
-        import pandas as pd
-
-        cat = pd.DataFrame(eng.catalog())
-        cat["duration"] = cat["t_end"] - cat["t_start"]
-        cat, cu = units.convert_table(
-            cat, times=("t_start", "t_end", "duration"), slips=("moment",)
-        )
-        writer.write_table("events", cat, cu)
-        sl = pd.DataFrame(eng.slips())
-        sl.insert(2, "x", sl["block"] * p.dx)
-        sl, su = units.convert_table(sl, times=("t_start", "t_end"), xs=("x",), slips=("slip",))
-        writer.write_table("slips", sl, su, csv=False)
+            sliding = np.sign(p.v - np.asarray(uts)).astype(np.int8)
+            writer.append_block(units.t(np.asarray(ts)), u=us, u_t=units.rate(uts), sliding=sliding)
 
     try:
-        with _StopRequest() as stop_request:
-            while True:
-                done = eng.events_finished
-                stop = eng.advance(t_stop, max(max_events - done, 0), int(chunk))
-                flush_snapshots()
-                bar.update(chain.t if cfg.t_end else eng.events_finished)
-                if time.perf_counter() - last_tables > table_every:
-                    flush_tables()
-                    last_tables = time.perf_counter()
-                if stop != "steps":
-                    break
-                ctl.chunk_done(stop_request)
-                if stop_request.requested:
-                    interrupted = True
-                    break
-                if ctl.due():
-                    ctl.save(chain, written)
-    finally:
+        finished = False
+        while not ctl.stop:
+            done = eng.events_finished
+            stop = eng.advance(t_stop, max(max_events - done, 0), int(chunk))
+            give()
+            bar.update(chain.t if cfg.t_end else eng.events_finished)
+            if stop != "steps":
+                finished = True
+                break
+            ctl.chunk_done()
+            if not ctl.stop and ctl.due():
+                ctl.save(chain, writer)
+        interrupted = not finished
         bar.close()
-        flush_snapshots()
-        flush_tables()
-        if writer is not None:
-            writer.close()
-    if interrupted:
-        ctl.save(chain, written)
-    else:
-        ctl.finished()
+        _finish(writer, ctl, chain, None, lambda: give(final=False), interrupted)
+    except OSError as err:
+        bar.close()
+        if writer is None:
+            raise
+        if err.errno not in NO_SPACE:
+            writer.abandon()
+            raise
+        raise _disk_full(err, writer, cfg, eng.events_finished, units.t(chain.t)) from err
+    except BaseException:
+        bar.close()
+        if writer is not None and not writer.closed:
+            writer.close(publish=False)
+        raise
     return RunSummary(
         model="chain",
         out=str(out) if out else None,
         t=float(units.t(chain.t)),
         events=int(eng.events_finished),
-        snapshots=written,
+        snapshots=writer.count if writer is not None else len(eng.snapshots()[0]),
         interrupted=interrupted,
         wall_s=time.perf_counter() - wall0,
         units=units.name,
-        extra={"blocks": cfg.blocks, "counters": eng.counters()},
+        extra={
+            "blocks": cfg.blocks,
+            "counters": eng.counters(),
+            "signal": ctl.signal_name() if interrupted else None,
+        },
     )
 
 
-def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
+def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     import warnings
 
     from .free_boundary import FreeBoundary
@@ -590,37 +750,43 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
     eng = fb._engine
     units = _Units(cfg)
     variables = {"u": ("1", "slow field u (0: kinetic level, 1: static threshold)", "f8")}
-    written, writer = _open_writer(out, cfg, units, x, variables, ctl)
+    resume_rows = {"events": eng.completed_events, "shocks": len(eng.path()["t"])}
+    writer = _open_writer(out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows)
     t_end = cfg.t_end if cfg.t_end is not None else math.inf
     target_events = cfg.max_events if cfg.max_events is not None else 2**62
     bar = ProgressBar(progress, cfg.t_end if cfg.t_end else target_events, "free boundary")
-    wall0 = last_tables = time.perf_counter()
+    wall0 = time.perf_counter()
     interrupted = False
+    snapshots = 0
 
-    def snap():
-        nonlocal written
-        if writer is not None:
-            writer.append(units.t(eng.time), u=np.asarray(eng.u_nodes()))
-            written += 1
-
-    def flush_tables():
+    def give(final=True):
+        """Hand the writer the table rows it does not have yet (``final``: completed
+        events only; every shock path point is final when recorded)."""
         if writer is None:
             return
-        import pandas as pd
-
-        ev = pd.DataFrame(eng.events())
-        if len(ev):
+        k = writer.table_rows("events")
+        n = eng.completed_events if final else None
+        ev = _frame(eng.events(k), None if n is None else max(n - k, 0))
+        if len(ev) or not final:  # (at the end: the table even when it is empty)
             ev.insert(3, "duration", ev["t_end"] - ev["t_start"])
-        ev, eu = units.convert_table(
-            ev,
-            times=("t_start", "t_end", "duration"),
-            xs=("x_start", "x_min", "x_max", "swept"),
-            slips=("moment",),
-        )
-        writer.write_table("events", ev, eu)
-        sh = pd.DataFrame(eng.path())
-        sh, su = units.convert_table(sh, times=("t",), xs=("x",))
-        writer.write_table("shocks", sh, su, csv=False)
+            ev, eu, es = units.convert_table(
+                ev,
+                times=("t_start", "t_end", "duration"),
+                xs=("x_start", "x_min", "x_max", "swept"),
+                slips=("moment",),
+            )
+            writer.append_rows("events", ev, eu, scales=es)
+        sh = _frame(eng.path(writer.table_rows("shocks")))
+        if len(sh) or not final:
+            sh, su, ss = units.convert_table(sh, times=("t",), xs=("x",))
+            writer.append_rows("shocks", sh, su, csv=False, scales=ss)
+
+    def snap():
+        nonlocal snapshots
+        snapshots += 1
+        if writer is not None:
+            give()  # the catalog rows before the snapshot they belong with
+            writer.append(units.t(eng.time), u=np.asarray(eng.u_nodes()))
 
     # The loop state (the next target, the every-k count) goes into checkpoints: the
     # resumed run makes the same engine calls and writes the same snapshots.
@@ -635,6 +801,7 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
         rs = ctl.state["runner"]
         i_target = int(rs["next_target"])
         last_every_k = int(rs["last_every_k"])
+        snapshots = int(ctl.state["written"])
     else:
         i_target = 0
         last_every_k = 0
@@ -642,53 +809,66 @@ def _run_free_boundary(cfg, out, progress, table_every, chunk, ctl):
     def runner_state():
         return {"next_target": i_target, "last_every_k": last_every_k}
 
-    saved_written = written
     try:
-        with _StopRequest() as stop_request:
-            while i_target < len(targets):
-                target = targets[i_target]
-                status = eng.advance(float(target), int(chunk), int(target_events))
-                bar.update(eng.time if cfg.t_end else eng.completed_events)
-                k = cfg.snapshot_events
-                if k and eng.completed_events // k > last_every_k:
-                    last_every_k = eng.completed_events // k
+        finished = i_target == len(targets)
+        while not finished and not ctl.stop:
+            target = targets[i_target]
+            status = eng.advance(float(target), int(chunk), int(target_events))
+            bar.update(eng.time if cfg.t_end else eng.completed_events)
+            k = cfg.snapshot_events
+            if k and eng.completed_events // k > last_every_k:
+                last_every_k = eng.completed_events // k
+                snap()
+            if status == "time":
+                i_target += 1
+                if target in wanted:
                     snap()
-                if status == "time":
-                    i_target += 1
-                    if target in wanted:
-                        snap()
-                if time.perf_counter() - last_tables > table_every:
-                    flush_tables()
-                    last_tables = time.perf_counter()
-                if status == "events" or i_target == len(targets):
-                    break
-                ctl.chunk_done(stop_request)
-                if stop_request.requested:
-                    interrupted = True
-                    break
-                if ctl.due():
-                    ctl.save(fb, written, runner_state())
-        # records written up to here are the ones a resumed run continues after
-        saved_written = written
-    finally:
+            give()
+            if status == "events" or i_target == len(targets):
+                finished = True
+                break
+            ctl.chunk_done()
+            if not ctl.stop and ctl.due():
+                ctl.save(fb, writer, runner_state())
+        interrupted = not finished
         bar.close()
-        if writer is not None and (written == 0 or interrupted or cfg.t_end is None):
-            snap()
-        flush_tables()
-        if writer is not None:
-            writer.close()
-    if interrupted:
-        ctl.save(fb, saved_written, runner_state())
-    else:
-        ctl.finished()
+
+        def give_all():
+            # the state at the end (the cut, when interrupted: a resumed run drops it)
+            if snapshots == 0 or interrupted or cfg.t_end is None:
+                snap()
+            give(final=False)
+
+        if writer is None:
+            if snapshots == 0 or interrupted or cfg.t_end is None:
+                snapshots += 1
+        _finish(writer, ctl, fb, runner_state(), give_all, interrupted)
+    except OSError as err:
+        bar.close()
+        if writer is None:
+            raise
+        if err.errno not in NO_SPACE:
+            writer.abandon()
+            raise
+        raise _disk_full(err, writer, cfg, eng.completed_events, units.t(eng.time)) from err
+    except BaseException:
+        bar.close()
+        if writer is not None and not writer.closed:
+            writer.close(publish=False)
+        raise
     return RunSummary(
         model="free_boundary",
         out=str(out) if out else None,
         t=float(units.t(eng.time)),
         events=int(eng.completed_events),
-        snapshots=written,
+        snapshots=writer.count if writer is not None else snapshots,
         interrupted=interrupted,
         wall_s=time.perf_counter() - wall0,
         units=units.name,
-        extra={"grid": len(x), "warnings": notes, "steps": int(eng.steps)},
+        extra={
+            "grid": len(x),
+            "warnings": notes,
+            "steps": int(eng.steps),
+            "signal": ctl.signal_name() if interrupted else None,
+        },
     )

@@ -150,6 +150,14 @@ impl ChainEngine {
     fn events_finished(&self) -> usize {
         self.inner.catalog.finished()
     }
+    /// Number of slip rows of finished events: these rows never change again (the slips
+    /// of the running event follow them).
+    #[getter]
+    fn slips_final(&self) -> usize {
+        let c = &self.inner.catalog;
+        let done = c.finished();
+        c.slips.partition_point(|r| r.event < done)
+    }
     #[getter]
     fn boundary(&self) -> &'static str {
         self.inner.boundary_name()
@@ -196,9 +204,11 @@ impl ChainEngine {
         Ok(d)
     }
 
-    /// The event catalog as a dict of arrays.
-    fn catalog<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let e = &self.inner.catalog.events;
+    /// The event catalog as a dict of arrays (rows from `start` on).
+    #[pyo3(signature = (start=0))]
+    fn catalog<'py>(&self, py: Python<'py>, start: usize) -> PyResult<Bound<'py, PyDict>> {
+        let all = &self.inner.catalog.events;
+        let e = &all[start.min(all.len())..];
         let d = PyDict::new(py);
         let f = |g: &dyn Fn(&bkwaves_core::chain::catalog::EventRecord) -> f64| {
             e.iter().map(g).collect::<Vec<f64>>()
@@ -219,9 +229,18 @@ impl ChainEngine {
         Ok(d)
     }
 
-    /// All slip intervals (the slip-front trajectories) as a dict of arrays.
-    fn slips<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = &self.inner.catalog.slips;
+    /// Slip intervals (the slip-front trajectories), rows `start..stop` (default: all), as
+    /// a dict of arrays.
+    #[pyo3(signature = (start=0, stop=None))]
+    fn slips<'py>(
+        &self,
+        py: Python<'py>,
+        start: usize,
+        stop: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let all = &self.inner.catalog.slips;
+        let stop = stop.unwrap_or(all.len()).min(all.len());
+        let s = &all[start.min(stop)..stop];
         let d = PyDict::new(py);
         d.set_item(
             "event",
@@ -243,11 +262,13 @@ impl ChainEngine {
         Ok(d)
     }
 
-    /// Snapshots: (t, u[k, i], u_t[k, i]).
+    /// Snapshots from number `start` on: (t, u[k, i], u_t[k, i]).
     #[allow(clippy::type_complexity)]
+    #[pyo3(signature = (start=0))]
     fn snapshots<'py>(
         &self,
         py: Python<'py>,
+        start: usize,
     ) -> PyResult<(
         Bound<'py, PyArray1<f64>>,
         Bound<'py, PyArray2<f64>>,
@@ -255,10 +276,11 @@ impl ChainEngine {
     )> {
         let s = &self.inner.snapshots;
         let n = self.inner.n();
+        let k = start.min(s.t.len());
         Ok((
-            vec1(py, s.t.clone()),
-            mat(py, &s.u, n)?,
-            mat(py, &s.u_t, n)?,
+            vec1(py, s.t[k..].to_vec()),
+            mat(py, &s.u[k..], n)?,
+            mat(py, &s.u_t[k..], n)?,
         ))
     }
 }

@@ -152,9 +152,11 @@ impl PyFreeBoundary {
         Ok(d)
     }
 
-    /// The event catalog as a dict of arrays.
-    fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let e = self.inner.events();
+    /// The event catalog (rows from `start` on) as a dict of arrays.
+    #[pyo3(signature = (start=0))]
+    fn events<'py>(&self, py: Python<'py>, start: usize) -> PyResult<Bound<'py, PyDict>> {
+        let all = self.inner.events();
+        let e = &all[start.min(all.len())..];
         let d = PyDict::new(py);
         macro_rules! col {
             ($name:expr, $f:expr) => {
@@ -180,9 +182,12 @@ impl PyFreeBoundary {
         Ok(d)
     }
 
-    /// Recorded shock path points as a dict of arrays (kind as a list of str).
-    fn path<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let p = self.inner.path();
+    /// Recorded shock path points from row `start` on, as a dict of arrays (kind as a
+    /// list of str).
+    #[pyo3(signature = (start=0))]
+    fn path<'py>(&self, py: Python<'py>, start: usize) -> PyResult<Bound<'py, PyDict>> {
+        let all = self.inner.path();
+        let p = &all[start.min(all.len())..];
         let d = PyDict::new(py);
         macro_rules! col {
             ($name:expr, $f:expr) => {
