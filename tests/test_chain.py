@@ -108,8 +108,9 @@ def test_narrow_pulses_at_gamma_zero():
     ms = [bk.chain.front(u, 0.0, dx) for dx in (0.025, 0.0125)]
     for m in ms:
         assert m.regime == "pulse", m.reason
-        assert m.steadiness < 1e-4 and m.settled
-        assert m.u_minus == pytest.approx(-u, abs=2e-3)
+        assert m.steadiness < 1e-5 and m.settled
+        # (u at re-stick settles more slowly than the sliding time: part of steadiness)
+        assert m.u_minus == pytest.approx(-u, abs=1e-5)
     ec = [abs(m.c - tw.c) for m in ms]
     ew = [abs(m.w - tw.w) for m in ms]
     assert 3.0 < ec[0] / ec[1] < 5.0, ec

@@ -458,7 +458,8 @@ class FrontMeasurement:
     regime: "pulse" (a steady healing front in a settled window), "creep" (no steady
     healing front, as App. B predicts for u_+ <= gamma), or "undecided" (``reason`` says
     why). steadiness: largest relative deviation of a window block's sliding time from
-    their mean (None when some window block never re-stuck). window: [x_a, x_b) where
+    their mean, or of its u at re-stick from theirs relative to the slip u_+ - u_- (None
+    when some window block never re-stuck). window: [x_a, x_b) where
     c, w and u_- are measured; settling_length: x_s = w v/(c - v), the distance from the
     trigger beyond which the trigger's transient cannot reach the healing front (v: the
     fastest lattice wave); the window is settled when x_a >= SETTLE_MARGIN x_s. app_b:
@@ -509,8 +510,12 @@ class FrontMeasurement:
 #: The measurement window starts this many settling lengths from the trigger (at 2 x_s the
 #: sliding times of all cases in docs/chain.md are steady to 3e-6 or better).
 SETTLE_MARGIN = 2.0
-#: A steady healing front: the window's sliding times agree to this relative spread.
+#: A steady healing front: the window's sliding times (and u at re-stick, relative to the
+#: slip u_+ - u_-) agree to this relative spread.
 STEADY_TOL = 1e-3
+#: A pulse steady to less than this is measured again further from the trigger (if the
+#: chain may still grow: MAX_PASSES, WORK_LIMIT).
+STEADY_GOAL = 1e-6
 #: Default chain when App. B has no pulse (creep): this many blocks, at least 40 units long.
 CREEP_BLOCKS = 1600
 #: The default chain grows (from the measured w and c) while its estimated cost stays below
@@ -647,17 +652,31 @@ def front(
         steadiness = w = x_s = None
         if healed:
             mean = float(np.mean(dur))
+            # sliding times, and u at re-stick relative to the slip u_+ - u_- (the
+            # latter settles more slowly in narrow undamped pulses)
+            u_stick = r["stick_u"][a:b]
+            slip = u_plus - float(np.mean(u_stick))
             steadiness = float(np.max(np.abs(dur - mean)) / mean)
+            if slip > 0:
+                u_spread = float(np.max(np.abs(u_stick - np.mean(u_stick)))) / slip
+                steadiness = max(steadiness, u_spread)
             w = c * mean
             x_s = settling_length(c, w, dx)
         settled = x_s is not None and a * dx >= SETTLE_MARGIN * x_s * (1 - 1e-12)
         # (the core applies the same test to the same window to report u_-)
         steady = healed and steadiness <= STEADY_TOL and bool(r["pulse"])
+        if steady and settled and steadiness > STEADY_GOAL and not fixed:
+            # a pulse, not yet steady to STEADY_GOAL: one window further out if affordable
+            nxt = None if passes >= MAX_PASSES else _plan(c, w, dx, margin=1.5 * a * dx / x_s)
+            if nxt is not None and nxt[0] * (w / c) / (step * dx) <= WORK_LIMIT:
+                plan = nxt
+                continue
         if steady and settled:
             regime = "pulse"
             reason = (
-                f"steady healing front: sliding times agree to {_fmt(steadiness)} over the "
-                f"window, which starts {_fmt(a * dx / x_s)} settling lengths from the trigger"
+                f"steady healing front: sliding times and re-stick stresses agree to "
+                f"{_fmt(steadiness)} over the window, which starts {_fmt(a * dx / x_s)} "
+                f"settling lengths from the trigger"
             )
             if theory is None:
                 reason += " (App. B, the continuum, has creep here: a lattice pulse)"

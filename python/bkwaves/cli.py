@@ -332,16 +332,18 @@ def front(
 
     Uniform u_+ on a free chain, block 0 kicked forward; c from the slip times
     of a window of blocks, w and u_- from their re-sticking. Regime: pulse (a
-    steady healing front: sliding times agree to 1e-3), creep (none), or
-    undecided (the reason is printed).
+    steady healing front: sliding times and re-stick stresses agree to 1e-3),
+    creep (none), or undecided (the reason is printed); "steady" prints the
+    spread.
 
     Default chain length: the trigger's transient can reach the healing front
     at x only if x < x_s = w v/(c - v) (v: the fastest lattice wave, < 1), so
     the window starts 2 x_s from the trigger (of the cases measured in
     docs/chain.md 9 of 10 are steady to 1e-6 there, a narrow undamped pulse to
-    8e-4; the spread is printed). The chain is sized from App. B's w
-    and c, then re-run (at most twice) from the measured ones: typically
-    500-3000 blocks and under a second; near u_+ = gamma ~2e4 blocks and ~10 s.
+    8e-4). The chain is sized from App. B's w and c, then re-run (at most
+    twice) from the measured ones, further out while the spread exceeds 1e-6:
+    typically 500-5000 blocks and under a second; near u_+ = gamma ~2e4 blocks
+    and ~10 s.
     Without an App. B pulse (u_+ <= gamma): 1600 blocks (at least 40 units).
     """
     from .chain import front as measure
@@ -366,7 +368,7 @@ def front(
     steady = "-" if m.steadiness is None else f"{m.steadiness:.2g}"
     xs = "-" if m.settling_length is None else f"{m.settling_length:.4g}"
     typer.echo(
-        f"steady  = {steady}   (spread of the sliding times over the window x = "
+        f"steady  = {steady}   (spread of sliding times and re-stick u over the window x = "
         f"{m.window[0]:.4g}-{m.window[1]:.4g}; settling length x_s = {xs})"
     )
     typer.echo(f"why     : {m.reason}")

@@ -314,6 +314,7 @@ fn front_measure<'py>(
     d.set_item("w", r.w)?;
     d.set_item("slip_times", vec1(py, r.slip_times))?;
     d.set_item("stick_times", vec1(py, r.stick_times))?;
+    d.set_item("stick_u", vec1(py, r.stick_u))?;
     d.set_item("window", r.window)?;
     d.set_item("t_end", r.t_end)?;
     d.set_item("block_steps", r.block_steps)?;

@@ -82,6 +82,8 @@ pub struct FrontResult {
     pub slip_times: Vec<f64>,
     /// End of the first slip of every block (the healing front; NaN if still sliding).
     pub stick_times: Vec<f64>,
+    /// u of every block at the end of its first slip (NaN if still sliding).
+    pub stick_u: Vec<f64>,
     /// Window [a, b) of block indices.
     pub window: (usize, usize),
     /// Simulated time.
@@ -197,6 +199,7 @@ pub fn measure_front(o: &FrontOptions) -> Result<FrontResult> {
         w,
         slip_times: first,
         stick_times: stick,
+        stick_u,
         window: (a, b),
         t_end: ch.time(),
         block_steps: ch.counters.block_steps,
@@ -230,6 +233,9 @@ mod tests {
                 o.step = step;
                 let r = measure_front(&o).unwrap();
                 assert!(r.pulse, "u {u} gamma {gamma}");
+                let (a, b) = r.window;
+                let mean = r.stick_u[a..b].iter().sum::<f64>() / (b - a) as f64;
+                assert_eq!(mean, r.u_minus);
                 errs.push((r.c / exact - 1.0).abs());
             }
             assert!(errs[0] < 1e-7, "u {u}: {errs:?}");
