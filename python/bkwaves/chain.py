@@ -494,7 +494,7 @@ class FrontMeasurement:
             for k in ("u_plus", "gamma", "dx", "blocks", "c", "regime", "u_minus", "w", "wall_s")
         }
         d.update(
-            beta="inf" if math.isinf(self.beta) else self.beta,
+            beta=self.beta,
             backward_slips=self.backward_slips,
             steadiness=self.steadiness,
             window=list(self.window),

@@ -353,6 +353,7 @@ def front(
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
     d = {k: _json_value(v) for k, v in m.to_dict().items()}
+    d["beta"] = "inf" if math.isinf(m.beta) else m.beta  # JSON has no inf (null: unknown)
     if json_out:
         typer.echo(json.dumps(d))
         return
