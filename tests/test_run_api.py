@@ -89,3 +89,18 @@ def test_event_statistics_b_value_only_with_enough_events():
     assert abs(s["b_value"] - 1.0) < 3 * s["b_value_err"]
     few = _event_statistics(ev.iloc[: B_VALUE_MIN_EVENTS - 1])
     assert np.isnan(few["b_value"]) and few["n_events"] == B_VALUE_MIN_EVENTS - 1
+
+
+def test_every_k_events_snapshots_start_with_the_initial_state():
+    """A chain run with only snapshot_events: its first snapshot is the initial state at
+    t = 0 (as for timed snapshots), then one per event."""
+    from bkwaves.config import initial_state
+
+    cfg = load_config(Path(__file__).parents[1] / "examples" / "chain_loading.toml")
+    assert cfg.snapshot_events == 1 and cfg.snapshot_every is None
+    cfg = dataclasses.replace(cfg, max_events=3)
+    r = bk.run(cfg, snapshots=True)
+    t = r.snapshots["t"].values
+    assert t[0] == 0.0 and len(t) == 1 + 3
+    np.testing.assert_array_equal(r.snapshots["u"].values[0], initial_state(cfg))
+    np.testing.assert_array_equal(t[1:], r.events["t_end"].values[:3])

@@ -635,7 +635,11 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
                 chain.kick(tr.block, -tr.velocity, tr.time)
             else:
                 chain.release(tr.block, tr.time)
-        chain._engine.add_snapshots(_snapshot_times(cfg), int(cfg.snapshot_events or 0))
+        times = _snapshot_times(cfg)
+        if cfg.snapshot_events and (times.size == 0 or times[0] > chain.t):
+            # every-k-events snapshots start with the initial state, like timed ones
+            times = np.concatenate([[chain.t], times])
+        chain._engine.add_snapshots(times, int(cfg.snapshot_events or 0))
     eng = chain._engine
     units = _Units(cfg)
     x = np.arange(cfg.blocks) * p.dx
