@@ -190,12 +190,12 @@ def _lattice_formula(u, dx):
     return dx / (2 * u * np.arcsin(dx * np.sqrt(1 - u * u) / (2 * u)))
 
 
-def _chain_c(u, dx, blocks, steady=1e-9):
+def _chain_c(u, dx, blocks, steady=1e-9, gamma=0.0, step=0.0125):
     import math
 
     from bkwaves import _core
 
-    r = _core.front_measure(u, 0.0, dx, blocks, step=0.0125, beta=math.inf, heal=False)
+    r = _core.front_measure(u, gamma, dx, blocks, step=step, beta=math.inf, heal=False)
     assert r["unsteadiness"] < steady
     return r["c"]
 
@@ -218,3 +218,69 @@ def test_lattice_closed_form_refuses_narrow_pulses(u, dx):
 def test_lattice_closed_form_is_the_chains_speed_inside_its_domain(u, dx):
     """Untuned points inside the domain (X = 26 and 59): the chain agrees to its precision."""
     assert bk.front_speed(u, dx=dx) == pytest.approx(_chain_c(u, dx, 2400), rel=2e-10)
+
+
+def _names_the_chain(e):
+    msg = str(e.value)
+    for word in ("u_plus", "dx", "gamma", "bk.chain.front(u_plus, gamma, dx)"):
+        assert word in msg, msg
+
+
+@pytest.mark.parametrize(
+    "u, gamma, dx, off",
+    [
+        (0.3, 0.1, 0.2, 2.5e-4),
+        (0.25, 0.1, 0.1, 1.4e-5),
+        (0.4, 0.2, 0.3, 7.8e-5),
+        (0.45, 0.15, 0.25, 1.8e-6),
+    ],
+)
+def test_damped_tip_solver_refuses_narrow_pulses(u, gamma, dx, off):
+    """With damping too the finite-dx tip problem lets every block slide for ever, while the
+    chain re-sticks them w/dx spacings behind the tip: its speed is `off` (relative) below the
+    chain's, ~a e^-X with X = lambda w/(c dx) = 5.5, 7.7, 7.5, 11.0 (the last point chosen
+    after the rule, untuned). front_speed and tip_solve refuse with one error naming u_plus,
+    dx, gamma and the chain; the linear problem stays available (chain_domain=False)."""
+    chain = _chain_c(u, dx, 2400, gamma=gamma, step=0.00625)
+    linear = bk.tip_solve(u, dx=dx, gamma=gamma, chain_domain=False)["c"]
+    assert linear / chain - 1 == pytest.approx(-off, rel=0.1)  # the tip value is wrong here
+    with pytest.raises(bk.ParameterError) as e:
+        bk.front_speed(u, dx=dx, gamma=gamma)
+    _names_the_chain(e)
+    with pytest.raises(bk.ParameterError) as e:
+        bk.tip_solve(u, dx=dx, gamma=gamma)
+    _names_the_chain(e)
+    with pytest.raises(bk.ParameterError) as e:  # given c: the solved u_+ is checked
+        bk.tip_solve(c=linear, dx=dx, gamma=gamma)
+    _names_the_chain(e)
+
+
+@pytest.mark.parametrize(
+    "u, gamma, dx",
+    [
+        (0.55, 0.2, 0.15),  # pulse, X = 31 (untuned)
+        (0.65, 0.25, 0.3),  # pulse, X = 25 (untuned)
+        (0.45, 0.45, 0.2),  # creep: u_+ = gamma, the critically damped wave
+        (0.6, 0.7, 0.2),  # creep
+    ],
+)
+def test_damped_tip_solver_is_the_chains_speed_inside_its_domain(u, gamma, dx):
+    """Inside the domain, and in creep (App. B's wave never re-sticks), the tip solver's
+    speed is the chain's to the chain's precision (~3e-11 at step 0.00625)."""
+    chain = _chain_c(u, dx, 2400, steady=2e-10, gamma=gamma, step=0.00625)
+    assert bk.front_speed(u, dx=dx, gamma=gamma) == pytest.approx(chain, rel=1e-10)
+    assert bk.tip_solve(u, dx=dx, gamma=gamma)["c"] == pytest.approx(chain, rel=1e-10)
+
+
+def test_resticking_exponent_is_one_rule_for_every_gamma():
+    """The gamma = 0 closed form and the damped tip solver share the domain check: the
+    same refusal at gamma = 0 whichever route, and the damped boundary moves with the pulse
+    width w(u_+, gamma) (wider pulses, X larger: (0.5, 0.3, 0.2) is inside while
+    (0.5, 0.1, 0.2), X = 17, is outside)."""
+    for method in ("exact", "tip"):
+        with pytest.raises(bk.ParameterError) as e:
+            bk.front_speed(0.3, dx=0.1, method=method)
+        _names_the_chain(e)
+    assert bk.front_speed(0.5, dx=0.2, gamma=0.3) > 1
+    with pytest.raises(bk.ParameterError):
+        bk.front_speed(0.5, dx=0.2, gamma=0.1)

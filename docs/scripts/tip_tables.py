@@ -63,6 +63,14 @@ def interpolation():
     print(f"\ninterpolation eq. (c): max |rel. error| = {abs(d[i]):.4f} at u_+ = {u[i]:.3f}")
 
 
+def _outside_chain_domain(u, dx, gamma):
+    try:
+        bk.tip_solve(u, dx=dx, gamma=gamma)
+    except bk.ParameterError:
+        return True
+    return False
+
+
 def finite_dx():
     print(
         "| gamma | u_+ | dx = 0.1 | 0.05 | 0.025 | 0.0125 | order"
@@ -74,7 +82,10 @@ def finite_dx():
             if u <= g:
                 continue
             dxs = [0.1, 0.05, 0.025, 0.0125]
-            cs = [bk.tip_solve(u, dx=h, gamma=g)["c"] for h in dxs]
+            # the tip problem itself (chain_domain=False): an asterisk marks a speed that is
+            # not the chain's (narrow pulse, docs/theory.md "Narrow pulses")
+            cs = [bk.tip_solve(u, dx=h, gamma=g, chain_domain=False)["c"] for h in dxs]
+            mark = [_outside_chain_domain(u, h, g) for h in dxs]
             p = np.log2((cs[1] - cs[2]) / (cs[2] - cs[3]))
             # two levels of Richardson: remove the dx^p and the next dx^(p+1) terms
             # (gamma > 0: c = c0 + a dx + b dx^2; gamma = 0: only even powers)
@@ -82,7 +93,9 @@ def finite_dx():
             p2 = p1 + (2 if g == 0.0 else 1)
             r1 = [cs[i + 1] + (cs[i + 1] - cs[i]) / (2**p1 - 1) for i in range(3)]
             rich = r1[2] + (r1[2] - r1[1]) / (2**p2 - 1)
-            row = [f"{g}", f"{u}"] + [f"{c:.8f}" for c in cs]
+            row = [f"{g}", f"{u}"] + [
+                f"{c:.8f}" + ("*" if m else "") for c, m in zip(cs, mark, strict=True)
+            ]
             row += [f"{p:.3f}", f"{rich:.9f}", f"{closed(u):.9f}"]
             print("| " + " | ".join(row) + " |")
 

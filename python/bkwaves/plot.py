@@ -399,7 +399,7 @@ def _speed_theory(panels, ds, da, axes):
         for x in uu:
             try:
                 tip.append(tip_solve(float(x), dx=float(dx), gamma=gamma)["c"] - front_speed(x))
-            except Exception:  # noqa: BLE001 - outside the tip solver's range: a gap
+            except Exception:  # noqa: BLE001 - outside its range or the chain domain: a gap
                 tip.append(np.nan)
         ax.plot(uu, tip, "-", color=color, lw=1, label=f"tip solver, dx = {dx:g}")
     ax.axhline(0.0, color="k", lw=0.8)

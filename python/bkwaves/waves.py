@@ -23,13 +23,15 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
     Continuum limit (``dx = 0``, the paper's c(u_+)): c = 1/sqrt(1 - u_+^2), the exact
     solution of the tip problem of App. A (docs/theory.md); gamma drops out.
     Discrete chain (``dx > 0``): with ``gamma = 0`` the closed form
-    c = dx / (2 u_+ asin(dx sqrt(1 - u_+^2) / (2 u_+))), returned only where it is the
-    chain's speed: c > 1 and the pulse wide enough in lattice units that re-sticking
-    behind the tip does not feed back (X = lambda w/(c dx) >= 20, roughly
-    u_+^2/dx >= 2; elsewhere a ParameterError says to measure the front with
-    ``bk.chain.front``); with ``gamma > 0`` the finite-dx tip problem is solved
-    numerically (the damping enters at order dx; it too lets blocks slide for ever, so
-    it is the chain's speed only for wide pulses; see docs/theory.md).
+    c = dx / (2 u_+ asin(dx sqrt(1 - u_+^2) / (2 u_+))); with ``gamma > 0`` the finite-dx
+    tip problem solved numerically (the damping enters at order dx). Both let every
+    block behind the tip slide for ever, while the chain re-sticks it about w/dx spacings
+    behind the tip; so a speed is returned only where it is the chain's: c > 1 and, for a
+    pulse (u_+ > gamma), X = lambda w/(c dx) >= 20 (w the pulse width of App. B, lambda
+    the decay rate of the lattice behind the tip; roughly u_+^2/dx >= 2 for small u_+ and
+    gamma); creep (u_+ <= gamma) never re-sticks. Elsewhere a ParameterError names
+    u_plus, dx and gamma and says to measure the front with ``bk.chain.front``
+    (docs/theory.md, "Narrow pulses").
     ``method="tip"`` always solves the tip problem numerically (about a millisecond
     per value); it agrees with the closed forms to ~1e-12.
     """
@@ -40,28 +42,35 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
         V._fail("method", method, "'exact' or 'tip'")
     if method == "exact" and dx == 0.0:
         return _scalar_or_array(_core.front_speed(u))
-    if dx > 0.0 and gamma == 0.0:
-        # the domain check (narrow pulses re-stick near the tip) applies to both methods
-        closed = _core.lattice_front_speed(u, dx)
-        if method == "exact":
-            return _scalar_or_array(closed)
+    if method == "exact" and gamma == 0.0:
+        return _scalar_or_array(_core.lattice_front_speed(u, dx))
+    # (the tip solver makes the same domain check at dx > 0)
     out = np.array([_core.tip_solve_u_plus(float(x), 16, 40.0, dx, gamma)["c"] for x in u.ravel()])
     return _scalar_or_array(out.reshape(u.shape))
 
 
-def tip_solve(u_plus=None, *, c=None, degree=16, decay=40.0, dx=0.0, gamma=0.0) -> dict:
+def tip_solve(
+    u_plus=None, *, c=None, degree=16, decay=40.0, dx=0.0, gamma=0.0, chain_domain=True
+) -> dict:
     """Solve the discrete tip problem (App. A) numerically, given u_plus or c.
 
-    ``dx > 0`` keeps the finite lattice spacing and the damping gamma (exact for the
-    discrete chain at v = 0); ``dx = 0`` is the paper's continuum limit. Returns a dict
+    ``dx > 0`` keeps the finite lattice spacing and the damping gamma: the steady front of
+    the discrete chain at v = 0 where the pulse is wide in lattice units (the tip problem
+    lets every block slide for ever; the chain re-sticks them). Outside that domain (the
+    one of ``front_speed``) a ParameterError names u_plus, dx and gamma and points to
+    ``bk.chain.front``; ``chain_domain=False`` solves the linear tip problem as stated
+    there too (for studies of the tip problem itself). ``dx = 0`` is the paper's continuum
+    limit. Returns a dict
     with c, theta = (1 - u_+)/u_+, u_plus, the number of intervals kept behind the
     tip and the decay rate of the slowest transient.
     """
     if (u_plus is None) == (c is None):
         raise V.ParameterError("give exactly one of u_plus or c")
+    if not isinstance(chain_domain, bool):
+        V._fail("chain_domain", chain_domain, "True or False")
     if u_plus is not None:
-        return _core.tip_solve_u_plus(float(u_plus), degree, decay, dx, gamma)
-    return _core.tip_solve_speed(float(c), degree, decay, dx, gamma)
+        return _core.tip_solve_u_plus(float(u_plus), degree, decay, dx, gamma, chain_domain)
+    return _core.tip_solve_speed(float(c), degree, decay, dx, gamma, chain_domain)
 
 
 @dataclass(frozen=True)

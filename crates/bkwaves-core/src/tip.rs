@@ -144,7 +144,28 @@ pub fn slowest_decay_rate(c: f64) -> f64 {
 }
 
 /// Solve the tip problem for front speed c > 1: returns theta = (1 - u_+)/u_+ and u_+.
+/// At dx > 0 the solution must lie in the domain where it is the discrete chain's steady
+/// front ([`crate::speed::check_lattice_front`]: the tip problem lets every block slide for
+/// ever, the chain re-sticks them w/dx spacings behind the tip); outside it the error names
+/// u_plus, dx and gamma. [`solve_linear_for_speed`] skips that check.
 pub fn solve_for_speed(c: f64, opts: &TipOptions) -> Result<TipSolution> {
+    let s = solve_linear_for_speed(c, opts)?;
+    check_chain_domain(s.u_plus, s.c, opts)?;
+    Ok(s)
+}
+
+/// The chain-domain check of [`solve_for_speed`] and [`solve_for_u_plus`] (none at dx = 0,
+/// where no block re-sticks within the tip region).
+fn check_chain_domain(u_plus: f64, c: f64, opts: &TipOptions) -> Result<()> {
+    if opts.dx > 0.0 {
+        crate::speed::check_lattice_front(u_plus, c, opts.dx, opts.gamma)?;
+    }
+    Ok(())
+}
+
+/// The linear tip problem for front speed c > 1 as stated (every block behind the tip
+/// slides for ever), without the chain-domain check of [`solve_for_speed`].
+pub fn solve_linear_for_speed(c: f64, opts: &TipOptions) -> Result<TipSolution> {
     opts.validate()?;
     let c = check_open("c", c, 1.0, f64::INFINITY, "c > 1 (fronts are supersonic)")?;
     if !(c - 1.0 >= MIN_SPEED_EXCESS && c <= MAX_SPEED) {
@@ -243,8 +264,18 @@ pub fn solve_for_speed(c: f64, opts: &TipOptions) -> Result<TipSolution> {
 /// The front speed c for stress u_+ ahead, by root finding on [`solve_for_speed`]
 /// in the variable ln(c - 1) (where ln theta is nearly linear at both ends), within the
 /// solver's range 1 + [`MIN_SPEED_EXCESS`] <= c <= [`MAX_SPEED`]; a u_+ whose front lies
-/// outside it is an error naming u_plus and the range.
+/// outside it is an error naming u_plus and the range. At dx > 0 the front must also lie in
+/// the chain's domain of [`solve_for_speed`] ([`crate::speed::check_lattice_front`]).
 pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
+    let s = solve_linear_for_u_plus(u_plus, opts)?;
+    // the given u_plus, not the solved 1/(1 + theta): u_plus = gamma is creep exactly
+    check_chain_domain(u_plus, s.c, opts)?;
+    Ok(s)
+}
+
+/// c(u_+) of the linear tip problem as stated, without the chain-domain check of
+/// [`solve_for_u_plus`] (for comparisons with its closed form at gamma = 0).
+pub fn solve_linear_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
     let u = check_open("u_plus", u_plus, 0.0, 1.0, "0 < u_plus < 1")?;
     opts.validate()?;
     let out_of_range = |allowed| Error::InvalidParameter {
@@ -267,7 +298,7 @@ pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
     let target_theta = (1.0 - u) / u;
     let target = target_theta.ln();
     let eval = |x: f64| -> Result<(f64, TipSolution)> {
-        let s = solve_for_speed(1.0 + x.exp(), opts)?;
+        let s = solve_linear_for_speed(1.0 + x.exp(), opts)?;
         Ok((s.theta.ln() - target, s))
     };
     // theta decreases with c. Crude start that has both limits right within a factor 2.
@@ -287,7 +318,8 @@ pub fn solve_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolution> {
                 // damping the discrete front can be subsonic (c <= 1), outside this solver.
                 "a stress with a supersonic steady front, c >= 1 + 5e-5; at this dx and \
                  gamma the discrete front is subsonic, marginal or too close to c = 1 for \
-                 the tip solver (measure it in the chain: bkwaves front)"
+                 the tip solver (measure it in the chain: bk.chain.front(u_plus, gamma, \
+                 dx), or bkwaves front)"
             } else {
                 U_PLUS_RANGE
             }));
@@ -459,7 +491,8 @@ mod tests {
                 dx,
                 ..Default::default()
             };
-            let s = solve_for_u_plus(u, &o).unwrap();
+            // the linear problem and its closed form (with or without the chain's domain)
+            let s = solve_linear_for_u_plus(u, &o).unwrap();
             let c = crate::speed::lattice_closed_form(u, dx).unwrap();
             assert!(
                 (s.c - c).abs() < 1e-11 * c,

@@ -26,9 +26,10 @@ fn to_dict<'py>(py: Python<'py>, s: &TipSolution) -> PyResult<Bound<'py, PyDict>
     Ok(d)
 }
 
-/// Solve the tip problem for a given front speed c.
+/// Solve the tip problem for a given front speed c (chain_domain: refuse, at dx > 0, a
+/// front that is not the chain's; false: the linear tip problem as stated).
 #[pyfunction]
-#[pyo3(signature = (c, degree=16, decay=40.0, dx=0.0, gamma=0.0))]
+#[pyo3(signature = (c, degree=16, decay=40.0, dx=0.0, gamma=0.0, chain_domain=true))]
 fn tip_solve_speed<'py>(
     py: Python<'py>,
     c: f64,
@@ -36,15 +37,22 @@ fn tip_solve_speed<'py>(
     decay: f64,
     dx: f64,
     gamma: f64,
+    chain_domain: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = options(degree, decay, dx, gamma);
-    let s = py.detach(|| tip::solve_for_speed(c, &o)).map_err(to_py)?;
+    let solve = if chain_domain {
+        tip::solve_for_speed
+    } else {
+        tip::solve_linear_for_speed
+    };
+    let s = py.detach(|| solve(c, &o)).map_err(to_py)?;
     to_dict(py, &s)
 }
 
-/// Solve the tip problem for the front speed at stress u_plus ahead.
+/// Solve the tip problem for the front speed at stress u_plus ahead (chain_domain as in
+/// `tip_solve_speed`).
 #[pyfunction]
-#[pyo3(signature = (u_plus, degree=16, decay=40.0, dx=0.0, gamma=0.0))]
+#[pyo3(signature = (u_plus, degree=16, decay=40.0, dx=0.0, gamma=0.0, chain_domain=true))]
 fn tip_solve_u_plus<'py>(
     py: Python<'py>,
     u_plus: f64,
@@ -52,11 +60,15 @@ fn tip_solve_u_plus<'py>(
     decay: f64,
     dx: f64,
     gamma: f64,
+    chain_domain: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = options(degree, decay, dx, gamma);
-    let s = py
-        .detach(|| tip::solve_for_u_plus(u_plus, &o))
-        .map_err(to_py)?;
+    let solve = if chain_domain {
+        tip::solve_for_u_plus
+    } else {
+        tip::solve_linear_for_u_plus
+    };
+    let s = py.detach(|| solve(u_plus, &o)).map_err(to_py)?;
     to_dict(py, &s)
 }
 
