@@ -142,7 +142,9 @@ def main():
     res["a"] = {}
     for beta in (0.0, 1.0):
         eng_sec, r = median_time(
-            lambda beta=beta: _core.front_measure(u_plus, gamma, dx, n, heal=False, beta=beta),
+            lambda beta=beta: _core.front_measure(
+                u_plus, dx, n, heal=False, friction={"gamma": gamma, "beta": beta}
+            ),
             args.repeat,
         )
         res["a"][f"beta={beta:g}"] = {
@@ -156,7 +158,9 @@ def main():
         print("engine a", beta, res["a"][f"beta={beta:g}"], flush=True)
     # the engine at a coarse step (still more accurate than the coarse baseline below)
     eng_sec, rc = median_time(
-        lambda: _core.front_measure(u_plus, gamma, dx, n, heal=False, step=0.4, beta=0.0),
+        lambda: _core.front_measure(
+            u_plus, dx, n, heal=False, step=0.4, friction={"gamma": gamma, "beta": 0.0}
+        ),
         args.repeat,
     )
     res["a"]["beta=0,step=0.4"] = {"engine_s": eng_sec, "engine_c_rel_err": abs(rc["c"] / tip - 1)}

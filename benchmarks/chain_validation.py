@@ -55,7 +55,7 @@ def main():
             row = {"gamma": g, "u_plus": u, "c_theory": float(bk.front_speed(u))}
             cs, tips = [], []
             for dx in DXS:
-                r = _core.front_measure(u, g, dx, 1600, heal=False)
+                r = _core.front_measure(u, dx, 1600, friction={"gamma": g}, heal=False)
                 cs.append(r["c"])
                 try:
                     tips.append(float(bk.tip_solve(u, dx=dx, gamma=g)["c"]))
@@ -90,7 +90,7 @@ def main():
     steps = []
     tip = float(bk.tip_solve(0.6, dx=0.05, gamma=0.3)["c"])
     for st in STEPS:
-        c = _core.front_measure(0.6, 0.3, 0.05, 1600, step=st, heal=False)["c"]
+        c = _core.front_measure(0.6, 0.05, 1600, step=st, friction={"gamma": 0.3}, heal=False)["c"]
         steps.append({"step": st, "c": c, "rel_err": c / tip - 1})
         print(json.dumps(steps[-1]), flush=True)
     out = {

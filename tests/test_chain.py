@@ -16,7 +16,7 @@ from bkwaves.chain import default_blocks, smooth_random_stress
 
 
 def front_c(u, g, dx, n=1600, **kw):
-    return _core.front_measure(u, g, dx, n, heal=False, **kw)["c"]
+    return _core.front_measure(u, dx, n, friction={"gamma": g}, heal=False, **kw)["c"]
 
 
 @pytest.mark.parametrize(
@@ -153,7 +153,7 @@ def test_the_settling_length_is_where_the_healing_front_becomes_steady():
     for u, g, dx in ((0.4, 0.3, 0.025), (0.3, 0.0, 0.025)):
         m = bk.chain.front(u, g, dx)
         n = int(4 * m.settling_length / dx)
-        r = _core.front_measure(u, g, dx, n, window=(0.8, 0.9))
+        r = _core.front_measure(u, dx, n, friction={"gamma": g}, window=(0.8, 0.9))
         dur = r["stick_times"] - r["slip_times"]
         ref = dur[int(0.8 * n)]
         dev = np.abs(dur / ref - 1)

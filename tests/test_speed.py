@@ -195,7 +195,9 @@ def _chain_c(u, dx, blocks, steady=1e-9, gamma=0.0, step=0.0125):
 
     from bkwaves import _core
 
-    r = _core.front_measure(u, gamma, dx, blocks, step=step, beta=math.inf, heal=False)
+    r = _core.front_measure(
+        u, dx, blocks, step=step, friction={"gamma": gamma, "beta": math.inf}, heal=False
+    )
     assert r["unsteadiness"] < steady
     return r["c"]
 

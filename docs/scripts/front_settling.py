@@ -43,7 +43,7 @@ def main() -> None:
         m = bk.chain.front(u, g, dx)
         xs = m.settling_length
         n = int(4 * xs / dx) + 200
-        r = _core.front_measure(u, g, dx, n, window=(0.8, 0.9))
+        r = _core.front_measure(u, dx, n, friction={"gamma": g}, window=(0.8, 0.9))
         dur = r["stick_times"] - r["slip_times"]
         end = int(0.8 * n)
         dev = np.abs(dur / dur[end] - 1)

@@ -10,7 +10,7 @@ from ._core import ConvergenceError, ParameterError
 
 __version__ = _core.__version__
 
-from . import config, io, plot, presets, stats, theory  # noqa: E402
+from . import config, disorder, friction, io, plot, presets, stats, theory  # noqa: E402
 from .chain import Chain, ChainResult  # noqa: E402
 from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning  # noqa: E402
 from .io import load  # noqa: E402
@@ -34,6 +34,8 @@ __all__ = [
     "TravelingWave",
     "__version__",
     "config",
+    "disorder",
+    "friction",
     "io",
     "load",
     "plot",

@@ -98,6 +98,9 @@ def params_record(params) -> dict:
     d = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)}
     if d.get("units") is not None:
         d["units"] = {f.name: getattr(d["units"], f.name) for f in dataclasses.fields(d["units"])}
+    if d.get("friction_law") is not None:
+        law = d["friction_law"]
+        d["friction_law"] = {"name": law.name, "params": dict(law.params)}
     return d
 
 
@@ -107,6 +110,10 @@ def params_from_record(d: dict):
     d = dict(d)
     if d.get("units") is not None:
         d["units"] = PhysicalUnits(**d["units"])
+    if d.get("friction_law") is not None:
+        from .friction import law
+
+        d["friction_law"] = law(d["friction_law"]["name"], **d["friction_law"]["params"])
     return Params(**d)
 
 

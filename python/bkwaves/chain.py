@@ -35,13 +35,18 @@ from .params import Params
 
 __all__ = ["BOUNDARIES", "DEFAULT_STEP", "Chain", "ChainResult", "FrontMeasurement", "front"]
 
-#: Boundary conditions by name.
-BOUNDARIES = ("free", "fixed", "periodic")
-#: Integrators by name: classical RK4 (order 4, default) and the implicit midpoint rule
-#: (order 2, energy books closed to round-off).
-INTEGRATORS = ("rk4", "midpoint")
+#: Boundary conditions by name (the core's registry; the first is the default).
+BOUNDARIES = tuple(b["name"] for b in _core.boundaries())
+#: Integrators by name (the core's registry): classical RK4 (order 4, default) and the
+#: implicit midpoint rule (order 2, energy books closed to round-off).
+INTEGRATORS = tuple(m["name"] for m in _core.integrators())
+#: Trigger kinds by name (the core's registry).
+TRIGGERS = tuple(k["name"] for k in _core.triggers())
 #: Default time step as a fraction of dx (front speeds converged to ~1e-8 at fixed dx).
-DEFAULT_STEP = 0.05
+DEFAULT_STEP = _core.defaults()["step"]
+#: Per-block properties a chain can carry (docs/chain.md): ``coupling`` has one value per
+#: bond (n - 1 free, n + 1 fixed, n periodic), the others one per block; default 1.
+PROPERTIES = ("threshold", "mass", "loader", "coupling")
 
 #: Units of the dimensionless chain variables (paper eq. dimless).
 UNITS = {
@@ -105,6 +110,10 @@ class Chain:
     start sliding). step: time step as a fraction of dx. integrator: ``"rk4"`` (default,
     error ~ step^4) or ``"midpoint"`` (error ~ step^2, energy balance exact to round-off).
     seed: recorded in the outputs (use it to build u0, e.g. :func:`smooth_random_stress`).
+    threshold, mass, loader, coupling: per-block properties (``PROPERTIES``), each a
+    scalar or an array (one per block; ``coupling`` one per bond: n - 1 free, n + 1
+    fixed, n periodic), in units of the reference values of ``params``; default 1 (the
+    paper's chain, bit for bit). See docs/chain.md for the equations.
     """
 
     def __init__(
@@ -118,7 +127,11 @@ class Chain:
         step: float = DEFAULT_STEP,
         fixed: tuple[float, float] | None = None,
         seed: int | None = None,
-        integrator: str = "rk4",
+        integrator: str = INTEGRATORS[0],
+        threshold=None,
+        mass=None,
+        loader=None,
+        coupling=None,
     ):
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
             V._fail("n", n, "an integer n >= 1")
@@ -138,16 +151,22 @@ class Chain:
             fixed = (float(u0[0]), float(u0[-1]))
         fixed = (V.number("fixed[0]", fixed[0]), V.number("fixed[1]", fixed[1]))
         self.fixed = fixed
+        bonds = {"free": self.n - 1, "fixed": self.n + 1, "periodic": self.n}.get(boundary)
+        given = {"threshold": threshold, "mass": mass, "loader": loader, "coupling": coupling}
+        self.properties = {
+            k: _property(k, x, bonds if k == "coupling" else self.n) for k, x in given.items()
+        }
         self._engine = _core.ChainEngine(
             u0,
             params.dx,
             params.v,
-            params.gamma,
-            params.beta,
             self.step,
+            law=params.law.name,
+            friction=params.law_values(),
             boundary=boundary,
             fixed=fixed,
             u_t0=u_t0,
+            **self.properties,
         )
         if integrator not in INTEGRATORS:
             V._fail("integrator", integrator, "one of " + ", ".join(INTEGRATORS))
@@ -170,7 +189,11 @@ class Chain:
             "seed": self.seed,
             "e0": self._e0,
         }
-        return meta, {"engine": np.frombuffer(self._engine.checkpoint(), dtype=np.uint8)}
+        arrays = {"engine": np.frombuffer(self._engine.checkpoint(), dtype=np.uint8)}
+        for k, x in self.properties.items():
+            if x is not None:
+                arrays[f"property_{k}"] = x
+        return meta, arrays
 
     def _restore(self, meta: dict, arrays: dict, source="the checkpoint") -> None:
         from ._checkpoint import params_from_record, restore_engine
@@ -184,6 +207,7 @@ class Chain:
             step=meta["step"],
             integrator=meta["integrator"],
             seed=meta["seed"],
+            **{k: arrays[f"property_{k}"] for k in PROPERTIES if f"property_{k}" in arrays},
         )
         restore_engine(self._engine, arrays, source)
         self._e0 = meta["e0"]
@@ -394,6 +418,7 @@ class Chain:
             },
         )
         params = {k: v for k, v in p.to_dict().items() if k != "units"}
+        law, law_values = self._engine.friction()
         ds.attrs.update(
             {
                 "params": repr(params),
@@ -402,6 +427,10 @@ class Chain:
                 "dx": p.dx,
                 "beta": p.beta,
                 "friction": p.friction,
+                "friction_law": law,
+                **{f"friction_{k}": x for k, x in law_values.items()},
+                "properties": ", ".join(k for k, x in self.properties.items() if x is not None)
+                or "uniform",
                 "boundary": self.boundary,
                 "step": self.step,
                 "integrator": self.integrator,
@@ -419,6 +448,28 @@ class Chain:
             ds["X"] = (("t", "x"), un.displacement(u), {"units": "m"})
             ds.attrs["physical"] = repr(un)
         return ds
+
+
+def _property(name, value, n):
+    """A per-block property as the engine takes it: None (all 1: the uniform engine) or
+    n positive values (a scalar is broadcast). Bad values name the block."""
+    if value is None:
+        return None
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        V._fail(name, value, f"a scalar or {n} values > 0")
+    if a.ndim == 0:
+        if a == 1.0:
+            return None
+        a = np.full(n, float(a))
+    if a.ndim != 1 or a.size != n:
+        V._fail(name, f"array of shape {a.shape}", f"a scalar or {n} values")
+    bad = np.flatnonzero(~(np.isfinite(a) & (a > 0)))
+    if bad.size:
+        i = int(bad[0])
+        V._fail(f"{name}[{i}]", float(a[i]), f"{name} > 0")
+    return np.ascontiguousarray(a, dtype=float)
 
 
 def _per_block(name, value, n) -> np.ndarray:
@@ -605,6 +656,7 @@ def front(
     *,
     step: float = DEFAULT_STEP,
     beta: float = math.inf,
+    friction=None,
 ) -> FrontMeasurement:
     """Measure one front at v = 0: uniform u_+ on a free chain, block 0 kicked forward.
 
@@ -614,7 +666,10 @@ def front(
     settling lengths x_s = w v/(c - v) from the trigger (sized first from App. B, then
     from the measured w and c, up to MAX_PASSES runs within WORK_LIMIT); a given
     ``blocks`` is one run with the window as far from the trigger as the far end allows.
-    beta: inf (default) is the paper's model, no backward slip. See docs/chain.md.
+    beta: inf (default) is the paper's model, no backward slip. friction: a law
+    (``bk.friction.law(name, **params)`` or a name; default: the default law), whose
+    gamma and beta, if it has them, are the arguments of those names. See
+    docs/chain.md.
     """
     from .params import check_beta
 
@@ -638,12 +693,24 @@ def front(
         if plan is None:
             plan = (creep_n, creep_n // 2, 3 * creep_n // 4)
     t0 = _time.perf_counter()
+    from types import SimpleNamespace
+
+    from .friction import Law
+
+    law = Law(friction) if isinstance(friction, str) else (friction or Law())
+    values = law.values(SimpleNamespace(gamma=gamma, beta=beta))
     passes = 0
     while True:
         passes += 1
         n, a, b = plan
         r = _core.front_measure(
-            u_plus, gamma, dx, n, step=step, beta=beta, window=((a + 0.5) / n, (b + 0.5) / n)
+            u_plus,
+            dx,
+            n,
+            step=step,
+            law=law.name,
+            friction=values,
+            window=((a + 0.5) / n, (b + 0.5) / n),
         )
         a, b = r["window"]
         c = float(r["c"])

@@ -16,6 +16,14 @@ Schema (all sections optional except those marked)::
     [physical]  mass, k_c, k_p, f_static, f_kinetic, alpha, V, spacing   # these two)
                 or  preset = "bristol_board" with V
 
+    [friction]  law = "coulomb" (default; the laws of bk.friction.LAWS) and the law's
+                parameters (dimensionless; gamma and beta here or in [params], not both)
+
+    [disorder]  (chain only) threshold, mass, loader, coupling: each a number, an array
+                (one per block; coupling one per bond: n - 1 free, n + 1 fixed, n
+                periodic) or {distribution = "uniform" | "normal" | "lognormal", mean,
+                spread} drawn with the config's seed (bk.disorder)
+
     [domain]    blocks (chain) | length + grid (free boundary), boundary
 
     [initial]   kind = "uniform" (value) | "ramp" (start, end) |
@@ -42,6 +50,7 @@ SI unless ``output.units = "dimensionless"``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -50,16 +59,21 @@ from typing import Any
 
 import numpy as np
 
+from . import _core
 from . import _validate as V
+from . import friction as laws
 from ._core import ParameterError
+from .chain import BOUNDARIES as CHAIN_BOUNDARIES
+from .chain import PROPERTIES, TRIGGERS
+from .disorder import DISTRIBUTIONS, draw, property_seed
 from .params import Params, check_beta
 
 __all__ = ["RunConfig", "load_config", "parse_config", "initial_state"]
 
 MODELS = ("chain", "free_boundary")
-BOUNDARIES = {"chain": ("free", "fixed", "periodic"), "free_boundary": ("free", "periodic")}
+BOUNDARIES = {"chain": CHAIN_BOUNDARIES, "free_boundary": ("free", "periodic")}
 INITIAL_KINDS = ("uniform", "ramp", "random", "bumps", "file")
-TRIGGER_KINDS = ("kick", "release")
+TRIGGER_KINDS = TRIGGERS
 
 
 def _err(path: str, msg: str):
@@ -190,6 +204,7 @@ class RunConfig:
     output_units: str = "native"
     seed: int = 0
     title: str = ""
+    disorder: tuple = ()
     base_dir: Path | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -216,18 +231,48 @@ class RunConfig:
         return np.linspace(0.0, end, self.grid)
 
 
+def _friction(doc: dict) -> tuple[laws.Law, dict]:
+    """The [friction] table: the law and its parameters; those that are Params fields
+    (gamma, beta) come back separately, to go to Params."""
+    t = _table(doc.get("friction", {}), "friction")
+    name = _choice(t, "law", "friction", tuple(laws.LAWS), laws.DEFAULT)
+    info = laws.LAWS[name]
+    _keys(t, "friction", ("law", *(p.name for p in info.params)))
+    own, shared = {}, {}
+    for k, x in t.items():
+        if k == "law":
+            continue
+        if isinstance(x, bool) or not isinstance(x, int | float):
+            _err(f"friction.{k}", f"expected a number, got {x!r}")
+        try:
+            _core.friction_resolve(name, {k: float(x)}, partial=True)
+        except ParameterError as e:
+            _err(f"friction.{k}", str(e))
+        (shared if k in Params.__dataclass_fields__ else own)[k] = float(x)
+    return laws.Law(name, tuple(own.items())), shared
+
+
 def _params(doc: dict) -> Params:
     has_p, has_phys = "params" in doc, "physical" in doc
     if has_p == has_phys:
         _err("params", "give exactly one of [params] (dimensionless) or [physical] (SI)")
+    law, shared = _friction(doc)
+    if has_phys and shared:
+        k = next(iter(shared))
+        _err(f"friction.{k}", "set by [physical] (alpha, f_static, f_kinetic); remove it here")
     if has_p:
         t = _table(doc["params"], "params")
-        _keys(t, "params", ("gamma", "v", "dx", "beta"), ("gamma", "v", "dx"))
+        _keys(t, "params", ("gamma", "v", "dx", "beta"), ("v", "dx"))
+        for k in shared:
+            if k in t:
+                _err(f"friction.{k}", f"given in [params] too; give {k} in one place")
+        if "gamma" not in t and "gamma" not in shared:
+            _err("params.gamma", "missing required key (or give it in [friction])")
         vals = {k: _num(t, k, "params") for k in t if k != "beta"}
         if "beta" in t:
             vals["beta"] = _beta(t["beta"])
         try:
-            return Params(**vals)
+            return Params(**vals, **shared, friction_law=law if "friction" in doc else None)
         except ParameterError as e:
             _err("params", str(e))
     t = _table(doc["physical"], "physical")
@@ -236,14 +281,83 @@ def _params(doc: dict) -> Params:
         _choice(t, "preset", "physical", ("bristol_board",))
         from .presets import bristol_board
 
-        return bristol_board(V=_num(t, "V", "physical", lo=0.0))
-    names = ("mass", "k_c", "k_p", "f_static", "f_kinetic", "alpha", "V", "spacing")
-    _keys(t, "physical", names, names)
-    vals = {k: _num(t, k, "physical") for k in names}
+        p = bristol_board(V=_num(t, "V", "physical", lo=0.0))
+    else:
+        names = ("mass", "k_c", "k_p", "f_static", "f_kinetic", "alpha", "V", "spacing")
+        _keys(t, "physical", names, names)
+        vals = {k: _num(t, k, "physical") for k in names}
+        try:
+            p = Params.from_physical(**vals)
+        except ParameterError as e:
+            _err("physical", str(e))
+    if "friction" not in doc:
+        return p
     try:
-        return Params.from_physical(**vals)
+        return dataclasses.replace(p, friction_law=law)
     except ParameterError as e:
-        _err("physical", str(e))
+        _err("friction", str(e))
+
+
+def _disorder(doc: dict, model: str) -> tuple:
+    """The [disorder] table as ((property, spec), ...): spec a float, a tuple of
+    floats or a dict {distribution, mean, spread}."""
+    if "disorder" not in doc:
+        return ()
+    if model != "chain":
+        _err("disorder", "per-block properties apply to the chain model only")
+    t = _table(doc["disorder"], "disorder")
+    _keys(t, "disorder", PROPERTIES)
+    out = []
+    for k, x in t.items():
+        q = f"disorder.{k}"
+        if isinstance(x, dict):
+            _keys(x, q, ("distribution", "mean", "spread"), ("distribution", "spread"))
+            spec = {
+                "distribution": _choice(x, "distribution", q, tuple(DISTRIBUTIONS)),
+                "mean": _num(x, "mean", q, 1.0, lo=0.0, lo_open=True),
+                "spread": _num(x, "spread", q, lo=0.0),
+            }
+            out.append((k, spec))
+        elif isinstance(x, list):
+            if not all(isinstance(y, int | float) and not isinstance(y, bool) for y in x):
+                _err(q, "expected an array of numbers")
+            out.append((k, tuple(float(y) for y in x)))
+        elif isinstance(x, int | float) and not isinstance(x, bool):
+            out.append((k, _num(t, k, "disorder", lo=0.0, lo_open=True)))
+        else:
+            _err(
+                q,
+                f"expected a number, an array or a table {{distribution, mean, spread}}, got {x!r}",
+            )
+    return tuple(out)
+
+
+def disorder_arrays(cfg: RunConfig) -> dict:
+    """The per-block properties of a chain config: {property: scalar, array or None}
+    (drawn ones with the config's seed, each property from its own stream)."""
+    n = cfg.blocks
+    out = dict.fromkeys(PROPERTIES)
+    bonds = {"free": n - 1, "fixed": n + 1, "periodic": n}.get(cfg.boundary, n)
+    for k, spec in cfg.disorder:
+        size = bonds if k == "coupling" else n
+        if isinstance(spec, dict):
+            try:
+                out[k] = draw(
+                    spec["distribution"],
+                    size,
+                    mean=spec["mean"],
+                    spread=spec["spread"],
+                    seed=property_seed(cfg.seed, k),
+                )
+            except ParameterError as e:
+                _err(f"disorder.{k}", str(e))
+        elif isinstance(spec, tuple):
+            if len(spec) != size:
+                _err(f"disorder.{k}", f"{len(spec)} values; expected {size}")
+            out[k] = np.array(spec)
+        else:
+            out[k] = spec
+    return out
 
 
 def _initial(doc: dict, model: str) -> InitialSpec:
@@ -309,6 +423,8 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         "title",
         "params",
         "physical",
+        "friction",
+        "disorder",
         "domain",
         "initial",
         "triggers",
@@ -417,7 +533,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         if "snapshot_every" in o
         else None
     )
-    return RunConfig(
+    cfg = RunConfig(
         model=model,
         params=params,
         boundary=boundary,
@@ -436,8 +552,17 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         output_units=_choice(o, "units", "output", ("native", "dimensionless"), "native"),
         seed=seed,
         title=title,
+        disorder=_disorder(doc, model),
         base_dir=base_dir,
     )
+    for k, a in disorder_arrays(cfg).items() if cfg.disorder else ():
+        if a is not None:
+            a = np.atleast_1d(np.asarray(a, dtype=float))
+            bad = np.flatnonzero(~(np.isfinite(a) & (a > 0)))
+            if bad.size:
+                i = int(bad[0])
+                _err(f"disorder.{k}[{i}]", f"invalid value {a[i]}: allowed {k} > 0")
+    return cfg
 
 
 def _to_doc(cfg: RunConfig) -> dict:
@@ -449,7 +574,11 @@ def _to_doc(cfg: RunConfig) -> dict:
         doc["input_units"] = "dimensionless"
         doc["physical"] = dict(p.units.__dict__)
     else:
-        doc["params"] = {k: v for k, v in p.to_dict().items() if k != "units"}
+        doc["params"] = {k: v for k, v in p.to_dict().items() if k not in ("units", "friction")}
+    if p.friction_law is not None:
+        doc["friction"] = {"law": p.friction_law.name, **dict(p.friction_law.params)}
+    if cfg.disorder:
+        doc["disorder"] = {k: list(x) if isinstance(x, tuple) else x for k, x in cfg.disorder}
     if cfg.model == "chain":
         doc["domain"] = {"blocks": cfg.blocks, "boundary": cfg.boundary}
     else:

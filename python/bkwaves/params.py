@@ -13,6 +13,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 from . import _validate as V
+from .friction import Law
 
 __all__ = ["NO_BACKWARD_SLIP", "Params", "PhysicalUnits", "check_beta", "friction_note"]
 
@@ -173,6 +174,9 @@ class Params:
     beta: f_s/(f_r - f_s) >= 0, the backward-slip threshold; default inf: no backward
     slip, the paper's model (``from_physical`` sets the finite f_s/(f_r - f_s)).
     units: the SI description when built by :meth:`from_physical`, else None.
+    friction_law: the friction law (``bk.friction.law(name, **its_params)`` or a law's name);
+    None: the default law. Its parameters named like a field here (gamma, beta) are
+    taken from these fields.
     """
 
     gamma: float
@@ -180,6 +184,7 @@ class Params:
     dx: float
     beta: float = NO_BACKWARD_SLIP
     units: PhysicalUnits | None = field(default=None, compare=True)
+    friction_law: Law | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "gamma", V.number("gamma", self.gamma, lo=0.0))
@@ -188,6 +193,30 @@ class Params:
         object.__setattr__(self, "beta", check_beta(self.beta))
         if self.units is not None and not isinstance(self.units, PhysicalUnits):
             V._fail("units", self.units, "a PhysicalUnits instance or None")
+        if isinstance(self.friction_law, str):
+            object.__setattr__(self, "friction_law", Law(self.friction_law))
+        if self.friction_law is not None and not isinstance(self.friction_law, Law):
+            V._fail(
+                "friction_law", self.friction_law, "a bk.friction.law(...), a law's name or None"
+            )
+        if self.friction_law is not None:
+            for k, _ in self.friction_law.params:
+                if k in self.__dataclass_fields__:
+                    V._fail(
+                        f"friction.{k}",
+                        dict(self.friction_law.params)[k],
+                        f"{k} given on Params ({k}=...), not in the friction law",
+                    )
+        self.law_values()  # the law's table checks the combination
+
+    @property
+    def law(self) -> Law:
+        """The friction law (the default one when none was given)."""
+        return self.friction_law if self.friction_law is not None else Law()
+
+    def law_values(self) -> dict:
+        """Every parameter of the friction law, validated by its table (table order)."""
+        return self.law.values(self)
 
     @classmethod
     def from_physical(
@@ -230,4 +259,7 @@ class Params:
         d = asdict(self)
         if self.units is None:
             d.pop("units")
+        d.pop("friction_law")
+        if self.friction_law is not None:
+            d["friction"] = {"law": self.friction_law.name, **dict(self.friction_law.params)}
         return d

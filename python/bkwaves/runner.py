@@ -39,7 +39,7 @@ import numpy as np
 
 from . import __version__
 from ._progress import ProgressBar
-from .config import RunConfig, initial_state
+from .config import RunConfig, disorder_arrays, initial_state
 from .io import NO_SPACE, RunWriter, human_bytes, partial_path
 
 __all__ = [
@@ -247,6 +247,7 @@ def _attrs(cfg: RunConfig, units: _Units) -> dict:
         "config": json.dumps(cfg.to_dict(), default=str),
         "params": json.dumps({k: v for k, v in p.to_dict().items() if k != "units"}),
         "friction": p.friction if cfg.model == "chain" else "",
+        "friction_law": json.dumps({"law": p.law.name, **p.law_values()}),
         "physical_units": json.dumps(p.units.__dict__) if p.units is not None else "",
         "units_system": units.name,
         "u_units": "dimensionless stress: u = -(k_p X + f_s)/(f_r - f_s)",
@@ -629,7 +630,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         u_t0 = (
             None if cfg.initial.velocity == 0.0 else np.full(cfg.blocks, p.v - cfg.initial.velocity)
         )
-        chain = Chain(cfg.blocks, p, cfg.boundary, u0, u_t0, seed=cfg.seed)
+        chain = Chain(cfg.blocks, p, cfg.boundary, u0, u_t0, seed=cfg.seed, **disorder_arrays(cfg))
         for tr in cfg.triggers:
             if tr.kind == "kick":
                 chain.kick(tr.block, -tr.velocity, tr.time)

@@ -18,7 +18,7 @@ fn main() {
         o.u_plus,
         &TipOptions {
             dx: o.dx,
-            gamma: o.gamma,
+            gamma: o.friction.get("gamma").unwrap_or(0.0),
             ..Default::default()
         },
     )

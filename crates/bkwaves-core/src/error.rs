@@ -14,6 +14,16 @@ pub enum Error {
         /// The allowed range in words, e.g. `0 < u_plus < 1`.
         allowed: &'static str,
     },
+    /// A parameter is invalid, described by names built at run time: a per-block value
+    /// (`threshold[17]`), a key of a parameter table, an unknown name of a registry.
+    Invalid {
+        /// What the user gave, e.g. `threshold[17]` or `friction law`.
+        name: String,
+        /// The offending value as text (a number or a quoted name).
+        value: String,
+        /// What is allowed, e.g. `one of: coulomb, velocity_weakening`.
+        allowed: String,
+    },
     /// A numerical method did not reach its tolerance.
     NoConvergence {
         /// What was being computed.
@@ -27,6 +37,11 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Error::InvalidParameter {
+                name,
+                value,
+                allowed,
+            } => write!(f, "invalid {name} = {value}: allowed {allowed}"),
+            Error::Invalid {
                 name,
                 value,
                 allowed,

@@ -19,6 +19,7 @@ pub mod error;
 pub mod free_boundary;
 pub mod friction;
 pub mod linalg;
+pub mod params;
 pub mod speed;
 pub mod tip;
 pub mod wave;

@@ -1,21 +1,164 @@
 //! The chain simulator exposed to Python: `ChainEngine` (state kept in Rust, advanced in
-//! chunks with the GIL released) and `front_measure` (the `bkwaves front` experiment).
+//! chunks with the GIL released), `front_measure` (the `bkwaves front` experiment) and the
+//! core's registries (friction laws with their parameter tables, boundaries, integrators,
+//! triggers) and defaults, so that Python never repeats them.
 
 use crate::errors::to_py;
 use bkwaves_core::boundary;
+use bkwaves_core::chain::dynamic::{build, ChainSpec, DynChain};
 use bkwaves_core::chain::front::{measure_front, FrontOptions};
 use bkwaves_core::chain::integrator::Method;
-use bkwaves_core::chain::{Chain, ChainConfig, Stop, Trigger, TriggerKind};
-use bkwaves_core::friction::Coulomb;
-use bkwaves_core::Error;
+use bkwaves_core::chain::medium::Properties;
+use bkwaves_core::chain::{ChainConfig, Stop, Trigger, TriggerKind};
+use bkwaves_core::friction::{FrictionSpec, DEFAULT_LAW, LAWS};
+use bkwaves_core::params::ParamSpec;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
-/// A chain of blocks with Coulomb friction, advanced event by event.
+/// A chain of blocks with a registered friction law, advanced event by event.
 #[pyclass(module = "bkwaves._core")]
 pub struct ChainEngine {
-    inner: Chain<Coulomb>,
+    inner: Box<dyn DynChain>,
+}
+
+/// The (name, value) pairs of a dict of parameters.
+fn named_values(params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
+    let mut given = Vec::new();
+    if let Some(d) = params {
+        for (k, v) in d.iter() {
+            given.push((k.extract::<String>()?, v.extract::<f64>()?));
+        }
+    }
+    Ok(given)
+}
+
+/// A friction law by name with its parameters given as a dict (validated by its table).
+fn friction_spec(law: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<FrictionSpec> {
+    let given = named_values(params)?;
+    let pairs: Vec<(&str, f64)> = given.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    FrictionSpec::new(law, &pairs).map_err(to_py)
+}
+
+fn opt_vec(a: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Option<Vec<f64>>> {
+    a.map(|a| Ok(a.as_slice()?.to_vec())).transpose()
+}
+
+fn param_dict<'py>(py: Python<'py>, p: &ParamSpec) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", p.name)?;
+    d.set_item("lo", p.lo)?;
+    d.set_item("lo_closed", p.lo_closed)?;
+    d.set_item("hi", p.hi)?;
+    d.set_item("hi_closed", p.hi_closed)?;
+    d.set_item("default", p.default)?;
+    d.set_item("doc", p.doc)?;
+    d.set_item("allowed", p.allowed())?;
+    Ok(d)
+}
+
+/// The friction laws: a list of {name, doc, params: [{name, lo, lo_closed, hi, hi_closed,
+/// default (None: required), doc, allowed}]}, the default law first.
+#[pyfunction]
+fn friction_laws<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for law in LAWS {
+        let d = PyDict::new(py);
+        d.set_item("name", law.name)?;
+        d.set_item("doc", law.doc)?;
+        let ps = PyList::empty(py);
+        for p in law.params {
+            ps.append(param_dict(py, p)?)?;
+        }
+        d.set_item("params", ps)?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
+
+/// Validate the parameters of a law: a dict of every parameter in table order (defaults
+/// filled in), or ParameterError naming the unknown law or parameter or the bad value.
+/// partial=True checks only the given ones (missing required ones are no error) and
+/// returns them.
+#[pyfunction]
+#[pyo3(signature = (law, params=None, partial=false))]
+fn friction_resolve<'py>(
+    py: Python<'py>,
+    law: &str,
+    params: Option<&Bound<'py, PyDict>>,
+    partial: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    if partial {
+        let entry = bkwaves_core::friction::law(law).map_err(to_py)?;
+        let d = PyDict::new(py);
+        let given = named_values(params)?;
+        let pairs: Vec<(&str, f64)> = given.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        bkwaves_core::params::check_given(entry.params, &format!("friction law {law}"), &pairs)
+            .map_err(to_py)?;
+        for (k, v) in &pairs {
+            d.set_item(*k, *v)?;
+        }
+        return Ok(d);
+    }
+    let spec = friction_spec(law, params)?;
+    let d = PyDict::new(py);
+    for (p, x) in spec.law.params.iter().zip(&spec.values) {
+        d.set_item(p.name, *x)?;
+    }
+    Ok(d)
+}
+
+/// The boundary conditions: a list of {name, doc}, the default first.
+#[pyfunction]
+fn boundaries<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for b in boundary::BOUNDARIES {
+        let d = PyDict::new(py);
+        d.set_item("name", b.name)?;
+        d.set_item("doc", b.doc)?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
+
+/// The integrators: a list of {name, order, doc}, the default first.
+#[pyfunction]
+fn integrators<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for (_, name, order, doc) in Method::ALL {
+        let d = PyDict::new(py);
+        d.set_item("name", *name)?;
+        d.set_item("order", *order)?;
+        d.set_item("doc", *doc)?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
+
+/// The trigger kinds: a list of {name, doc}.
+#[pyfunction]
+fn triggers<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for (name, doc) in TriggerKind::ALL {
+        let d = PyDict::new(py);
+        d.set_item("name", *name)?;
+        d.set_item("doc", *doc)?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
+
+/// The chain's defaults: step (fraction of dx), boundary, integrator, friction law and the
+/// kick of the front experiment.
+#[pyfunction]
+fn defaults<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("step", bkwaves_core::chain::DEFAULT_STEP)?;
+    d.set_item("boundary", boundary::BOUNDARIES[0].name)?;
+    d.set_item("integrator", Method::ALL[0].1)?;
+    d.set_item("law", DEFAULT_LAW)?;
+    d.set_item("front_kick", bkwaves_core::chain::front::KICK)?;
+    Ok(d)
 }
 
 fn vec1<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
@@ -35,30 +178,66 @@ fn mat<'py>(py: Python<'py>, rows: &[Vec<f64>], n: usize) -> PyResult<Bound<'py,
 
 #[pymethods]
 impl ChainEngine {
+    /// A chain of len(u0) blocks. law: a registered friction law, friction: its
+    /// parameters (dict); threshold, mass, loader (one per block) and coupling (one per
+    /// bond: n - 1 free, n + 1 fixed, n periodic): per-block properties (None: all 1).
     #[new]
-    #[pyo3(signature = (u0, dx, v, gamma, beta, step, boundary="free", fixed=(0.0, 0.0), u_t0=None))]
+    #[pyo3(signature = (u0, dx, v, step, law="coulomb", friction=None, boundary="free",
+                        fixed=(0.0, 0.0), u_t0=None, threshold=None, mass=None, loader=None,
+                        coupling=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         u0: PyReadonlyArray1<'_, f64>,
         dx: f64,
         v: f64,
-        gamma: f64,
-        beta: f64,
         step: f64,
+        law: &str,
+        friction: Option<&Bound<'_, PyDict>>,
         boundary: &str,
         fixed: (f64, f64),
         u_t0: Option<PyReadonlyArray1<'_, f64>>,
+        threshold: Option<PyReadonlyArray1<'_, f64>>,
+        mass: Option<PyReadonlyArray1<'_, f64>>,
+        loader: Option<PyReadonlyArray1<'_, f64>>,
+        coupling: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         let b = boundary::by_name(boundary, fixed).map_err(to_py)?;
-        let fr = Coulomb::new(gamma, beta).map_err(to_py)?;
+        let spec = friction_spec(law, friction)?;
+        let properties = Properties {
+            threshold: opt_vec(threshold)?,
+            mass: opt_vec(mass)?,
+            loader: opt_vec(loader)?,
+            coupling: opt_vec(coupling)?,
+        };
         let u0 = u0.as_slice()?;
         let w = match &u_t0 {
             Some(a) => Some(a.as_slice()?),
             None => None,
         };
-        let inner =
-            Chain::new(ChainConfig { dx, v, step }, fr, b.as_ref(), u0, w).map_err(to_py)?;
+        let chain = ChainSpec {
+            cfg: ChainConfig { dx, v, step },
+            boundary: b.as_ref(),
+            u0,
+            u_t0: w,
+            properties: &properties,
+        };
+        let inner = build(&spec, chain).map_err(to_py)?;
         Ok(ChainEngine { inner })
+    }
+
+    /// The friction law: (name, {parameter: value}).
+    fn friction<'py>(&self, py: Python<'py>) -> PyResult<(&'static str, Bound<'py, PyDict>)> {
+        let (name, values) = self.inner.friction();
+        let d = PyDict::new(py);
+        for (k, x) in values {
+            d.set_item(k, x)?;
+        }
+        Ok((name, d))
+    }
+
+    /// Static thresholds of the blocks.
+    fn thresholds<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        vec1(py, self.inner.thresholds())
     }
 
     /// Choose the integrator: "rk4" (default) or "midpoint" (energy books to round-off).
@@ -85,19 +264,7 @@ impl ChainEngine {
     /// Schedule a trigger: kind "release" (value = direction +1/-1) or "kick" (value =
     /// change of u_t).
     fn add_trigger(&mut self, t: f64, block: usize, kind: &str, value: f64) -> PyResult<()> {
-        let kind = match kind {
-            "release" => TriggerKind::Release {
-                dir: if value < 0.0 { -1 } else { 1 },
-            },
-            "kick" => TriggerKind::Kick { du_t: value },
-            _ => {
-                return Err(to_py(Error::InvalidParameter {
-                    name: "trigger kind",
-                    value: f64::NAN,
-                    allowed: "release or kick",
-                }))
-            }
-        };
+        let kind = TriggerKind::by_name(kind, value).map_err(to_py)?;
         self.inner
             .add_trigger(Trigger { t, block, kind })
             .map_err(to_py)
@@ -148,13 +315,13 @@ impl ChainEngine {
     }
     #[getter]
     fn events_finished(&self) -> usize {
-        self.inner.catalog.finished()
+        self.inner.catalog().finished()
     }
     /// Number of slip rows of finished events: these rows never change again (the slips
     /// of the running event follow them).
     #[getter]
     fn slips_final(&self) -> usize {
-        let c = &self.inner.catalog;
+        let c = self.inner.catalog();
         let done = c.finished();
         c.slips.partition_point(|r| r.event < done)
     }
@@ -183,7 +350,7 @@ impl ChainEngine {
 
     /// Energy flows so far.
     fn ledger<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let l = self.inner.ledger;
+        let l = self.inner.ledger();
         let d = PyDict::new(py);
         d.set_item("loader_work", l.load)?;
         d.set_item("friction_work", l.dry)?;
@@ -195,7 +362,7 @@ impl ChainEngine {
 
     /// Work counters.
     fn counters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let c = self.inner.counters;
+        let c = self.inner.counters();
         let d = PyDict::new(py);
         d.set_item("steps", c.steps)?;
         d.set_item("block_steps", c.block_steps)?;
@@ -207,7 +374,7 @@ impl ChainEngine {
     /// The event catalog as a dict of arrays (rows from `start` on).
     #[pyo3(signature = (start=0))]
     fn catalog<'py>(&self, py: Python<'py>, start: usize) -> PyResult<Bound<'py, PyDict>> {
-        let all = &self.inner.catalog.events;
+        let all = &self.inner.catalog().events;
         let e = &all[start.min(all.len())..];
         let d = PyDict::new(py);
         let f = |g: &dyn Fn(&bkwaves_core::chain::catalog::EventRecord) -> f64| {
@@ -238,7 +405,7 @@ impl ChainEngine {
         start: usize,
         stop: Option<usize>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let all = &self.inner.catalog.slips;
+        let all = &self.inner.catalog().slips;
         let stop = stop.unwrap_or(all.len()).min(all.len());
         let s = &all[start.min(stop)..stop];
         let d = PyDict::new(py);
@@ -274,7 +441,7 @@ impl ChainEngine {
         Bound<'py, PyArray2<f64>>,
         Bound<'py, PyArray2<f64>>,
     )> {
-        let s = &self.inner.snapshots;
+        let s = self.inner.snapshots();
         let n = self.inner.n();
         let k = start.min(s.t.len());
         Ok((
@@ -285,24 +452,26 @@ impl ChainEngine {
     }
 }
 
-/// One front across a uniformly stressed chain at v = 0 (the `bkwaves front` experiment).
+/// One front across a uniformly stressed chain at v = 0 (the `bkwaves front` experiment),
+/// with friction law `law` and its parameters `friction` (a dict).
 #[pyfunction]
-#[pyo3(signature = (u_plus, gamma, dx, blocks, step=bkwaves_core::chain::DEFAULT_STEP, beta=f64::INFINITY, window=(0.5, 0.75), heal=true))]
+#[pyo3(signature = (u_plus, dx, blocks, step=bkwaves_core::chain::DEFAULT_STEP, law="coulomb",
+                    friction=None, window=(0.5, 0.75), heal=true))]
 #[allow(clippy::too_many_arguments)]
 fn front_measure<'py>(
     py: Python<'py>,
     u_plus: f64,
-    gamma: f64,
     dx: f64,
     blocks: usize,
     step: f64,
-    beta: f64,
+    law: &str,
+    friction: Option<&Bound<'py, PyDict>>,
     window: (f64, f64),
     heal: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut o = FrontOptions::new(u_plus, gamma, dx, blocks);
+    let spec = friction_spec(law, friction)?;
+    let mut o = FrontOptions::with_friction(u_plus, spec, dx, blocks);
     o.step = step;
-    o.beta = beta;
     o.window = window;
     o.heal = heal;
     let r = py.detach(|| measure_front(&o)).map_err(to_py)?;
@@ -326,5 +495,11 @@ fn front_measure<'py>(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<ChainEngine>()?;
     m.add_function(wrap_pyfunction!(front_measure, m)?)?;
+    m.add_function(wrap_pyfunction!(friction_laws, m)?)?;
+    m.add_function(wrap_pyfunction!(friction_resolve, m)?)?;
+    m.add_function(wrap_pyfunction!(boundaries, m)?)?;
+    m.add_function(wrap_pyfunction!(integrators, m)?)?;
+    m.add_function(wrap_pyfunction!(triggers, m)?)?;
+    m.add_function(wrap_pyfunction!(defaults, m)?)?;
     Ok(())
 }

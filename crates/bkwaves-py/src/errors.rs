@@ -21,7 +21,9 @@ create_exception!(
 /// Convert a core error into the matching Python exception.
 pub fn to_py(e: Error) -> PyErr {
     match e {
-        Error::InvalidParameter { .. } => ParameterError::new_err(e.to_string()),
+        Error::InvalidParameter { .. } | Error::Invalid { .. } => {
+            ParameterError::new_err(e.to_string())
+        }
         Error::NoConvergence { .. } => ConvergenceError::new_err(e.to_string()),
     }
 }

@@ -35,16 +35,55 @@ pub trait Boundary: Send + Sync + std::fmt::Debug {
     fn right(&self) -> Ghost;
 }
 
-/// The registry: a boundary by name. `held` gives the ghost values of fixed ends.
+/// Builds a boundary from the ghost values of walls at t = 0.
+pub type BuildBoundary = fn((f64, f64)) -> Result<Box<dyn Boundary>>;
+
+/// A registry entry: a boundary condition by name.
+#[derive(Debug, Clone, Copy)]
+pub struct BoundaryEntry {
+    /// Registry name (`boundary = "..."`).
+    pub name: &'static str,
+    /// One line.
+    pub doc: &'static str,
+    /// Build it; `held` gives the ghost values of walls at t = 0.
+    pub build: BuildBoundary,
+}
+
+/// The registry of boundary conditions (the first is the default).
+pub const BOUNDARIES: &[BoundaryEntry] = &[
+    BoundaryEntry {
+        name: "free",
+        doc: "no spring beyond the end blocks",
+        build: |_| Ok(Box::new(Free)),
+    },
+    BoundaryEntry {
+        name: "fixed",
+        doc: "the end blocks are joined by a coupling spring to walls fixed to the ground",
+        build: |held| Ok(Box::new(Fixed::new(held.0, held.1)?)),
+    },
+    BoundaryEntry {
+        name: "periodic",
+        doc: "a ring: block n - 1 and block 0 are neighbours",
+        build: |_| Ok(Box::new(Periodic)),
+    },
+];
+
+/// A boundary by name; an unknown name is an error listing the known ones. `held`
+/// gives the ghost values of fixed ends.
 pub fn by_name(name: &str, held: (f64, f64)) -> Result<Box<dyn Boundary>> {
-    match name {
-        "free" => Ok(Box::new(Free)),
-        "fixed" => Ok(Box::new(Fixed::new(held.0, held.1)?)),
-        "periodic" => Ok(Box::new(Periodic)),
-        _ => Err(Error::InvalidParameter {
-            name: "boundary",
-            value: f64::NAN,
-            allowed: "one of free, fixed, periodic",
+    match BOUNDARIES.iter().find(|b| b.name == name) {
+        Some(b) => (b.build)(held),
+        None => Err(Error::Invalid {
+            name: "boundary".to_string(),
+            value: format!("{name:?}"),
+            allowed: format!(
+                "one of: {}",
+                BOUNDARIES
+                    .iter()
+                    .map(|b| b.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         }),
     }
 }
@@ -59,7 +98,10 @@ mod tests {
             assert_eq!(by_name(name, (0.0, 0.0)).unwrap().name(), name);
         }
         let e = by_name("open", (0.0, 0.0)).unwrap_err().to_string();
-        assert!(e.contains("free, fixed, periodic"), "{e}");
+        assert!(
+            e.contains("\"open\"") && e.contains("one of: free, fixed, periodic"),
+            "{e}"
+        );
         assert_eq!(Periodic.left(), Ghost::Wrap);
         assert_eq!(Free.right(), Ghost::Mirror);
         assert_eq!(Fixed::new(0.1, 0.2).unwrap().right(), Ghost::Held(0.2));

@@ -4,19 +4,21 @@
 //! same events, same books), provided the checkpoint is taken where `run` returned on its
 //! step or event budget (a `t_end` inside an event caps a step, which an uninterrupted
 //! run would not do). The bytes hold a fingerprint of the configuration (blocks, dx, v,
-//! step, boundary, friction law and its parameters, integrator): they are restored into
+//! step, boundary, friction law and its parameter table's values, the per-block
+//! properties, integrator): they are restored into
 //! a chain built with the same configuration, and anything else is refused.
 
 use super::catalog::{EventRecord, SlipRecord};
 use super::events::SlipQueue;
+use super::medium::Medium;
 use super::{Chain, Trigger, TriggerKind};
 use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 use crate::friction::Friction;
 
-const MAGIC: &[u8; 8] = b"BKCHAIN1";
+const MAGIC: &[u8; 8] = b"BKCHAIN2";
 
-impl<F: Friction> Chain<F> {
+impl<F: Friction, M: Medium> Chain<F, M> {
     fn fingerprint(&self, w: &mut W) {
         w.u(self.st.n as u64);
         w.f(self.cfg.dx);
@@ -24,16 +26,13 @@ impl<F: Friction> Chain<F> {
         w.f(self.cfg.step);
         w.s(self.boundary_name);
         w.s(&format!("{:?}", (self.st.left, self.st.right)));
-        w.s(self.fr.name());
-        for x in [
-            self.fr.upper(),
-            self.fr.lower(),
-            self.fr.beta(),
-            self.fr.excess(1.0, 1.0),
-            self.fr.excess(-1.0, -1.0),
-        ] {
+        // the law by its table: name, then every parameter's name and value
+        w.s(F::NAME);
+        for (p, x) in F::PARAMS.iter().zip(self.blk.fr.values()) {
+            w.s(p.name);
             w.f(x);
         }
+        w.fs(&self.blk.med.fingerprint());
         w.s(self.rk.name());
     }
 
@@ -44,6 +43,7 @@ impl<F: Friction> Chain<F> {
         w.f(self.t);
         w.f(self.stuck_sum);
         w.u(self.n_stuck as u64);
+        w.f(self.stuck_loader);
         w.b(self.need_check);
         w.b(self.full_check);
         w.b(self.a_valid);
@@ -141,13 +141,13 @@ impl<F: Friction> Chain<F> {
             return Err(bad(
                 8,
                 "a checkpoint of a chain with the same blocks, dx, v, step, boundary, \
-                 friction and integrator",
+                 friction law and parameters, per-block properties and integrator",
             ));
         }
         let n2 = self.st.n + 2;
         let mut next = Chain {
             cfg: self.cfg,
-            fr: self.fr.clone(),
+            blk: self.blk.clone(),
             boundary_name: self.boundary_name,
             st: self.st.clone(),
             rk: self.rk.clone(),
@@ -163,6 +163,7 @@ impl<F: Friction> Chain<F> {
             w0: vec![0.0; n2],
             stuck_sum: r.f()?,
             n_stuck: r.z()?,
+            stuck_loader: r.f()?,
             triggers: Vec::new(),
             snap_times: Vec::new(),
             snap_every: 0,

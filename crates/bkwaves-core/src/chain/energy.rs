@@ -33,8 +33,8 @@
 //! energy removed when a stick sets u_t = v exactly (`projection`, of the order of the
 //! integration error squared) and the energy of kicks (`injected`).
 
-use super::state::State;
-use crate::boundary::Ghost;
+use super::medium::Medium;
+use super::state::{Beyond, State};
 
 /// Energy flows accumulated over a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -52,7 +52,9 @@ pub struct Ledger {
 }
 
 /// Energy of the chain split as (kinetic, coupling springs, loader springs) at time t.
-pub fn energy(st: &State, beta: f64, t: f64) -> (f64, f64, f64) {
+/// With per-block properties (docs/chain.md) the terms are m_i s_i^2/2,
+/// k_c (u_j - u_i)^2/(2 dx^2) per bond and k_p,i (u_i + beta/k_p,i)^2/2.
+pub fn energy<M: Medium>(st: &State, med: &M, beta: f64, t: f64) -> (f64, f64, f64) {
     let n = st.n;
     let mut kin = 0.0;
     let mut load = 0.0;
@@ -60,32 +62,32 @@ pub fn energy(st: &State, beta: f64, t: f64) -> (f64, f64, f64) {
     let val = |p: usize| st.value(p, t);
     for p in 1..=n {
         let s = st.v - st.w[p];
-        kin += 0.5 * s * s;
+        kin += 0.5 * med.mass(p) * s * s;
         let u = val(p);
-        load += 0.5 * (u + beta) * (u + beta);
+        let kp = med.loader(p);
+        let y = u + beta / kp;
+        load += 0.5 * kp * y * y;
         if p < n {
             let d = val(p + 1) - u;
-            coup += 0.5 * d * d * st.inv_dx2;
+            coup += 0.5 * med.bond(p + 1) * d * d * st.inv_dx2;
         }
     }
-    let wall = |g: Ghost, edge: usize, other: usize| -> f64 {
-        match g {
-            Ghost::Mirror => 0.0,
-            Ghost::Held(g0) => {
+    // the bonds beyond the ends: to a wall (one at each end), or to another block (a
+    // ring's closing bond, counted once, from the right end); a free end has none
+    let end_bond = |q: usize, edge: usize| -> f64 {
+        let bond = med.bond(if q == 0 { 1 } else { n + 1 });
+        match st.beyond(q, edge) {
+            Beyond::Wall(g0) => {
                 let d = val(edge) - (g0 + st.v * t);
-                0.5 * d * d * st.inv_dx2
+                0.5 * bond * d * d * st.inv_dx2
             }
-            // the ring's closing bond, counted once (from the right end)
-            Ghost::Wrap => {
-                if edge == n {
-                    let d = val(other) - val(edge);
-                    0.5 * d * d * st.inv_dx2
-                } else {
-                    0.0
-                }
+            Beyond::Block(r) if r != edge && q == n + 1 => {
+                let d = val(r) - val(edge);
+                0.5 * bond * d * d * st.inv_dx2
             }
+            Beyond::Block(_) => 0.0,
         }
     };
-    coup += wall(st.left, 1, n) + wall(st.right, n, 1);
+    coup += end_bond(0, 1) + end_bond(n + 1, n);
     (kin, coup, load)
 }

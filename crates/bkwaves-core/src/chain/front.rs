@@ -14,22 +14,19 @@
 use super::{Chain, ChainConfig, Trigger, TriggerKind};
 use crate::boundary::Free;
 use crate::error::{check_open, Error, Result};
-use crate::friction::Coulomb;
+use crate::friction::{Friction, FrictionSpec};
 
 /// The trigger: block 0 is kicked forward with speed KICK over the ground (a release
 /// alone does not start a front when (1 - u_+) dx^2 exceeds the static deflection).
 pub const KICK: f64 = 2.0;
 
 /// Settings of a front measurement.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct FrontOptions {
     /// Stress ahead, 0 < u_+ < 1.
     pub u_plus: f64,
-    /// Viscous damping.
-    pub gamma: f64,
-    /// beta = f_s/(f_r - f_s) (backward-slip threshold); inf (default): no backward slip,
-    /// the paper's model.
-    pub beta: f64,
+    /// The friction law and its parameters.
+    pub friction: FrictionSpec,
     /// Lattice spacing.
     pub dx: f64,
     /// Number of blocks.
@@ -47,12 +44,34 @@ pub struct FrontOptions {
 }
 
 impl FrontOptions {
-    /// Defaults for the given physics.
+    /// Defaults for the given physics: the default law with damping gamma (the other
+    /// parameters at their defaults; an invalid gamma is reported by [`measure_front`]).
     pub fn new(u_plus: f64, gamma: f64, dx: f64, blocks: usize) -> Self {
+        let law = crate::friction::LAWS[0];
+        let mut values: Vec<f64> = law
+            .params
+            .iter()
+            .map(|p| p.default.unwrap_or(0.0))
+            .collect();
+        if let Some(k) = law.params.iter().position(|p| p.name == "gamma") {
+            values[k] = gamma;
+        }
+        Self::with_friction(
+            u_plus,
+            FrictionSpec {
+                law: &crate::friction::LAWS[0],
+                values,
+            },
+            dx,
+            blocks,
+        )
+    }
+
+    /// Defaults for the given law.
+    pub fn with_friction(u_plus: f64, friction: FrictionSpec, dx: f64, blocks: usize) -> Self {
         FrontOptions {
             u_plus,
-            gamma,
-            beta: f64::INFINITY,
+            friction,
             dx,
             blocks,
             step: super::DEFAULT_STEP,
@@ -96,8 +115,20 @@ pub struct FrontResult {
     pub backward_slips: usize,
 }
 
-/// Run the front experiment.
+/// Run the front experiment (with the law of `o.friction`).
 pub fn measure_front(o: &FrontOptions) -> Result<FrontResult> {
+    (o.friction.law.front)(&o.friction.values, o)
+}
+
+/// The front experiment with law `F` built from `values` (its table order).
+pub(crate) fn measure_front_with<F: Friction>(
+    values: &[f64],
+    o: &FrontOptions,
+) -> Result<FrontResult> {
+    for (p, &x) in F::PARAMS.iter().zip(values) {
+        p.check(p.name, x)?;
+    }
+    let fr = F::from_values(values)?;
     check_open("u_plus", o.u_plus, 0.0, 1.0, "0 < u_plus < 1")?;
     let n = o.blocks;
     let a = (o.window.0 * n as f64) as usize;
@@ -109,7 +140,6 @@ pub fn measure_front(o: &FrontOptions) -> Result<FrontResult> {
             allowed: "blocks >= 16 (with a window inside the chain)",
         });
     }
-    let fr = Coulomb::new(o.gamma, o.beta)?;
     let cfg = ChainConfig {
         dx: o.dx,
         v: 0.0,
@@ -124,7 +154,7 @@ pub fn measure_front(o: &FrontOptions) -> Result<FrontResult> {
     let mut first = vec![f64::NAN; n];
     let mut seen = 0usize;
     let chunk = 20_000u64;
-    let scan = |ch: &Chain<Coulomb>, first: &mut [f64], seen: &mut usize| {
+    let scan = |ch: &Chain<F>, first: &mut [f64], seen: &mut usize| {
         for r in &ch.catalog.slips[*seen..] {
             if first[r.block].is_nan() {
                 first[r.block] = r.t_start;
@@ -157,7 +187,7 @@ pub fn measure_front(o: &FrontOptions) -> Result<FrontResult> {
     // wait for the window blocks to re-stick (the end of their first slip: the healing
     // front; with little damping a block may slip again later, see `slips`)
     let t_stop = ch.time() + o.wait * (tb - ta).max(1.0);
-    let healed = |ch: &Chain<Coulomb>| {
+    let healed = |ch: &Chain<F>| {
         let mut first_stick = vec![f64::NAN; n];
         let mut first_u = vec![f64::NAN; n];
         let mut done = vec![false; n];
@@ -249,19 +279,20 @@ mod tests {
         // backward; the default (beta = inf) has none, and any beta large enough never
         // to be reached gives the same motion bit for bit (the forward law has no beta)
         let o = FrontOptions::new(0.5, 0.0, 0.1, 200);
-        assert_eq!(o.beta, f64::INFINITY);
+        assert_eq!(o.friction.get("beta"), Some(f64::INFINITY));
         let r = measure_front(&o).unwrap();
         assert_eq!(r.backward_slips, 0);
         assert!(r.slips > 0);
-        let mut big = o;
-        big.beta = 1e6;
-        let rb = measure_front(&big).unwrap();
+        let with_beta = |beta: f64| {
+            let mut x = o.clone();
+            x.friction = FrictionSpec::new("coulomb", &[("gamma", 0.0), ("beta", beta)]).unwrap();
+            x
+        };
+        let rb = measure_front(&with_beta(1e6)).unwrap();
         assert_eq!(rb.backward_slips, 0);
         assert_eq!(r.slip_times, rb.slip_times);
         assert_eq!(r.c, rb.c);
-        let mut zero = o;
-        zero.beta = 0.0;
-        assert!(measure_front(&zero).unwrap().backward_slips > 0);
+        assert!(measure_front(&with_beta(0.0)).unwrap().backward_slips > 0);
     }
 
     #[test]

@@ -21,10 +21,12 @@
 
 pub mod catalog;
 pub mod checkpoint;
+pub mod dynamic;
 pub mod energy;
 pub mod events;
 pub mod front;
 pub mod integrator;
+pub mod medium;
 pub mod state;
 
 use crate::boundary::Boundary;
@@ -34,6 +36,7 @@ use catalog::Catalog;
 use energy::Ledger;
 use events::{Hermite, SlipQueue};
 use integrator::{Method, StageSums, Stepper};
+use medium::{Blocks, Medium, Uniform};
 use state::State;
 
 /// Numerical and loading settings of a chain.
@@ -75,6 +78,43 @@ pub enum TriggerKind {
         /// velocity change of u_t.
         du_t: f64,
     },
+}
+
+impl TriggerKind {
+    /// The registry: name and meaning of the value each kind takes.
+    pub const ALL: &'static [(&'static str, &'static str)] = &[
+        (
+            "kick",
+            "value added to the block's u_t (negative: forward over the ground); it then slides",
+        ),
+        (
+            "release",
+            "the block starts sliding from its present state; value: direction (+1 forward, \
+             -1 backward)",
+        ),
+    ];
+
+    /// The trigger kind `name` with its value; an unknown name lists the known ones.
+    pub fn by_name(name: &str, value: f64) -> Result<TriggerKind> {
+        match name {
+            "release" => Ok(TriggerKind::Release {
+                dir: if value < 0.0 { -1 } else { 1 },
+            }),
+            "kick" => Ok(TriggerKind::Kick { du_t: value }),
+            _ => Err(Error::Invalid {
+                name: "trigger kind".to_string(),
+                value: format!("{name:?}"),
+                allowed: format!(
+                    "one of: {}",
+                    TriggerKind::ALL
+                        .iter()
+                        .map(|k| k.0)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            }),
+        }
+    }
 }
 
 /// A trigger applied to one block at one time.
@@ -123,11 +163,11 @@ pub struct Counters {
     pub jumps: u64,
 }
 
-/// The chain simulator.
+/// The chain simulator: friction law `F`, per-block properties `M` (uniform by default).
 #[derive(Debug, Clone)]
-pub struct Chain<F: Friction> {
+pub struct Chain<F: Friction, M: Medium = Uniform> {
     cfg: ChainConfig,
-    fr: F,
+    blk: Blocks<F, M>,
     boundary_name: &'static str,
     st: State,
     rk: Stepper,
@@ -143,6 +183,7 @@ pub struct Chain<F: Friction> {
     w0: Vec<f64>,
     stuck_sum: f64,
     n_stuck: usize,
+    stuck_loader: f64,
     triggers: Vec<Trigger>,
     snap_times: Vec<f64>,
     snap_every: usize,
@@ -158,13 +199,28 @@ pub struct Chain<F: Friction> {
     full_check: bool,
 }
 
-impl<F: Friction> Chain<F> {
-    /// A chain of `u0.len()` blocks with displacements `u0` and velocities `u_t0`
+impl<F: Friction> Chain<F, Uniform> {
+    /// A chain of `u0.len()` alike blocks with displacements `u0` and velocities `u_t0`
     /// (default v: all stuck). Blocks with u_t != v start sliding; blocks over a
     /// static threshold slip at t = 0.
     pub fn new(
         cfg: ChainConfig,
         friction: F,
+        boundary: &dyn Boundary,
+        u0: &[f64],
+        u_t0: Option<&[f64]>,
+    ) -> Result<Self> {
+        Chain::with_medium(cfg, friction, Uniform, boundary, u0, u_t0)
+    }
+}
+
+impl<F: Friction, M: Medium> Chain<F, M> {
+    /// A chain of `u0.len()` blocks with the per-block properties `medium` (see
+    /// [`Chain::new`]; the medium must have been built for this many blocks).
+    pub fn with_medium(
+        cfg: ChainConfig,
+        friction: F,
+        medium: M,
         boundary: &dyn Boundary,
         u0: &[f64],
         u_t0: Option<&[f64]>,
@@ -182,14 +238,22 @@ impl<F: Friction> Chain<F> {
         check_open("step", cfg.step, 0.0, 1.0, "0 < step < 1 (time step / dx)")?;
         let h = cfg.step * cfg.dx;
         // RK4 stability: |h lambda| < 2.78 on the imaginary axis; the fastest mode of a
-        // sliding block has |lambda| <= sqrt(1 + 4/dx^2) + 2 |dR/ds| (damping).
-        let damp = (fr_slope(&friction)).abs();
-        let lam = (1.0 + 4.0 / (cfg.dx * cfg.dx)).sqrt() + damp;
-        if h * lam > 2.5 {
+        // sliding run has |lambda| <= max_i sqrt((k_p,i + 2 (k_c,l + k_c,r)/dx^2)/m_i)
+        // (Gershgorin; sqrt(1 + 4/dx^2) for alike blocks) plus max |dR/ds|/m (damping).
+        let k = 1.0 / (cfg.dx * cfg.dx);
+        let (mut elastic, mut inv_m): (f64, f64) = (0.0, 0.0);
+        for p in 1..=n {
+            let stiff = medium.loader(p) + 2.0 * (medium.bond(p) + medium.bond(p + 1)) * k;
+            elastic = elastic.max((stiff * medium.inv_mass(p)).sqrt());
+            inv_m = inv_m.max(medium.inv_mass(p));
+        }
+        let lam = elastic + friction.max_slope(medium.max_threshold()) * inv_m;
+        if h * lam > 2.5 || lam.is_nan() {
             return Err(Error::InvalidParameter {
                 name: "step",
                 value: cfg.step,
-                allowed: "step * dx * (sqrt(1 + 4/dx^2) + 2 gamma) <= 2.5 (RK4 stability)",
+                allowed: "step * dx * (fastest rate of a sliding block: sqrt(1 + 4/dx^2) + \
+                          2 gamma for alike Coulomb blocks) <= 2.5 (RK4 stability)",
             });
         }
         for &x in u0 {
@@ -218,7 +282,7 @@ impl<F: Friction> Chain<F> {
                         allowed: "finite values",
                     });
                 }
-                if x > cfg.v && friction.lower() == f64::NEG_INFINITY {
+                if x > cfg.v && friction.lower(medium.threshold(i + 1)) == f64::NEG_INFINITY {
                     return Err(Error::InvalidParameter {
                         name: "u_t0",
                         value: x,
@@ -231,7 +295,10 @@ impl<F: Friction> Chain<F> {
         }
         let mut ch = Chain {
             cfg,
-            fr: friction,
+            blk: Blocks {
+                fr: friction,
+                med: medium,
+            },
             boundary_name: boundary.name(),
             rk: Stepper::new(Method::Rk4, n),
             queue: SlipQueue::new(n + 2),
@@ -246,6 +313,7 @@ impl<F: Friction> Chain<F> {
             w0: vec![0.0; n + 2],
             stuck_sum: 0.0,
             n_stuck: n,
+            stuck_loader: 0.0,
             triggers: Vec::new(),
             snap_times: Vec::new(),
             snap_every: 0,
@@ -257,7 +325,10 @@ impl<F: Friction> Chain<F> {
             full_check: true,
             st,
         };
-        ch.stuck_sum = u0.iter().sum();
+        for p in 1..=n {
+            ch.stuck_sum += ch.blk.med.loader(p) * u0[p - 1];
+            ch.stuck_loader += ch.blk.med.loader(p);
+        }
         for p in 1..=n {
             let w = ch.st.w[p];
             if w != ch.cfg.v {
@@ -310,7 +381,11 @@ impl<F: Friction> Chain<F> {
     }
     /// The friction law.
     pub fn friction(&self) -> &F {
-        &self.fr
+        &self.blk.fr
+    }
+    /// The per-block properties.
+    pub fn medium(&self) -> &M {
+        &self.blk.med
     }
     /// Name of the boundary condition.
     pub fn boundary_name(&self) -> &'static str {
@@ -334,16 +409,18 @@ impl<F: Friction> Chain<F> {
     }
     /// phi = u - Lap u/dx^2 at the current time.
     pub fn phi(&self) -> Vec<f64> {
-        (1..=self.st.n).map(|p| self.st.phi(p, self.t)).collect()
+        (1..=self.st.n)
+            .map(|p| self.blk.phi(&self.st, p, self.t))
+            .collect()
     }
 
     /// Energy (kinetic, coupling springs, loader springs) now.
     pub fn energy(&self) -> (f64, f64, f64) {
-        energy::energy(&self.st, self.beta(), self.t)
+        energy::energy(&self.st, &self.blk.med, self.beta(), self.t)
     }
 
     fn beta(&self) -> f64 {
-        self.fr.beta()
+        self.blk.fr.beta()
     }
 
     /// Schedule a trigger.
@@ -365,7 +442,7 @@ impl<F: Friction> Chain<F> {
                 });
             }
         }
-        if self.fr.lower() == f64::NEG_INFINITY {
+        if self.blk.lower(tr.block + 1) == f64::NEG_INFINITY {
             let backward = match tr.kind {
                 TriggerKind::Kick { du_t } => du_t > 0.0,
                 TriggerKind::Release { dir } => dir < 0,
@@ -404,8 +481,10 @@ impl<F: Friction> Chain<F> {
     fn start_sliding(&mut self, p: usize, dir: i8) {
         let t = self.t;
         let u = self.st.stuck_u(p, t);
-        self.stuck_sum -= u;
+        let kp = self.blk.med.loader(p);
+        self.stuck_sum -= kp * u;
         self.n_stuck -= 1;
+        self.stuck_loader -= kp;
         self.st.u[p] = u;
         self.st.dir[p] = dir as f64;
         self.st.add_to_runs(p);
@@ -417,13 +496,15 @@ impl<F: Friction> Chain<F> {
     fn stick(&mut self, p: usize) {
         let t = self.t;
         let s = self.cfg.v - self.st.w[p];
-        self.ledger.projection += 0.5 * s * s;
+        self.ledger.projection += 0.5 * self.blk.med.mass(p) * s * s;
         self.st.w[p] = self.cfg.v;
         self.st.dir[p] = 0.0;
         self.st.tref[p] = t;
         self.st.remove_from_runs(p);
-        self.stuck_sum += self.st.u[p];
+        let kp = self.blk.med.loader(p);
+        self.stuck_sum += kp * self.st.u[p];
         self.n_stuck += 1;
+        self.stuck_loader += kp;
         self.catalog.stick(p - 1, t, self.st.u[p], self.cfg.v);
         self.counters.switches += 1;
         self.a_valid = false;
@@ -431,14 +512,14 @@ impl<F: Friction> Chain<F> {
 
     /// The sliding block p has u_t = v (within the located event): stick or go on.
     fn on_rest(&mut self, p: usize) {
-        let phi = self.st.phi(p, self.t);
-        let (lo, hi) = (self.fr.lower(), self.fr.upper());
+        let phi = self.blk.phi(&self.st, p, self.t);
+        let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
         if phi > lo && phi < hi {
             self.stick(p);
         } else {
             // still over a threshold: slide on in the direction of the force
             let s = self.cfg.v - self.st.w[p];
-            self.ledger.projection += 0.5 * s * s;
+            self.ledger.projection += 0.5 * self.blk.med.mass(p) * s * s;
             self.st.w[p] = self.cfg.v;
             let dir = if phi >= hi { 1.0 } else { -1.0 };
             if dir != self.st.dir[p] {
@@ -465,8 +546,10 @@ impl<F: Friction> Chain<F> {
         if self.st.sliding(p) || self.st.has_sliding_neighbour(p) || self.cfg.v <= 0.0 {
             self.queue.invalidate(p);
         } else {
-            let phi = self.st.phi(p, self.t);
-            let dt = ((self.fr.upper() - phi) / self.cfg.v).max(0.0);
+            // phi of a stuck block among stuck ones rises at k_p,i v
+            let phi = self.blk.phi(&self.st, p, self.t);
+            let rate = self.blk.med.loader(p) * self.cfg.v;
+            let dt = ((self.blk.upper(p) - phi) / rate).max(0.0);
             self.queue.push(p, self.t + dt);
         }
     }
@@ -475,7 +558,6 @@ impl<F: Friction> Chain<F> {
 
     /// Apply every switch due at the current time until none is left.
     fn settle(&mut self) -> Result<()> {
-        let (lo, hi) = (self.fr.lower(), self.fr.upper());
         let t = self.t;
         let mut rounds = 0usize;
         loop {
@@ -507,11 +589,11 @@ impl<F: Friction> Chain<F> {
                 if self.st.sliding(p) {
                     continue;
                 }
-                let phi = self.st.phi(p, t);
-                if phi >= hi {
+                let phi = self.blk.phi(&self.st, p, t);
+                if phi >= self.blk.upper(p) {
                     self.start_sliding(p, 1);
                     changed.push(p);
-                } else if phi <= lo {
+                } else if phi <= self.blk.lower(p) {
                     self.start_sliding(p, -1);
                     changed.push(p);
                 }
@@ -561,8 +643,14 @@ impl<F: Friction> Chain<F> {
 
     /// Acceleration of sliding block p at the current time.
     fn accel_of(&self, p: usize) -> f64 {
-        let phi = self.st.phi(p, self.t);
-        -phi + self.fr.excess(self.cfg.v - self.st.w[p], self.st.dir[p])
+        let phi = self.blk.phi(&self.st, p, self.t);
+        let s = self.cfg.v - self.st.w[p];
+        (-phi
+            + self
+                .blk
+                .fr
+                .excess(s, self.st.dir[p], self.blk.med.threshold(p)))
+            * self.blk.med.inv_mass(p)
     }
 
     fn snapshot_now(&mut self) {
@@ -593,12 +681,11 @@ impl<F: Friction> Chain<F> {
 
     /// Hermite data of the neighbour at padded index q of stuck block p.
     fn herm_neighbour(&self, q: usize, p: usize, t0: f64, t1: f64) -> Hermite {
-        use crate::boundary::Ghost;
+        use state::Beyond;
         if q == 0 || q == self.st.n + 1 {
-            let g = if q == 0 { self.st.left } else { self.st.right };
-            match g {
-                Ghost::Mirror => self.herm_u(p, t0, t1),
-                Ghost::Held(g0) => {
+            match self.st.beyond(q, p) {
+                Beyond::Block(r) => self.herm_u(r, t0, t1),
+                Beyond::Wall(g0) => {
                     let v = self.cfg.v;
                     Hermite {
                         g0: g0 + v * t0,
@@ -607,7 +694,6 @@ impl<F: Friction> Chain<F> {
                         m1: v,
                     }
                 }
-                Ghost::Wrap => self.herm_u(self.st.resolve(q).unwrap_or(p), t0, t1),
             }
         } else {
             self.herm_u(q, t0, t1)
@@ -617,7 +703,6 @@ impl<F: Friction> Chain<F> {
     /// Earliest event in the step just taken: (s in (0, 1], block).
     fn detect(&self, t0: f64, h: f64) -> Option<(f64, Vec<(usize, i8)>)> {
         let v = self.cfg.v;
-        let (lo, hi) = (self.fr.lower(), self.fr.upper());
         let t1 = t0 + h;
         let mut best = f64::INFINITY;
         let mut who: Vec<(usize, i8)> = Vec::new();
@@ -655,7 +740,10 @@ impl<F: Friction> Chain<F> {
                 let up = self.herm_u(p, t0, t1);
                 let l = self.herm_neighbour(p - 1, p, t0, t1);
                 let r = self.herm_neighbour(p + 1, p, t0, t1);
-                let phi = up.combine(1.0 + 2.0 * k, &l.combine(1.0, &r, 1.0), -k);
+                let med = &self.blk.med;
+                let (cl, cr) = (med.bond(p), med.bond(p + 1));
+                let phi = up.combine(med.loader(p) + (cl + cr) * k, &l.combine(cl, &r, cr), -k);
+                let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
                 let fwd = Hermite {
                     g0: phi.g0 - hi,
                     m0: phi.m0,
@@ -741,7 +829,8 @@ impl<F: Friction> Chain<F> {
                 let s_old = v - self.st.w[p];
                 let w_new = self.st.w[p] + du_t;
                 let s_new = v - w_new;
-                self.ledger.injected += 0.5 * (s_new * s_new - s_old * s_old);
+                self.ledger.injected +=
+                    0.5 * self.blk.med.mass(p) * (s_new * s_new - s_old * s_old);
                 if !self.st.sliding(p) {
                     if w_new == v {
                         return;
@@ -807,9 +896,9 @@ impl<F: Friction> Chain<F> {
                 self.ledger.load += self.cfg.v
                     * dt
                     * (self.stuck_sum
-                        + 0.5 * self.cfg.v * dt * self.n_stuck as f64
+                        + 0.5 * self.cfg.v * dt * self.stuck_loader
                         + self.beta() * self.st.n as f64);
-                self.stuck_sum += self.cfg.v * dt * self.n_stuck as f64;
+                self.stuck_sum += self.cfg.v * dt * self.stuck_loader;
                 self.quiet_snapshots(t_next);
                 self.t = t_next;
                 self.counters.jumps += 1;
@@ -843,7 +932,7 @@ impl<F: Friction> Chain<F> {
         let t0 = self.t;
         if !self.a_valid {
             let mut a = std::mem::take(&mut self.a_start);
-            self.s_start = self.rk.accel(&mut self.st, &self.fr, t0, &mut a);
+            self.s_start = self.rk.accel(&mut self.st, &self.blk, t0, &mut a);
             self.a_start = a;
             self.a_valid = true;
         }
@@ -876,9 +965,9 @@ impl<F: Friction> Chain<F> {
         self.ledger.load += self.cfg.v
             * (integ.u
                 + h * (self.stuck_sum
-                    + 0.5 * self.cfg.v * h * self.n_stuck as f64
+                    + 0.5 * self.cfg.v * h * self.stuck_loader
                     + self.beta() * self.st.n as f64));
-        self.stuck_sum += self.cfg.v * h * self.n_stuck as f64;
+        self.stuck_sum += self.cfg.v * h * self.stuck_loader;
         self.ledger.dry += integ.dry;
         self.ledger.viscous += integ.visc;
         self.dense_snapshots(t0, h);
@@ -906,7 +995,7 @@ impl<F: Friction> Chain<F> {
     fn do_step(&mut self, t0: f64, h: f64) -> integrator::StepIntegrals {
         let integ = self.rk.step(
             &mut self.st,
-            &self.fr,
+            &self.blk,
             t0,
             h,
             &self.a_start,
@@ -915,7 +1004,7 @@ impl<F: Friction> Chain<F> {
             &mut self.w0,
         );
         let mut a = std::mem::take(&mut self.a_end);
-        let s_end = self.rk.accel(&mut self.st, &self.fr, t0 + h, &mut a);
+        let s_end = self.rk.accel(&mut self.st, &self.blk, t0 + h, &mut a);
         self.a_end = a;
         self.s_end = s_end;
         self.counters.steps += 1;
@@ -924,10 +1013,7 @@ impl<F: Friction> Chain<F> {
     }
 }
 
-fn fr_slope<F: Friction>(f: &F) -> f64 {
-    // |dR/ds| estimated by a difference on the forward branch
-    (f.excess(1.0, 1.0) - f.excess(0.0, 1.0)).abs()
-}
-
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_blocks;

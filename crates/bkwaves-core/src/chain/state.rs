@@ -7,6 +7,18 @@
 
 use crate::boundary::Ghost;
 
+/// What stands beyond an end of the chain, resolved for the engine: a real block (padded
+/// index; the end block itself for a free end, the far end on a ring) or a wall fixed to
+/// the ground (its u at t = 0; it drifts as u0 + v t). The only place the engine looks at
+/// [`Ghost`] is [`State::beyond`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Beyond {
+    /// A real block (padded index).
+    Block(usize),
+    /// A wall with u = u0 + v t.
+    Wall(f64),
+}
+
 /// Chain state (padded indices, see the module docs).
 #[derive(Debug, Clone)]
 pub struct State {
@@ -74,6 +86,17 @@ impl State {
         }
     }
 
+    /// What the ghost at padded index q (0 or n + 1) beyond the end block p stands for.
+    #[inline]
+    pub fn beyond(&self, q: usize, p: usize) -> Beyond {
+        let g = if q == 0 { self.left } else { self.right };
+        match g {
+            Ghost::Mirror => Beyond::Block(p),
+            Ghost::Held(g0) => Beyond::Wall(g0),
+            Ghost::Wrap => Beyond::Block(if q == 0 { self.n } else { 1 }),
+        }
+    }
+
     /// Exact displacement of stuck block p at time t.
     #[inline]
     pub fn stuck_u(&self, p: usize, t: f64) -> f64 {
@@ -94,23 +117,13 @@ impl State {
     #[inline]
     pub fn neighbour(&self, q: usize, p: usize, t: f64) -> f64 {
         if q == 0 || q == self.n + 1 {
-            let g = if q == 0 { self.left } else { self.right };
-            match g {
-                Ghost::Mirror => self.value(p, t),
-                Ghost::Held(g0) => g0 + self.v * t,
-                Ghost::Wrap => self.value(self.resolve(q).unwrap_or(p), t),
+            match self.beyond(q, p) {
+                Beyond::Block(r) => self.value(r, t),
+                Beyond::Wall(g0) => g0 + self.v * t,
             }
         } else {
             self.value(q, t)
         }
-    }
-
-    /// phi = u - Lap u / dx^2 of real block p at time t (state current at t).
-    pub fn phi(&self, p: usize, t: f64) -> f64 {
-        let up = self.value(p, t);
-        let l = self.neighbour(p - 1, p, t);
-        let r = self.neighbour(p + 1, p, t);
-        up - (l + r - 2.0 * up) * self.inv_dx2
     }
 
     /// Does real block p have a sliding neighbour?
@@ -190,6 +203,10 @@ mod tests {
         // held ghost drifts with the ground: 1 + v t
         assert!((s.neighbour(0, 1, 2.0) - 2.0).abs() < 1e-15);
         // phi of the middle block at t = 0: 0.2 - (0.1 + 0.3 - 0.4)/dx^2
-        assert!((s.phi(2, 0.0) - 0.2).abs() < 1e-12);
+        let blk = crate::chain::medium::Blocks {
+            fr: crate::friction::Coulomb::new(0.0, 0.0).unwrap(),
+            med: crate::chain::medium::Uniform,
+        };
+        assert!((blk.phi(&s, 2, 0.0) - 0.2).abs() < 1e-12);
     }
 }

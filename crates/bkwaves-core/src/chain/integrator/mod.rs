@@ -16,8 +16,8 @@ pub mod rk4;
 pub use midpoint::Midpoint;
 pub use rk4::Rk4;
 
-use super::state::State;
-use crate::boundary::Ghost;
+use super::medium::{Blocks, Medium};
+use super::state::{Beyond, State};
 use crate::friction::Friction;
 
 /// Sums over the sliding blocks at one stage: displacement (for the loader work), dry
@@ -52,17 +52,23 @@ pub trait Integrator: std::fmt::Debug + Send {
     fn order(&self) -> u32;
     /// Acceleration of every sliding block at the state's current time t into `acc`,
     /// returning the stage sums there.
-    fn accel<F: Friction>(&mut self, st: &mut State, fr: &F, t: f64, acc: &mut [f64]) -> StageSums
+    fn accel<F: Friction, M: Medium>(
+        &mut self,
+        st: &mut State,
+        fr: &Blocks<F, M>,
+        t: f64,
+        acc: &mut [f64],
+    ) -> StageSums
     where
         Self: Sized;
     /// Advance the sliding blocks from t0 to t0 + h. `a0` holds the accelerations at
     /// t0 (from [`Integrator::accel`]) with their sums `s0`; the start state is saved
     /// in `u0`, `w0` for the dense output and for a redo.
     #[allow(clippy::too_many_arguments)]
-    fn step<F: Friction>(
+    fn step<F: Friction, M: Medium>(
         &mut self,
         st: &mut State,
-        fr: &F,
+        fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
         a0: &[f64],
@@ -79,9 +85,9 @@ pub trait Integrator: std::fmt::Debug + Send {
 /// already be set.
 /// Accelerations of the sliding blocks at the present state, time t, using `su` as the
 /// stage buffer (the first stage of every integrator).
-pub(crate) fn accel_at_state<F: Friction>(
+pub(crate) fn accel_at_state<F: Friction, M: Medium>(
     st: &State,
-    fr: &F,
+    fr: &Blocks<F, M>,
     su: &mut [f64],
     t: f64,
     acc: &mut [f64],
@@ -98,18 +104,11 @@ pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
     for &(a, b) in &st.runs {
         for q in [a - 1, b] {
             let val = if q == 0 || q == n + 1 {
-                let (g, edge) = if q == 0 { (st.left, 1) } else { (st.right, n) };
-                match g {
-                    Ghost::Mirror => su[edge],
-                    Ghost::Held(g0) => g0 + st.v * ts,
-                    Ghost::Wrap => {
-                        let r = if q == 0 { n } else { 1 };
-                        if st.sliding(r) {
-                            su[r]
-                        } else {
-                            st.stuck_u(r, ts)
-                        }
-                    }
+                let edge = if q == 0 { 1 } else { n };
+                match st.beyond(q, edge) {
+                    Beyond::Block(r) if st.sliding(r) => su[r],
+                    Beyond::Block(r) => st.stuck_u(r, ts),
+                    Beyond::Wall(g0) => g0 + st.v * ts,
                 }
             } else {
                 st.stuck_u(q, ts)
@@ -121,9 +120,9 @@ pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
 
 /// Accelerations of all sliding blocks from stage values su, sw.
 #[inline]
-pub(crate) fn stage_accel<F: Friction>(
+pub(crate) fn stage_accel<F: Friction, M: Medium>(
     st: &State,
-    fr: &F,
+    fr: &Blocks<F, M>,
     su: &[f64],
     sw: &[f64],
     acc: &mut [f64],
@@ -137,11 +136,13 @@ pub(crate) fn stage_accel<F: Friction>(
         let out = &mut acc[a..b];
         let (mut su_, mut sd, mut sv) = (0.0, 0.0, 0.0);
         for i in 0..b - a {
+            let p = a + i;
             let ui = u[i + 1];
             let s = v - w[i];
-            out[i] = (u[i] + u[i + 2] - 2.0 * ui) * k - ui + fr.excess(s, dir[i]);
-            let (pd, pv) = fr.power(s, dir[i]);
-            su_ += ui;
+            out[i] = fr.accel(p, u[i], ui, u[i + 2], s, dir[i], k);
+            let (pd, pv) = fr.fr.power(s, dir[i], fr.med.threshold(p));
+            // the loader work rate is v sum (k_p,i u_i + beta)
+            su_ += fr.med.loader(p) * ui;
             sd += pd;
             sv += pv;
         }
@@ -162,15 +163,38 @@ pub enum Method {
 }
 
 impl Method {
-    /// Parse a method name.
+    /// The registry: every method with its name, order and one line of doc (the first is
+    /// the default).
+    pub const ALL: &'static [(Method, &'static str, u32, &'static str)] = &[
+        (
+            Method::Rk4,
+            "rk4",
+            4,
+            "classical fourth-order Runge-Kutta (default)",
+        ),
+        (
+            Method::Midpoint,
+            "midpoint",
+            2,
+            "implicit midpoint rule: energy books closed to round-off (step <= 0.5)",
+        ),
+    ];
+
+    /// Parse a method name; an unknown name is an error listing the known ones.
     pub fn by_name(name: &str) -> crate::error::Result<Method> {
-        match name {
-            "rk4" => Ok(Method::Rk4),
-            "midpoint" => Ok(Method::Midpoint),
-            _ => Err(crate::error::Error::InvalidParameter {
-                name: "integrator",
-                value: f64::NAN,
-                allowed: "one of rk4, midpoint",
+        match Method::ALL.iter().find(|m| m.1 == name) {
+            Some(m) => Ok(m.0),
+            None => Err(crate::error::Error::Invalid {
+                name: "integrator".to_string(),
+                value: format!("{name:?}"),
+                allowed: format!(
+                    "one of: {}",
+                    Method::ALL
+                        .iter()
+                        .map(|m| m.1)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
             }),
         }
     }
@@ -201,10 +225,10 @@ impl Stepper {
         }
     }
     /// See [`Integrator::accel`].
-    pub fn accel<F: Friction>(
+    pub fn accel<F: Friction, M: Medium>(
         &mut self,
         st: &mut State,
-        fr: &F,
+        fr: &Blocks<F, M>,
         t: f64,
         acc: &mut [f64],
     ) -> StageSums {
@@ -215,10 +239,10 @@ impl Stepper {
     }
     /// See [`Integrator::step`].
     #[allow(clippy::too_many_arguments)]
-    pub fn step<F: Friction>(
+    pub fn step<F: Friction, M: Medium>(
         &mut self,
         st: &mut State,
-        fr: &F,
+        fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
         a0: &[f64],

@@ -1,6 +1,7 @@
 //! Classical fourth-order Runge-Kutta for the runs of sliding blocks.
 
 use super::{accel_at_state, fill_neighbours, stage_accel, Integrator, StageSums, StepIntegrals};
+use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
 use crate::friction::Friction;
 
@@ -35,14 +36,20 @@ impl Integrator for Rk4 {
         4
     }
 
-    fn accel<F: Friction>(&mut self, st: &mut State, fr: &F, t: f64, acc: &mut [f64]) -> StageSums {
+    fn accel<F: Friction, M: Medium>(
+        &mut self,
+        st: &mut State,
+        fr: &Blocks<F, M>,
+        t: f64,
+        acc: &mut [f64],
+    ) -> StageSums {
         accel_at_state(st, fr, &mut self.su, t, acc)
     }
 
-    fn step<F: Friction>(
+    fn step<F: Friction, M: Medium>(
         &mut self,
         st: &mut State,
-        fr: &F,
+        fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
         a0: &[f64],

@@ -1,0 +1,191 @@
+//! A chain whose friction law and medium are chosen at run time (by name, from the
+//! registries), for the Python binding and the command line. Each (law, medium) pair is
+//! a monomorphised [`Chain`]: the law's and the medium's code is inlined in the
+//! integrator loops; only the calls below go through a vtable.
+
+use super::catalog::Catalog;
+use super::energy::Ledger;
+use super::integrator::Method;
+use super::medium::{Ends, Medium, PerBlock, Properties, Uniform};
+use super::{Chain, ChainConfig, Counters, Snapshots, Stop, Trigger};
+use crate::boundary::{Boundary, Ghost};
+use crate::error::Result;
+use crate::friction::{Friction, FrictionSpec};
+
+/// What a chain is built from, besides its friction law.
+#[derive(Debug, Clone, Copy)]
+pub struct ChainSpec<'a> {
+    /// Numerical and loading settings.
+    pub cfg: ChainConfig,
+    /// Boundary condition.
+    pub boundary: &'a dyn Boundary,
+    /// Initial displacements (one per block).
+    pub u0: &'a [f64],
+    /// Initial velocities (default: v, all stuck).
+    pub u_t0: Option<&'a [f64]>,
+    /// Per-block properties (all None: the uniform chain, bit for bit the paper's engine).
+    pub properties: &'a Properties,
+}
+
+/// A chain with its law and medium behind a vtable: everything the binding uses.
+pub trait DynChain: Send + Sync + std::fmt::Debug {
+    /// See [`Chain::set_integrator`].
+    fn set_integrator(&mut self, method: Method) -> Result<()>;
+    /// Name of the integrator.
+    fn integrator(&self) -> &'static str;
+    /// See [`Chain::checkpoint`].
+    fn checkpoint(&self) -> Vec<u8>;
+    /// See [`Chain::restore`].
+    fn restore(&mut self, bytes: &[u8]) -> Result<()>;
+    /// See [`Chain::add_trigger`].
+    fn add_trigger(&mut self, tr: Trigger) -> Result<()>;
+    /// See [`Chain::add_snapshots`].
+    fn add_snapshots(&mut self, times: &[f64], every_events: usize) -> Result<()>;
+    /// See [`Chain::run`].
+    fn run(&mut self, t_end: f64, max_events: usize, max_steps: u64) -> Result<Stop>;
+    /// Current time.
+    fn time(&self) -> f64;
+    /// Number of blocks.
+    fn n(&self) -> usize;
+    /// Number of sliding blocks.
+    fn n_sliding(&self) -> usize;
+    /// Name of the boundary condition.
+    fn boundary_name(&self) -> &'static str;
+    /// The friction law's name and its (parameter, value) pairs in table order.
+    fn friction(&self) -> (&'static str, Vec<(&'static str, f64)>);
+    /// Static thresholds of the blocks (0-based).
+    fn thresholds(&self) -> Vec<f64>;
+    /// Displacements u now.
+    fn u(&self) -> Vec<f64>;
+    /// Velocities u_t now.
+    fn u_t(&self) -> Vec<f64>;
+    /// Modes (0 stuck, +1 forward, -1 backward) now.
+    fn modes(&self) -> Vec<i8>;
+    /// phi now.
+    fn phi(&self) -> Vec<f64>;
+    /// Energy (kinetic, coupling springs, loader springs) now.
+    fn energy(&self) -> (f64, f64, f64);
+    /// Event catalog and slip records.
+    fn catalog(&self) -> &Catalog;
+    /// Energy flows.
+    fn ledger(&self) -> Ledger;
+    /// Work counters.
+    fn counters(&self) -> Counters;
+    /// Snapshots taken.
+    fn snapshots(&self) -> &Snapshots;
+}
+
+impl<F: Friction, M: Medium> DynChain for Chain<F, M> {
+    fn set_integrator(&mut self, method: Method) -> Result<()> {
+        Chain::set_integrator(self, method)
+    }
+    fn integrator(&self) -> &'static str {
+        Chain::integrator(self)
+    }
+    fn checkpoint(&self) -> Vec<u8> {
+        Chain::checkpoint(self)
+    }
+    fn restore(&mut self, bytes: &[u8]) -> Result<()> {
+        Chain::restore(self, bytes)
+    }
+    fn add_trigger(&mut self, tr: Trigger) -> Result<()> {
+        Chain::add_trigger(self, tr)
+    }
+    fn add_snapshots(&mut self, times: &[f64], every_events: usize) -> Result<()> {
+        Chain::add_snapshots(self, times, every_events)
+    }
+    fn run(&mut self, t_end: f64, max_events: usize, max_steps: u64) -> Result<Stop> {
+        Chain::run(self, t_end, max_events, max_steps)
+    }
+    fn time(&self) -> f64 {
+        Chain::time(self)
+    }
+    fn n(&self) -> usize {
+        Chain::n(self)
+    }
+    fn n_sliding(&self) -> usize {
+        Chain::n_sliding(self)
+    }
+    fn boundary_name(&self) -> &'static str {
+        Chain::boundary_name(self)
+    }
+    fn friction(&self) -> (&'static str, Vec<(&'static str, f64)>) {
+        let values = Chain::friction(self).values();
+        (
+            F::NAME,
+            F::PARAMS.iter().map(|p| p.name).zip(values).collect(),
+        )
+    }
+    fn thresholds(&self) -> Vec<f64> {
+        (1..=self.n()).map(|p| self.medium().threshold(p)).collect()
+    }
+    fn u(&self) -> Vec<f64> {
+        Chain::u(self)
+    }
+    fn u_t(&self) -> Vec<f64> {
+        Chain::u_t(self)
+    }
+    fn modes(&self) -> Vec<i8> {
+        Chain::modes(self)
+    }
+    fn phi(&self) -> Vec<f64> {
+        Chain::phi(self)
+    }
+    fn energy(&self) -> (f64, f64, f64) {
+        Chain::energy(self)
+    }
+    fn catalog(&self) -> &Catalog {
+        &self.catalog
+    }
+    fn ledger(&self) -> Ledger {
+        self.ledger
+    }
+    fn counters(&self) -> Counters {
+        self.counters
+    }
+    fn snapshots(&self) -> &Snapshots {
+        &self.snapshots
+    }
+}
+
+/// How the boundary closes the chain, for the layout of per-bond values.
+fn ends(b: &dyn Boundary) -> Ends {
+    match b.left() {
+        Ghost::Mirror => Ends::Free,
+        Ghost::Held(_) => Ends::Walls,
+        Ghost::Wrap => Ends::Ring,
+    }
+}
+
+/// Build a chain with law `F` from its values (table order): the uniform engine when no
+/// per-block property is given, else the per-block one.
+pub(crate) fn build_chain<F: Friction>(
+    values: &[f64],
+    spec: ChainSpec<'_>,
+) -> Result<Box<dyn DynChain>> {
+    for (p, &x) in F::PARAMS.iter().zip(values) {
+        p.check(p.name, x)?;
+    }
+    let fr = F::from_values(values)?;
+    let ChainSpec {
+        cfg,
+        boundary,
+        u0,
+        u_t0,
+        properties,
+    } = spec;
+    if properties.is_uniform() {
+        return Ok(Box::new(Chain::with_medium(
+            cfg, fr, Uniform, boundary, u0, u_t0,
+        )?));
+    }
+    let med = PerBlock::new(properties, u0.len(), ends(boundary))?;
+    Ok(Box::new(Chain::with_medium(
+        cfg, fr, med, boundary, u0, u_t0,
+    )?))
+}
+
+/// A chain with the friction law `friction` (see [`ChainSpec`]).
+pub fn build(friction: &FrictionSpec, spec: ChainSpec<'_>) -> Result<Box<dyn DynChain>> {
+    (friction.law.chain)(&friction.values, spec)
+}

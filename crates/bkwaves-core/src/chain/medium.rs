@@ -1,0 +1,314 @@
+//! The blocks' own properties: static threshold, mass, loader-spring and coupling-spring
+//! stiffness, uniform ([`Uniform`]) or one value per block and per bond ([`PerBlock`]).
+//!
+//! In units of reference values (m, k_p, k_c, f_r - f_s; docs/chain.md) block i has mass
+//! m_i, loader spring k_p,i, static threshold theta_i, and the bond between blocks i and
+//! i+1 the coupling k_c,i+1/2. With u the displacement in units of (f_r - f_s)/k_p measured
+//! from the point where block i's loader spring pulls with f_s,
+//!
+//! ```text
+//!   phi_i = k_p,i u_i - [k_c,i+1/2 (u_{i+1} - u_i) - k_c,i-1/2 (u_i - u_{i-1})] / dx^2
+//!   sliding:  m_i u_tt = -phi_i + R(s_i; theta_i);   stuck: u_t = v
+//!   a stuck block slips forward at phi_i >= theta_i, backward at phi_i <= -(theta_i + 2 beta)
+//! ```
+//!
+//! Every formula of the engine is written once, for per-block values, in an order of
+//! operations that makes the [`Uniform`] medium (all values exactly 1, constants the
+//! compiler folds away) reproduce the uniform engine bit for bit and at its speed.
+
+use super::state::State;
+use crate::error::{Error, Result};
+use crate::friction::Friction;
+
+/// The blocks' physics: a friction law and the medium's per-block properties.
+#[derive(Debug, Clone)]
+pub struct Blocks<F: Friction, M: Medium> {
+    /// The friction law.
+    pub fr: F,
+    /// The per-block properties.
+    pub med: M,
+}
+
+impl<F: Friction, M: Medium> Blocks<F, M> {
+    /// A stuck block p slips forward when phi >= upper.
+    #[inline(always)]
+    pub fn upper(&self, p: usize) -> f64 {
+        self.fr.upper(self.med.threshold(p))
+    }
+    /// A stuck block p slips backward when phi <= lower.
+    #[inline(always)]
+    pub fn lower(&self, p: usize) -> f64 {
+        self.fr.lower(self.med.threshold(p))
+    }
+    /// phi of block p from its displacement and its neighbours' (l, r).
+    #[inline(always)]
+    pub fn phi_of(&self, p: usize, l: f64, up: f64, r: f64, inv_dx2: f64) -> f64 {
+        let (cl, cr) = (self.med.bond(p), self.med.bond(p + 1));
+        self.med.loader(p) * up - (cl * l + cr * r - (cl + cr) * up) * inv_dx2
+    }
+    /// phi = k_p u - (coupling forces)/dx^2 of real block p at time t (state current at t).
+    pub fn phi(&self, st: &State, p: usize, t: f64) -> f64 {
+        let up = st.value(p, t);
+        let l = st.neighbour(p - 1, p, t);
+        let r = st.neighbour(p + 1, p, t);
+        self.phi_of(p, l, up, r, st.inv_dx2)
+    }
+    /// Acceleration of sliding block p (direction `dir`, speed s over the ground) from its
+    /// displacement and its neighbours'.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn accel(&self, p: usize, l: f64, up: f64, r: f64, s: f64, dir: f64, k: f64) -> f64 {
+        let (cl, cr) = (self.med.bond(p), self.med.bond(p + 1));
+        ((cl * l + cr * r - (cl + cr) * up) * k - self.med.loader(p) * up
+            + self.fr.excess(s, dir, self.med.threshold(p)))
+            * self.med.inv_mass(p)
+    }
+}
+
+/// Per-block properties seen by the engine (padded indices: block i at p = i + 1).
+pub trait Medium: Clone + Send + Sync + std::fmt::Debug + 'static {
+    /// Static threshold theta of block p.
+    fn threshold(&self, p: usize) -> f64;
+    /// Loader-spring stiffness of block p.
+    fn loader(&self, p: usize) -> f64;
+    /// Mass of block p.
+    fn mass(&self, p: usize) -> f64;
+    /// 1 / mass of block p.
+    fn inv_mass(&self, p: usize) -> f64;
+    /// Coupling stiffness of the bond between padded p - 1 and p (p = 1..=n + 1; the
+    /// bonds 1 and n + 1 join the ends to their ghosts).
+    fn bond(&self, p: usize) -> f64;
+    /// Largest threshold.
+    fn max_threshold(&self) -> f64;
+    /// Everything that defines the medium, for checkpoint fingerprints.
+    fn fingerprint(&self) -> Vec<f64>;
+}
+
+/// All blocks alike: every property 1 (the paper's chain).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Uniform;
+
+impl Medium for Uniform {
+    #[inline(always)]
+    fn threshold(&self, _p: usize) -> f64 {
+        1.0
+    }
+    #[inline(always)]
+    fn loader(&self, _p: usize) -> f64 {
+        1.0
+    }
+    #[inline(always)]
+    fn mass(&self, _p: usize) -> f64 {
+        1.0
+    }
+    #[inline(always)]
+    fn inv_mass(&self, _p: usize) -> f64 {
+        1.0
+    }
+    #[inline(always)]
+    fn bond(&self, _p: usize) -> f64 {
+        1.0
+    }
+    fn max_threshold(&self) -> f64 {
+        1.0
+    }
+    fn fingerprint(&self) -> Vec<f64> {
+        Vec::new()
+    }
+}
+
+/// The per-block properties a user gives (0-based; None: uniform 1). `coupling` has one
+/// value per bond: n - 1 for free ends (bond i joins blocks i and i + 1), n + 1 for fixed
+/// ends (bond 0 joins the left wall and block 0, bond i blocks i - 1 and i, bond n block
+/// n - 1 and the right wall), n for a ring (bond i joins blocks i and (i + 1) mod n).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Properties {
+    /// Static thresholds theta_i > 0.
+    pub threshold: Option<Vec<f64>>,
+    /// Masses m_i > 0.
+    pub mass: Option<Vec<f64>>,
+    /// Loader springs k_p,i > 0.
+    pub loader: Option<Vec<f64>>,
+    /// Coupling springs k_c > 0, per bond.
+    pub coupling: Option<Vec<f64>>,
+}
+
+impl Properties {
+    /// No property given: the uniform chain.
+    pub fn is_uniform(&self) -> bool {
+        self.threshold.is_none()
+            && self.mass.is_none()
+            && self.loader.is_none()
+            && self.coupling.is_none()
+    }
+}
+
+/// Per-block values (padded arrays of n + 2).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PerBlock {
+    threshold: Vec<f64>,
+    loader: Vec<f64>,
+    mass: Vec<f64>,
+    inv_mass: Vec<f64>,
+    bond: Vec<f64>,
+    max_threshold: f64,
+}
+
+/// How the ends of the chain close, as the per-bond layout needs it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ends {
+    /// No spring beyond the ends (n - 1 bonds).
+    Free,
+    /// Walls at both ends (n + 1 bonds).
+    Walls,
+    /// A ring (n bonds).
+    Ring,
+}
+
+fn per_block(name: &str, given: &Option<Vec<f64>>, n: usize, lo_closed: bool) -> Result<Vec<f64>> {
+    let mut out = vec![1.0; n + 2];
+    if let Some(a) = given {
+        if a.len() != n {
+            return Err(Error::Invalid {
+                name: name.to_string(),
+                value: format!("{} values", a.len()),
+                allowed: format!("one value per block ({n})"),
+            });
+        }
+        for (i, &x) in a.iter().enumerate() {
+            if !(x.is_finite() && (x > 0.0 || (lo_closed && x == 0.0))) {
+                return Err(Error::Invalid {
+                    name: format!("{name}[{i}]"),
+                    value: format!("{x}"),
+                    allowed: format!("finite {name} {} 0", if lo_closed { ">=" } else { ">" }),
+                });
+            }
+            out[i + 1] = x;
+        }
+    }
+    Ok(out)
+}
+
+impl PerBlock {
+    /// Validated per-block values for n blocks with the given ends: an array of the wrong
+    /// length or a bad value names the property and the block (or bond).
+    pub fn new(props: &Properties, n: usize, ends: Ends) -> Result<PerBlock> {
+        let threshold = per_block("threshold", &props.threshold, n, false)?;
+        let loader = per_block("loader", &props.loader, n, false)?;
+        let mass = per_block("mass", &props.mass, n, false)?;
+        let mut bond = vec![1.0; n + 2];
+        if let Some(c) = &props.coupling {
+            let (want, first) = match ends {
+                Ends::Free => (n.saturating_sub(1), 2),
+                Ends::Walls => (n + 1, 1),
+                Ends::Ring => (n, 2),
+            };
+            let c = Some(c.clone());
+            let vals = per_block("coupling", &c, want, false).map_err(|e| match e {
+                Error::Invalid { name, value, .. } if !name.contains('[') => Error::Invalid {
+                    name,
+                    value,
+                    allowed: format!(
+                        "one value per bond ({want} for {n} blocks with {} ends)",
+                        match ends {
+                            Ends::Free => "free",
+                            Ends::Walls => "fixed",
+                            Ends::Ring => "periodic",
+                        }
+                    ),
+                },
+                e => e,
+            })?;
+            bond[first..first + want].copy_from_slice(&vals[1..=want]);
+            if ends == Ends::Ring {
+                // the closing bond (blocks n - 1 and 0) seen from both ends
+                bond[1] = bond[n + 1];
+            }
+        }
+        let inv_mass = mass.iter().map(|m| 1.0 / m).collect();
+        let max_threshold = threshold[1..=n].iter().copied().fold(0.0, f64::max);
+        Ok(PerBlock {
+            threshold,
+            loader,
+            mass,
+            inv_mass,
+            bond,
+            max_threshold,
+        })
+    }
+}
+
+impl Medium for PerBlock {
+    #[inline(always)]
+    fn threshold(&self, p: usize) -> f64 {
+        self.threshold[p]
+    }
+    #[inline(always)]
+    fn loader(&self, p: usize) -> f64 {
+        self.loader[p]
+    }
+    #[inline(always)]
+    fn mass(&self, p: usize) -> f64 {
+        self.mass[p]
+    }
+    #[inline(always)]
+    fn inv_mass(&self, p: usize) -> f64 {
+        self.inv_mass[p]
+    }
+    #[inline(always)]
+    fn bond(&self, p: usize) -> f64 {
+        self.bond[p]
+    }
+    fn max_threshold(&self) -> f64 {
+        self.max_threshold
+    }
+    fn fingerprint(&self) -> Vec<f64> {
+        [&self.threshold, &self.loader, &self.mass, &self.bond]
+            .iter()
+            .flat_map(|a| a.iter().copied())
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bonds_follow_the_ends_and_errors_name_block_and_property() {
+        let props = Properties {
+            coupling: Some(vec![2.0, 3.0, 4.0]),
+            ..Default::default()
+        };
+        let ring = PerBlock::new(&props, 3, Ends::Ring).unwrap();
+        // bond i joins blocks i, i+1 mod 3: padded bonds 2, 3 and the closing 4 = 1
+        assert_eq!(ring.bond, vec![1.0, 4.0, 2.0, 3.0, 4.0]);
+        let free = PerBlock::new(&props, 4, Ends::Free).unwrap();
+        assert_eq!(free.bond, vec![1.0, 1.0, 2.0, 3.0, 4.0, 1.0]);
+        let walls = PerBlock::new(&props, 2, Ends::Walls).unwrap();
+        assert_eq!(walls.bond, vec![1.0, 2.0, 3.0, 4.0]);
+        let e = PerBlock::new(&props, 3, Ends::Free)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("coupling") && e.contains("2 for 3 blocks with free ends"),
+            "{e}"
+        );
+        let bad = Properties {
+            threshold: Some(vec![1.0, 1.0, -0.5, 1.0]),
+            ..Default::default()
+        };
+        let e = PerBlock::new(&bad, 4, Ends::Free).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "invalid threshold[2] = -0.5: allowed finite threshold > 0"
+        );
+        let bad = Properties {
+            mass: Some(vec![1.0, f64::NAN]),
+            ..Default::default()
+        };
+        let e = PerBlock::new(&bad, 2, Ends::Free).unwrap_err().to_string();
+        assert!(e.starts_with("invalid mass[1] = NaN"), "{e}");
+        assert!(Properties::default().is_uniform());
+    }
+}

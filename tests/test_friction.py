@@ -1,0 +1,277 @@
+"""Friction laws behind one registry, per-block properties, and the uniform engine kept
+bit for bit (issue 13, "The engine")."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import bkwaves as bk
+from bkwaves import _core
+from bkwaves.chain import smooth_random_stress
+from bkwaves.config import disorder_arrays, parse_config
+
+ROOT = Path(__file__).resolve().parents[1]
+REFERENCE = Path(__file__).parent / "data" / "chain_uniform_78ca566.npz"
+
+
+# --- the uniform engine, bit for bit -------------------------------------------------------
+
+
+def _reference_runs(ones: bool):
+    """The runs recorded in REFERENCE by the engine of commit 78ca566 (before the friction
+    registry and per-block properties): a front with backward slips, loading cycles with
+    fixed ends, a ring with the midpoint integrator. ones=True gives every block its
+    properties as arrays of ones (the per-block engine)."""
+
+    def props(n, boundary="free"):
+        if not ones:
+            return {}
+        bonds = {"free": n - 1, "fixed": n + 1, "periodic": n}[boundary]
+        return dict(
+            threshold=np.ones(n), mass=np.ones(n), loader=np.ones(n), coupling=np.ones(bonds)
+        )
+
+    ch = bk.Chain(100, bk.Params(gamma=0.0, v=0.0, dx=0.1, beta=0.0), u0=0.6, **props(100))
+    ch.kick(0, -2.0)
+    yield "front", ch, dict(t_end=12.0, snapshots=[1.0, 7.5])
+    u0 = smooth_random_stress(128, 0.05, mean=0.7, amplitude=0.2, correlation=0.5, seed=3)
+    p = bk.Params(gamma=0.45, v=1e-3, dx=0.05, beta=0.5)
+    ch = bk.Chain(128, p, "fixed", u0=u0, **props(128, "fixed"))
+    yield "cycles", ch, dict(t_end=1e5, max_events=12, snapshot_every=3)
+    rng = np.random.default_rng(7)
+    u0 = 0.5 + 0.3 * rng.random(96)
+    ut0 = np.where(rng.random(96) < 0.1, -0.5, 1e-2)
+    p = bk.Params(gamma=0.2, v=1e-2, dx=0.2, beta=1.0)
+    kw = dict(integrator="midpoint", step=0.1, **props(96, "periodic"))
+    ch = bk.Chain(96, p, "periodic", u0=u0, u_t0=ut0, **kw)
+    yield "ring", ch, dict(t_end=60.0, snapshots=[3.0, 30.0])
+
+
+@pytest.mark.parametrize("ones", [False, True], ids=["uniform", "arrays_of_ones"])
+def test_the_uniform_chain_is_the_engine_before_the_registry_bit_for_bit(ones):
+    ref = np.load(REFERENCE)
+    got = {}
+    for name, ch, kw in _reference_runs(ones):
+        r = ch.run(progress=False, **kw)
+        got[f"{name}/u"] = r.u
+        got[f"{name}/u_t"] = r.u_t
+        got[f"{name}/modes"] = ch.modes
+        got[f"{name}/t"] = np.array([r.t])
+        for k in r.catalog.columns:
+            got[f"{name}/catalog/{k}"] = r.catalog[k].to_numpy()
+        for k in r.slips.columns:
+            got[f"{name}/slips/{k}"] = r.slips[k].to_numpy()
+        for k in ("loader_work", "friction_work", "viscous_work", "stick_projection"):
+            got[f"{name}/energy/{k}"] = np.array([r.energy[k]])
+        for k in ("injected", "kinetic", "coupling_springs", "loader_springs"):
+            got[f"{name}/energy/{k}"] = np.array([r.energy[k]])
+        for k, v in r.counters.items():
+            got[f"{name}/counters/{k}"] = np.array([v])
+        for k in ("t", "u", "u_t"):
+            got[f"{name}/snap/{k}"] = r.snapshots[k].values
+    m = _core.front_measure(0.6, 0.1, 100, friction={"gamma": 0.3, "beta": 0.0})
+    for k in ("c", "u_minus", "w", "slip_times", "stick_times"):
+        got[f"front_measure/{k}"] = np.atleast_1d(m[k])
+    assert sorted(got) == sorted(ref.files)
+    differ = [k for k in ref.files if got[k].tobytes() != ref[k].tobytes()]
+    assert not differ, differ
+    assert (ref["front/slips/direction"] < 0).any()  # the backward branch is exercised
+
+
+# --- the registries come from the core ---------------------------------------------------
+
+
+def test_python_reads_the_registries_of_the_core():
+    assert list(bk.friction.LAWS) == [d["name"] for d in _core.friction_laws()]
+    assert bk.friction.DEFAULT == list(bk.friction.LAWS)[0] == "coulomb"
+    coulomb = bk.friction.LAWS["coulomb"]
+    assert [p.name for p in coulomb.params] == ["gamma", "beta"]
+    beta = coulomb.param("beta")
+    assert beta.default == np.inf and beta.hi_closed  # inf: no backward slip, a value
+    assert coulomb.param("gamma").required
+    assert bk.chain.BOUNDARIES == ("free", "fixed", "periodic")
+    assert bk.chain.INTEGRATORS == ("rk4", "midpoint")
+    assert bk.chain.TRIGGERS == ("kick", "release")
+    assert bk.chain.DEFAULT_STEP == _core.defaults()["step"] == 0.05
+    assert bk.config.BOUNDARIES["chain"] == bk.chain.BOUNDARIES
+
+
+@pytest.mark.parametrize(
+    "call,words",
+    [
+        (lambda: bk.friction.law("colomb"), ['"colomb"', "one of: coulomb"]),
+        (lambda: bk.friction.law("coulomb", v_f=0.1), ['"v_f"', "one of: gamma, beta"]),
+        (lambda: bk.friction.law("coulomb", beta=-1.0), ["beta = -1", "0 <= beta <= inf"]),
+        (lambda: _core.friction_resolve("coulomb", {}), ["gamma is required"]),
+        (
+            lambda: _core.ChainEngine(np.zeros(4), 0.1, 0.0, 0.05, boundary="open"),
+            ['"open"', "one of: free, fixed, periodic"],
+        ),
+        (
+            lambda: _core.ChainEngine(
+                np.zeros(4), 0.1, 0.0, 0.05, friction={"gamma": 0.1}
+            ).set_integrator("euler"),
+            ['"euler"', "one of: rk4, midpoint"],
+        ),
+        (
+            lambda: _core.ChainEngine(
+                np.zeros(4), 0.1, 0.0, 0.05, friction={"gamma": 0.1}
+            ).add_trigger(0.0, 0, "push", 1.0),
+            ['"push"', "one of: kick, release"],
+        ),
+    ],
+)
+def test_unknown_names_say_which_names_exist(call, words):
+    with pytest.raises(bk.ParameterError) as e:
+        call()
+    assert all(w in str(e.value) for w in words), str(e.value)
+
+
+def test_params_carry_the_law_and_refuse_ambiguity():
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.1, friction_law="coulomb")
+    assert p.law_values() == {"gamma": 0.3, "beta": np.inf}  # beta: Params default, inf
+    assert p.to_dict()["friction"] == {"law": "coulomb"}
+    assert "friction" not in bk.Params(gamma=0.3, v=0.0, dx=0.1).to_dict()
+    with pytest.raises(bk.ParameterError, match="friction.beta"):
+        bk.Params(gamma=0.3, v=0.0, dx=0.1, friction_law=bk.friction.law("coulomb", beta=1.0))
+    with pytest.raises(bk.ParameterError, match="colomb"):
+        bk.Params(gamma=0.3, v=0.0, dx=0.1, friction_law="colomb")
+
+
+def test_the_docs_show_the_law_tables_of_the_core():
+    text = (ROOT / "docs" / "chain.md").read_text()
+    assert bk.friction.markdown() in text
+
+
+# --- per-block properties ------------------------------------------------------------------
+
+
+def test_bad_per_block_values_name_the_block_and_the_property():
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.1)
+    th = np.ones(10)
+    th[3] = -0.5
+    with pytest.raises(bk.ParameterError, match=r"threshold\[3\] = -0.5"):
+        bk.Chain(10, p, threshold=th)
+    with pytest.raises(bk.ParameterError, match=r"mass\[0\] = nan"):
+        bk.Chain(10, p, mass=[np.nan] + [1.0] * 9)
+    with pytest.raises(bk.ParameterError, match=r"loader.*a scalar or 10 values"):
+        bk.Chain(10, p, loader=np.ones(9))
+    # one coupling per bond: n - 1 free, n + 1 fixed, n periodic
+    bk.Chain(10, p, "free", coupling=np.ones(9))
+    bk.Chain(10, p, "fixed", coupling=np.ones(11))
+    bk.Chain(10, p, "periodic", coupling=np.ones(10))
+    with pytest.raises(bk.ParameterError, match=r"coupling.*a scalar or 11 values"):
+        bk.Chain(10, p, "fixed", coupling=np.ones(9))
+    # the core checks too (the binding is not only used through bk.Chain)
+    with pytest.raises(bk.ParameterError, match=r"invalid mass\[1\] = NaN"):
+        _core.ChainEngine(
+            np.zeros(3), 0.1, 0.0, 0.05, friction={"gamma": 0.1}, mass=np.array([1, np.nan, 1.0])
+        )
+    with pytest.raises(bk.ParameterError, match=r"one value per bond \(4 for 3 blocks with fixed"):
+        _core.ChainEngine(
+            np.zeros(3),
+            0.1,
+            0.0,
+            0.05,
+            friction={"gamma": 0.1},
+            boundary="fixed",
+            coupling=np.ones(3),
+        )
+
+
+def test_a_threshold_field_is_the_threshold_of_each_block():
+    # a single block among stuck neighbours, loaded at rate v: it slips when
+    # k_p u - Lap u/dx^2 reaches its own threshold, i.e. at t = (theta - phi0)/(k_p v)
+    th = np.array([1.3, 0.7, 1.1, 0.9])
+    kp = np.array([1.0, 2.0, 0.5, 1.5])
+    p = bk.Params(gamma=0.3, v=1e-2, dx=1.0)
+    ch = bk.Chain(4, p, "free", u0=0.0, threshold=th, loader=kp)
+    np.testing.assert_array_equal(ch._engine.thresholds(), th)
+    r = ch.run(max_events=1, t_end=1e4, progress=False)
+    first = r.slips.iloc[0]
+    t_expected = (th / (kp * p.v)).min()
+    assert first["block"] == int(np.argmin(th / kp))
+    assert first["t_start"] == pytest.approx(t_expected, rel=1e-12)
+
+
+def test_outputs_and_checkpoints_carry_the_law_and_the_properties(tmp_path):
+    p = bk.Params(gamma=0.3, v=1e-2, dx=0.2, beta=0.5)
+    th = bk.disorder.draw("uniform", 40, mean=1.0, spread=0.1, seed=4)
+    ch = bk.Chain(40, p, "periodic", u0=0.8, threshold=th)
+    r = ch.run(t_end=5.0, snapshots=[5.0], progress=False)
+    a = r.snapshots.attrs
+    assert a["friction_law"] == "coulomb" and a["friction_gamma"] == 0.3
+    assert a["friction_beta"] == 0.5 and a["properties"] == "threshold"
+    ch.save(tmp_path / "c.pkl")
+    back = bk.Chain.load(tmp_path / "c.pkl")
+    np.testing.assert_array_equal(back._engine.thresholds(), th)
+    # a checkpoint is refused by a chain with other thresholds
+    other = bk.Chain(40, p, "periodic", threshold=th * (1 + 1e-12))
+    with pytest.raises(bk.ParameterError, match="per-block properties"):
+        other._engine.restore(ch._engine.checkpoint())
+
+
+# --- TOML -----------------------------------------------------------------------------------
+
+BASE = {
+    "model": "chain",
+    "params": {"gamma": 0.3, "v": 1e-3, "dx": 0.05},
+    "domain": {"blocks": 50, "boundary": "free"},
+    "run": {"t_end": 10.0},
+}
+
+
+def test_toml_friction_and_disorder_tables():
+    doc = dict(BASE, friction={"law": "coulomb", "beta": 2.0})
+    c = parse_config(doc)
+    assert c.params.beta == 2.0 and c.params.law.name == "coulomb"
+    # gamma may sit in [friction] instead of [params]
+    doc = dict(BASE, params={"v": 1e-3, "dx": 0.05}, friction={"gamma": 0.2})
+    assert parse_config(doc).params.gamma == 0.2
+    doc = dict(
+        BASE,
+        seed=5,
+        disorder={
+            "threshold": {"distribution": "uniform", "mean": 1.0, "spread": 0.2},
+            "mass": 2.0,
+            "coupling": [1.0] * 49,
+        },
+    )
+    c = parse_config(doc)
+    arrays = disorder_arrays(c)
+    th = arrays["threshold"]
+    assert th.shape == (50,) and 0.8 <= th.min() and th.max() <= 1.2
+    np.testing.assert_array_equal(th, disorder_arrays(parse_config(doc))["threshold"])
+    assert arrays["mass"] == 2.0 and arrays["loader"] is None
+    other_seed = disorder_arrays(parse_config(dict(doc, seed=6)))["threshold"]
+    assert not np.array_equal(th, other_seed)
+
+
+@pytest.mark.parametrize(
+    "changes,where,words",
+    [
+        ({"friction": {"law": "colomb"}}, "friction.law", "coulomb"),
+        ({"friction": {"v_f": 1.0}}, "friction.v_f", "valid keys here: law, gamma, beta"),
+        ({"friction": {"beta": -1.0}}, "friction.beta", "0 <= beta <= inf"),
+        ({"friction": {"gamma": 0.2}}, "friction.gamma", "given in [params] too"),
+        ({"disorder": {"thresold": 1.0}}, "disorder.thresold", "threshold, mass"),
+        ({"disorder": {"mass": [1.0, -1.0] + [1.0] * 48}}, "disorder.mass[1]", "> 0"),
+        ({"disorder": {"coupling": [1.0] * 50}}, "disorder.coupling", "49"),
+        (
+            {"disorder": {"loader": {"distribution": "cauchy", "spread": 0.1}}},
+            "disorder.loader.distribution",
+            "uniform, normal, lognormal",
+        ),
+        (
+            {"disorder": {"loader": {"distribution": "uniform", "spread": 1.5}}},
+            "disorder.loader",
+            "spread < mean",
+        ),
+    ],
+)
+def test_toml_errors_name_the_key(changes, where, words):
+    with pytest.raises(bk.ParameterError) as e:
+        parse_config(dict(BASE, **changes))
+    msg = str(e.value)
+    assert msg.startswith(where) and words in msg, msg
