@@ -1,14 +1,17 @@
 """Start-up time of the command line (issue 12: a command line that answers at once).
 
-Run: python benchmarks/bench_cli.py [--repeat N]
+Run: python benchmarks/bench_cli.py [--repeat N] [--before PYTHONPATH]
 Every command is a fresh interpreter (subprocess); the rounds interleave the commands so
-that a shared, busy machine slows them alike. Prints a markdown table of medians and each
-command's ratio to two baselines measured in the same run: an empty interpreter
-(``python -c pass``) and ``python -c "import numpy"`` (which `bkwaves speed` needs anyway).
-``python -X importtime`` then shows where the remaining import time goes.
+that a shared, busy machine slows them alike. Prints a markdown table of medians (wall and
+CPU time) and each command's ratio to two baselines measured in the same run: an empty
+interpreter (``python -c pass``) and ``python -c "import numpy"`` (which `bkwaves speed`
+needs anyway). ``--before DIR`` also runs the bkwaves commands with ``PYTHONPATH=DIR`` (a
+``python/`` directory of another version, e.g. from ``git archive``), interleaved with
+the current ones. ``python -X importtime`` then shows where the remaining import time goes.
 """
 
 import argparse
+import os
 import resource
 import statistics
 import subprocess
@@ -16,10 +19,11 @@ import sys
 import time
 
 PY = sys.executable
-COMMANDS = {
+BASELINES = {
     "python -c pass": [PY, "-c", "pass"],
     'python -c "import numpy"': [PY, "-c", "import numpy"],
-    'python -c "import typer"': [PY, "-c", "import typer"],
+}
+BKWAVES = {
     'python -c "import bkwaves"': [PY, "-c", "import bkwaves"],
     "bkwaves --help": [PY, "-m", "bkwaves", "--help"],
     "bkwaves speed 0.5 --json": [PY, "-m", "bkwaves", "speed", "0.5", "--json"],
@@ -32,10 +36,10 @@ def cpu_seconds() -> float:
     return r.ru_utime + r.ru_stime
 
 
-def measure(cmd) -> tuple[float, float]:
+def measure(cmd, env=None) -> tuple[float, float]:
     """Wall and CPU (user + system) seconds of one run of ``cmd``."""
     c0, t0 = cpu_seconds(), time.perf_counter()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     return time.perf_counter() - t0, cpu_seconds() - c0
 
 
@@ -53,17 +57,22 @@ def top_imports(cmd, n=6):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=15)
+    ap.add_argument("--before", help="PYTHONPATH of the version to compare with")
     args = ap.parse_args()
     import bkwaves
 
     print(f"bkwaves {bkwaves.__version__} from {bkwaves.__file__}; {args.repeat} rounds\n")
-    walls = {k: [] for k in COMMANDS}
-    cpus = {k: [] for k in COMMANDS}
-    for cmd in COMMANDS.values():  # warm the file cache
-        measure(cmd)
+    runs = {k: (cmd, None) for k, cmd in {**BASELINES, **BKWAVES}.items()}
+    if args.before:
+        env = {**os.environ, "PYTHONPATH": args.before}
+        runs.update({f"{k} (before)": (cmd, env) for k, cmd in BKWAVES.items()})
+    walls = {k: [] for k in runs}
+    cpus = {k: [] for k in runs}
+    for cmd, env in runs.values():  # warm the file cache
+        measure(cmd, env)
     for _ in range(args.repeat):
-        for k, cmd in COMMANDS.items():
-            w, c = measure(cmd)
+        for k, (cmd, env) in runs.items():
+            w, c = measure(cmd, env)
             walls[k].append(w)
             cpus[k].append(c)
     wall = {k: statistics.median(v) for k, v in walls.items()}
@@ -71,18 +80,19 @@ def main():
     base, np_base = "python -c pass", 'python -c "import numpy"'
     print(
         "| command | wall (median) | wall (min) | CPU (median) "
-        "| wall / `python -c pass` | wall / `import numpy` |"
+        "| wall / `python -c pass` | wall / `import numpy` | CPU / `import numpy` |"
     )
-    print("|---|---|---|---|---|---|")
-    for k in COMMANDS:
+    print("|---|---|---|---|---|---|---|")
+    for k in runs:
+        name = f"`{k.removesuffix(' (before)')}`" + (" before" if k.endswith("(before)") else "")
         print(
-            f"| `{k}` | {wall[k] * 1e3:.0f} ms | {min(walls[k]) * 1e3:.0f} ms "
-            f"| {cpu[k] * 1e3:.0f} ms | {wall[k] / wall[base]:.1f} "
-            f"| {wall[k] / wall[np_base]:.2f} |"
+            f"| {name} | {wall[k] * 1e3:.0f} ms | {min(walls[k]) * 1e3:.0f} ms "
+            f"| {cpu[k] * 1e3:.0f} ms | {wall[k] / wall[base]:.2f} "
+            f"| {wall[k] / wall[np_base]:.2f} | {cpu[k] / cpu[np_base]:.2f} |"
         )
     for k in ("bkwaves --help", "bkwaves speed 0.5 --json"):
         print(f"\nlargest top-level imports of `{k}` (python -X importtime, ms):")
-        for ms, name in top_imports(COMMANDS[k]):
+        for ms, name in top_imports(BKWAVES[k]):
             print(f"  {ms:8.1f}  {name}")
 
 

@@ -86,6 +86,46 @@ def test_bad_input_exit_2_names_parameter(args, name):
 def test_typo_in_option_is_exit_2():
     r = run("wave", "--u-plus", "0.5", "--gama", "0.3")
     assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert "Error: " in r.stderr and "--gama" in r.stderr
+    for args in (["wave", "--u-plus", "abc", "--gamma", "0.3"], ["nope"], ["speed"]):
+        r = run(*args)
+        assert r.returncode == 2 and "Error: " in r.stderr and "Traceback" not in r.stderr
+    r = run()  # no command: the help, on stderr
+    assert r.returncode == 2 and "speed" in r.stderr and "Traceback" not in r.stderr
+
+
+@pytest.mark.parametrize(
+    "args, name",
+    [
+        (["speed", "-0.5"], "u_plus"),
+        (["wave", "--u-plus", "0.5", "--gamma", "-1e-3"], "gamma"),
+        (["wave", "--u-plus", "-inf", "--gamma", "0.3"], "u_plus"),
+    ],
+)
+def test_negative_values_are_values_not_options(args, name):
+    """A negative number, also with an exponent or -inf, reaches the range check that
+    names the parameter (it is not taken for an unknown option)."""
+    r = run(*args)
+    assert r.returncode == 2, r.stderr
+    assert name in r.stderr and "allowed" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_options_and_arguments_in_any_order():
+    r = run("speed", "0.3", "--json", "0.6", "--method", "tip")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["u_plus"] == [0.3, 0.6]
+
+
+def test_interrupted_command_exits_130_without_traceback(monkeypatch, capsys):
+    from bkwaves import cli
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setitem(cli.COMMANDS, "speed", cli.SPEED._replace(run=interrupted))
+    with pytest.raises(SystemExit) as e:
+        cli.main(["speed", "0.5"])
+    assert e.value.code == 130 and "Interrupted" in capsys.readouterr().err
 
 
 def test_plot_command(tmp_path):
@@ -123,15 +163,69 @@ def test_import_bkwaves_loads_no_plotting_or_io_libraries():
     assert not loaded & HEAVY, sorted(loaded & HEAVY)
 
 
-@pytest.mark.parametrize("argv", [["--help"], ["speed", "0.5", "--json"], ["run", "--help"]])
-def test_cli_commands_that_need_no_plotting_do_not_import_it(argv):
+def _modules_after_cli(argv):
     code = (
-        "import sys; from bkwaves.cli import app\n"
-        f"try:\n    app({argv!r}, prog_name='bkwaves')\nexcept SystemExit as e:\n"
+        "from bkwaves.cli import main\n"
+        f"try:\n    main({argv!r})\nexcept SystemExit as e:\n"
         "    assert e.code in (0, None), e.code"
     )
-    loaded = _modules_after(code)
+    return _modules_after(code)
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["speed", "0.5", "--json"], ["run", "--help"]])
+def test_cli_commands_that_need_no_plotting_do_not_import_it(argv):
+    loaded = _modules_after_cli(argv)
     assert not loaded & HEAVY, sorted(loaded & HEAVY)
+
+
+# a command-line framework (typer/click/pydantic), rich's help panels, or numpy on
+# `--help` cost more start-up than the rest of bkwaves together (docs/benchmarks.md)
+FRAMEWORKS = {"typer", "click", "pydantic", "pydantic_core", "rich"}
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [["--help"], ["--version"], *([name, "--help"] for name in ("wave", "speed", "run", "front"))],
+)
+def test_help_imports_neither_numpy_nor_a_cli_framework(argv):
+    loaded = _modules_after_cli(argv)
+    assert not loaded & (FRAMEWORKS | {"numpy"}), sorted(loaded & (FRAMEWORKS | {"numpy"}))
+
+
+def test_speed_imports_only_numpy_and_the_core():
+    loaded = _modules_after_cli(["speed", "0.5", "0.7", "--json"])
+    assert "numpy" in loaded
+    assert not loaded & (HEAVY | FRAMEWORKS), sorted(loaded & (HEAVY | FRAMEWORKS))
+
+
+def test_import_bkwaves_loads_only_the_core_until_a_name_is_used():
+    code = (
+        "import sys, bkwaves as bk\n"
+        "print(' '.join(sorted(m for m in sys.modules if m.startswith('bkwaves'))))\n"
+        "assert 'numpy' not in sys.modules\n"
+        "bk.front_speed(0.5)\n"
+        "assert 'bkwaves.waves' in sys.modules and 'bkwaves.runner' not in sys.modules\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["bkwaves", "bkwaves._core"]
+
+
+def test_every_public_name_resolves_lazily():
+    import bkwaves as bk
+
+    names = set(bk.__all__)
+    assert set(bk._LAZY) <= names and len(names) == len(bk.__all__)
+    for name in bk.__all__:
+        assert getattr(bk, name) is not None, name
+        assert name in dir(bk)
+    assert bk.run is bk.runner.simulate and bk.sweep_result is bk.sweeps.load_sweep_result
+    assert bk.chain.front is not None  # submodules are attributes as before
+    with pytest.raises(AttributeError, match="no_such_name"):
+        bk.no_such_name  # noqa: B018
+    ns = {}
+    exec("from bkwaves import *", ns)
+    assert names <= set(ns)
 
 
 def test_plot_module_leaves_matplotlib_global_state_alone():

@@ -3,23 +3,41 @@
 >>> import bkwaves as bk
 >>> bk.front_speed(0.6)
 1.25
+
+``import bkwaves`` loads only the compiled core: every other name (``bk.Chain``,
+``bk.run``, ``bk.config``, ...) imports its module on first use (PEP 562), so the
+command line and scripts that need one function do not pay for the rest.
 """
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
 
 from . import _core
 from ._core import ConvergenceError, ParameterError
 
 __version__ = _core.__version__
 
-from . import config, disorder, friction, io, plot, presets, stats, theory  # noqa: E402
-from .chain import Chain, ChainResult  # noqa: E402
-from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning  # noqa: E402
-from .io import load  # noqa: E402
-from .params import Params, PhysicalUnits  # noqa: E402
-from .runner import RunResult  # noqa: E402
-from .runner import simulate as run  # noqa: E402
-from .sweeps import load_sweep_result as sweep_result  # noqa: E402
-from .sweeps import sweep  # noqa: E402
-from .waves import TravelingWave, front_speed, tip_solve, traveling_wave  # noqa: E402
+# public name -> (submodule, attribute in it); a submodule itself is reached as bk.NAME
+_LAZY = {
+    "Chain": ("chain", "Chain"),
+    "ChainResult": ("chain", "ChainResult"),
+    "FreeBoundary": ("free_boundary", "FreeBoundary"),
+    "FreeBoundaryResult": ("free_boundary", "FreeBoundaryResult"),
+    "NoCreepWarning": ("free_boundary", "NoCreepWarning"),
+    "load": ("io", "load"),
+    "Params": ("params", "Params"),
+    "PhysicalUnits": ("params", "PhysicalUnits"),
+    "RunResult": ("runner", "RunResult"),
+    "run": ("runner", "simulate"),
+    "sweep": ("sweeps", "sweep"),
+    "sweep_result": ("sweeps", "load_sweep_result"),
+    "TravelingWave": ("waves", "TravelingWave"),
+    "front_speed": ("waves", "front_speed"),
+    "tip_solve": ("waves", "tip_solve"),
+    "traveling_wave": ("waves", "traveling_wave"),
+}
 
 __all__ = [
     "Chain",
@@ -31,22 +49,55 @@ __all__ = [
     "ParameterError",
     "Params",
     "PhysicalUnits",
+    "RunResult",
     "TravelingWave",
     "__version__",
     "config",
     "disorder",
     "friction",
+    "front_speed",
     "io",
     "load",
     "plot",
+    "presets",
+    "run",
     "stats",
     "sweep",
     "sweep_result",
-    "front_speed",
-    "presets",
-    "run",
-    "RunResult",
     "theory",
     "tip_solve",
     "traveling_wave",
 ]
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        module, attr = _LAZY[name]
+        value = getattr(importlib.import_module(f".{module}", __name__), attr)
+        globals()[name] = value  # later look-ups do not come back here
+        return value
+    if name.isidentifier() and not name.startswith("__"):
+        # any submodule (bk.chain, bk.runner, bk.sweeps, ...): importing it binds it here
+        try:
+            return importlib.import_module(f".{name}", __name__)
+        except ModuleNotFoundError as e:
+            if e.name != f"{__name__}.{name}":
+                raise  # the submodule exists but one of its own imports is missing
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:  # what the names are, for type checkers and editors
+    from . import config, disorder, friction, io, plot, presets, stats, theory
+    from .chain import Chain, ChainResult
+    from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning
+    from .io import load
+    from .params import Params, PhysicalUnits
+    from .runner import RunResult
+    from .runner import simulate as run
+    from .sweeps import load_sweep_result as sweep_result
+    from .sweeps import sweep
+    from .waves import TravelingWave, front_speed, tip_solve, traveling_wave

@@ -1,40 +1,164 @@
-"""The ``bkwaves`` command line."""
+"""The ``bkwaves`` command line.
+
+Built on the standard library's argparse, so that ``bkwaves --help`` and the quick queries
+start in a few tens of milliseconds above the interpreter: every command is a function of
+its parsed options and imports what it needs (numpy, the engines, xarray, matplotlib,
+Dask) inside it. A command's options are a table (a list of :class:`Opt`), so adding one is
+adding a row; the function reads it as ``args.<dest>``.
+"""
 
 from __future__ import annotations
 
-import json
+import argparse
 import math
 import os
+import re
 import signal
+import sys
+import textwrap
+from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated
-
-import typer
+from typing import NamedTuple
 
 from . import __version__
 from ._core import ConvergenceError, ParameterError
 
-# Plain (click-style) help: rich's help panels cost a tenth of a second of imports on every
-# call, show boolean flags as "--json <bool>" and read "[...]" in help texts as markup.
-app = typer.Typer(
-    name="bkwaves",
-    help="Traveling slip waves in the Burridge-Knopoff chain with Coulomb friction "
-    "(C. B. Muratov, Phys. Rev. E 59, 3847, 1999).",
-    no_args_is_help=True,
-    rich_markup_mode=None,
-    add_completion=False,
-    pretty_exceptions_enable=False,
+PROG = "bkwaves"
+DESCRIPTION = (
+    "Traveling slip waves in the Burridge-Knopoff chain with Coulomb friction "
+    "(C. B. Muratov, Phys. Rev. E 59, 3847, 1999)."
 )
 
-JsonOpt = Annotated[bool, typer.Option("--json", help="Print one JSON object instead of text.")]
-PlotOpt = Annotated[
-    Path | None, typer.Option("--plot", help="Write a picture (.png, .svg or .pdf by suffix).")
-]
+
+class UsageError(Exception):
+    """Bad command-line syntax (unknown option, missing or malformed value): exit status 2."""
 
 
-def _fail(err: Exception) -> None:
-    typer.echo(f"Error: {err}", err=True)
-    raise typer.Exit(2)
+class _HelpFormatter(argparse.HelpFormatter):
+    """Paragraphs (separated by blank lines) are re-wrapped one by one, not run together;
+    a paragraph with indented lines (a table) is kept as written."""
+
+    def _fill_text(self, text, width, indent):
+        def fill(p):
+            if any(line.startswith(" ") for line in p.splitlines()):
+                return textwrap.indent(p, indent)
+            return textwrap.fill(
+                " ".join(p.split()), width, initial_indent=indent, subsequent_indent=indent
+            )
+
+        first, _, rest = text.strip().partition("\n")  # a docstring: the first line flush
+        text = f"{first}\n{textwrap.dedent(rest)}".strip()
+        return "\n\n".join(fill(p) for p in text.split("\n\n"))
+
+
+class _Parser(argparse.ArgumentParser):
+    # Values such as "-inf", "-1e-3" or "-0.5" are values, not options (argparse's own test
+    # knows only "-1" and "-0.5"): no bkwaves option starts with "-" and a digit, ".", i or n.
+    _NEGATIVE_NUMBER = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
+
+    def __init__(self, **kw):
+        super().__init__(formatter_class=_HelpFormatter, allow_abbrev=False, **kw)
+        self._negative_number_matcher = self._NEGATIVE_NUMBER
+
+    def refuse_unknown_options(self, argv: list[str]) -> None:
+        """Name a mistyped option (and the nearest real one) before anything else: argparse
+        would first complain about the required option the typo was meant to be."""
+        for arg in argv:
+            if arg == "--":
+                break
+            name = arg.split("=", 1)[0]
+            if (
+                len(arg) > 1
+                and arg.startswith("-")
+                and not self._negative_number_matcher.match(arg)
+                and name not in self._option_string_actions
+            ):
+                from difflib import get_close_matches
+
+                near = get_close_matches(name, list(self._option_string_actions), 1)
+                self.error(
+                    f"no such option: {name}" + (f" (did you mean {near[0]}?)" if near else "")
+                )
+
+    def error(self, message):
+        raise UsageError(
+            f"{self.format_usage()}Try '{self.prog} --help' for help.\n\nError: {message}"
+        )
+
+
+class Opt(NamedTuple):
+    """One option or argument of a command: argparse's add_argument, with the help text
+    extended by [required] / [default: ...] the way the docs show them."""
+
+    flags: tuple[str, ...]
+    help: str
+    type: Callable[[str], object] | None = None
+    default: object = None
+    required: bool = False
+    flag: bool = False  # an on/off switch (store_true)
+    metavar: str | None = None
+    nargs: str | None = None
+    dest: str | None = None
+
+    def add_to(self, parser: argparse.ArgumentParser) -> None:
+        text = self.help
+        positional = not self.flags[0].startswith("-")
+        if self.required or (positional and self.nargs in (None, "+")):
+            text += "  [required]"
+        elif self.default is not None and not self.flag:
+            text += f"  [default: {self.default}]"
+        kw: dict[str, object] = {"help": text.replace("%", "%%")}
+        if self.dest is not None:
+            kw["dest"] = self.dest
+        if self.flag:
+            kw["action"] = "store_true"
+        else:
+            kw.update(type=self.type, default=self.default, metavar=self.metavar)
+            if self.nargs is not None:
+                kw["nargs"] = self.nargs
+            if not positional:
+                kw["required"] = self.required
+        parser.add_argument(*self.flags, **kw)
+
+
+def opt(*flags: str, help: str, **kw) -> Opt:
+    return Opt(flags, help, **kw)
+
+
+class Command(NamedTuple):
+    name: str
+    run: Callable[[argparse.Namespace], int | None]
+    summary: str  # one line, in `bkwaves --help`
+    description: str  # `bkwaves NAME --help`
+    options: list[Opt]
+
+    def parser(self) -> _Parser:
+        p = _Parser(prog=f"{PROG} {self.name}", description=self.description)
+        for o in self.options:
+            o.add_to(p)
+        return p
+
+
+JSON = opt("--json", dest="json_out", flag=True, help="Print one JSON object instead of text.")
+PLOT = opt(
+    "--plot", type=Path, metavar="FILE", help="Write a picture (.png, .svg or .pdf by suffix)."
+)
+QUIET = opt("--quiet", flag=True, help="No progress bar.")
+
+
+def _echo(text: str = "", err: bool = False) -> None:
+    print(text, file=sys.stderr if err else sys.stdout, flush=True)
+
+
+def _json(d, **kw) -> str:
+    import json
+
+    return json.dumps(d, **kw)
+
+
+def _fail(err: Exception):
+    _echo(f"Error: {err}", err=True)
+    sys.exit(2)
 
 
 def _check_plot(plot: Path | None) -> None:
@@ -58,123 +182,134 @@ def _json_value(x):
     return x
 
 
-def _version(value: bool):
-    if value:
-        typer.echo(f"bkwaves {__version__}")
-        raise typer.Exit()
+# ---------------------------------------------------------------------------------------
+# wave
 
 
-@app.callback()
-def _main(
-    version: Annotated[
-        bool,
-        typer.Option("--version", callback=_version, is_eager=True, help="Show the version."),
-    ] = False,
-):
-    """Simulate and analyse Burridge-Knopoff traveling waves."""
-
-
-@app.command(short_help="The traveling wave behind the front: speed, regime, width, u_-, slip.")
-def wave(
-    u_plus: Annotated[float, typer.Option("--u-plus", help="Stress ahead of the wave, 0 < U < 1.")],
-    gamma: Annotated[float, typer.Option("--gamma", help="Viscous damping gamma >= 0.")],
-    json_out: JsonOpt = False,
-    plot: PlotOpt = None,
-):
-    """The traveling wave behind the front (paper App. B): speed, regime, width, u_-, slip.
-
-    The speed is c = 1/sqrt(1 - u_+^2), the exact solution of the paper's tip problem.
-    """
+def wave(args) -> None:
     from .waves import traveling_wave
 
-    _check_plot(plot)
+    _check_plot(args.plot)
     try:
-        w = traveling_wave(u_plus, gamma)
+        w = traveling_wave(args.u_plus, args.gamma)
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
     d = {k: _json_value(v) for k, v in w.to_dict().items()}
-    if plot is not None:
+    if args.plot is not None:
         from . import plot as bkplot
 
-        bkplot.save(bkplot.wave_profile(w), plot)
-    if json_out:
-        typer.echo(json.dumps(d))
+        bkplot.save(bkplot.wave_profile(w), args.plot)
+    if args.json_out:
+        _echo(_json(d))
         return
-    typer.echo(f"u_plus  = {w.u_plus:.6g}   gamma = {w.gamma:.6g}")
-    typer.echo(f"c       = {w.c:.12g}   (exact tip-problem speed 1/sqrt(1 - u_plus^2))")
+    _echo(f"u_plus  = {w.u_plus:.6g}   gamma = {w.gamma:.6g}")
+    _echo(f"c       = {w.c:.12g}   (exact tip-problem speed 1/sqrt(1 - u_plus^2))")
     uc = "none (gamma >= 1: always creep)" if w.u_c is None else f"{w.u_c:.6g}"
-    typer.echo(f"regime  = {w.regime}   (u_c = {uc})")
+    _echo(f"regime  = {w.regime}   (u_c = {uc})")
     if w.regime == "pulse":
-        typer.echo(f"w       = {w.w:.6g}   (width, eq. w)")
-        typer.echo(f"u_minus = {w.u_minus:.6g}   (stress behind, eq. um)")
-        typer.echo(f"A       = {w.A:.6g}   (total slip, eq. A)")
+        _echo(f"w       = {w.w:.6g}   (width, eq. w)")
+        _echo(f"u_minus = {w.u_minus:.6g}   (stress behind, eq. um)")
+        _echo(f"A       = {w.A:.6g}   (total slip, eq. A)")
     else:
-        typer.echo("blocks never re-stick at v = 0: u -> 0 behind the front (w infinite)")
-    if plot is not None:
-        typer.echo(f"plot    -> {plot}")
+        _echo("blocks never re-stick at v = 0: u -> 0 behind the front (w infinite)")
+    if args.plot is not None:
+        _echo(f"plot    -> {args.plot}")
 
 
-@app.command(short_help="Front speed c(u_+) from the tip problem, and eq. (c).")
-def speed(
-    u_plus: Annotated[list[float], typer.Argument(help="Stresses ahead, each 0 < U < 1.")],
-    method: Annotated[
-        str, typer.Option(help="'exact' closed form, or 'tip' to solve the tip problem.")
-    ] = "exact",
-    json_out: JsonOpt = False,
-    plot: PlotOpt = None,
-):
-    """Front speed c(u_+) from the tip problem (App. A), with the interpolation formula eq. (c)."""
+WAVE = Command(
+    "wave",
+    wave,
+    "The traveling wave behind the front: speed, regime, width, u_-, slip.",
+    """The traveling wave behind the front (paper App. B): speed, regime, width, u_-, slip.
+
+    The speed is c = 1/sqrt(1 - u_+^2), the exact solution of the paper's tip problem.""",
+    [
+        opt(
+            "--u-plus",
+            type=float,
+            required=True,
+            metavar="U",
+            help="Stress ahead of the wave, 0 < U < 1.",
+        ),
+        opt("--gamma", type=float, required=True, help="Viscous damping gamma >= 0."),
+        JSON,
+        PLOT,
+    ],
+)
+
+
+# ---------------------------------------------------------------------------------------
+# speed
+
+
+def speed(args) -> None:
+    import numpy as np
+
     from . import theory
     from .waves import front_speed
 
-    _check_plot(plot)
+    u_plus = args.u_plus
+    _check_plot(args.plot)
     try:
-        c = [float(x) for x in __import__("numpy").atleast_1d(front_speed(u_plus, method=method))]
-        ci = [float(x) for x in __import__("numpy").atleast_1d(theory.c_interpolation(u_plus))]
+        c = [float(x) for x in np.atleast_1d(front_speed(u_plus, method=args.method))]
+        ci = [float(x) for x in np.atleast_1d(theory.c_interpolation(u_plus))]
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
-    if plot is not None:
+    if args.plot is not None:
         from . import plot as bkplot
 
-        bkplot.save(bkplot.speed_curve(u_plus), plot)
-    if json_out:
-        typer.echo(json.dumps({"u_plus": list(u_plus), "c": c, "c_interpolation": ci}))
+        bkplot.save(bkplot.speed_curve(u_plus), args.plot)
+    if args.json_out:
+        _echo(_json({"u_plus": list(u_plus), "c": c, "c_interpolation": ci}))
         return
-    typer.echo(f"{'u_plus':>10} {'c':>20} {'c (eq. c)':>14} {'rel. diff':>10}")
+    _echo(f"{'u_plus':>10} {'c':>20} {'c (eq. c)':>14} {'rel. diff':>10}")
     for u, a, b in zip(u_plus, c, ci, strict=True):
-        typer.echo(f"{u:>10.6g} {a:>20.15g} {b:>14.8g} {b / a - 1:>10.2e}")
-    if plot is not None:
-        typer.echo(f"plot -> {plot}")
+        _echo(f"{u:>10.6g} {a:>20.15g} {b:>14.8g} {b / a - 1:>10.2e}")
+    if args.plot is not None:
+        _echo(f"plot -> {args.plot}")
 
 
-@app.command()
-def paper(
-    out: Annotated[Path, typer.Option("-o", "--out", help="Output directory.")] = Path(
-        "bkwaves-paper"
-    ),
-    quick: Annotated[
-        bool,
-        typer.Option(
-            "--quick",
-            help="Smaller, coarser runs: about 40% of the full run's CPU time, same figures "
-            "and claims (docs/benchmarks.md).",
+SPEED = Command(
+    "speed",
+    speed,
+    "Front speed c(u_+) from the tip problem, and eq. (c).",
+    "Front speed c(u_+) from the tip problem (App. A), with the interpolation formula eq. (c).",
+    [
+        opt(
+            "u_plus",
+            type=float,
+            nargs="+",
+            metavar="U_PLUS",
+            help="Stresses ahead, each 0 < U < 1.",
         ),
-    ] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
-    json_out: JsonOpt = False,
-):
-    """Regenerate the paper's figures and a claim-by-claim validation report in OUT."""
+        opt(
+            "--method",
+            default="exact",
+            metavar="METHOD",
+            help="'exact' closed form, or 'tip' to solve the tip problem.",
+        ),
+        JSON,
+        PLOT,
+    ],
+)
+
+
+# ---------------------------------------------------------------------------------------
+# paper
+
+
+def paper(args) -> None:
     from .paper import reproduce
 
-    rep = reproduce(out, quick=quick, progress=not quiet and not json_out)
+    rep = reproduce(args.out, quick=args.quick, progress=not args.quiet and not args.json_out)
     verdicts = {}
     for c in rep.claims:
         verdicts[c.verdict] = verdicts.get(c.verdict, 0) + 1
-    if json_out:
-        typer.echo(
-            json.dumps(
+    if args.json_out:
+        _echo(
+            _json(
                 {
-                    "out": str(out),
+                    "out": str(args.out),
                     "seconds": rep.seconds,
                     "figures": sorted(rep.figures),
                     "claims": len(rep.claims),
@@ -183,40 +318,108 @@ def paper(
             )
         )
         return
-    typer.echo(
-        f"{len(rep.figures)} figures and report.md/report.html in {out} ({rep.seconds:.1f} s)"
+    _echo(
+        f"{len(rep.figures)} figures and report.md/report.html in {args.out} ({rep.seconds:.1f} s)"
     )
-    typer.echo(", ".join(f"{n} {k}" for k, n in sorted(verdicts.items())))
+    _echo(", ".join(f"{n} {k}" for k, n in sorted(verdicts.items())))
 
 
-@app.command("run")
-def run_cmd(
-    config: Annotated[
-        Path | None, typer.Argument(help="A run configuration (TOML); omit with --resume.")
-    ] = None,
-    out: Annotated[
-        Path | None,
-        typer.Option("-o", "--out", help="Output (.nc or .zarr); default: [output] path."),
-    ] = None,
-    overwrite: Annotated[
-        bool,
-        typer.Option(
-            "--overwrite",
-            help="Replace an existing output (only files bkwaves wrote; once the new one is "
-            "complete).",
+PAPER = Command(
+    "paper",
+    paper,
+    "Regenerate the paper's figures and a claim-by-claim validation report in OUT.",
+    "Regenerate the paper's figures and a claim-by-claim validation report in OUT.",
+    [
+        opt(
+            "-o",
+            "--out",
+            type=Path,
+            default=Path("bkwaves-paper"),
+            metavar="OUT",
+            help="Output directory.",
         ),
-    ] = False,
-    resume: Annotated[
-        Path | None,
-        typer.Option("--resume", help="Continue the run that wrote this output (.nc/.zarr)."),
-    ] = None,
-    checkpoint_every: Annotated[
-        float | None,
-        typer.Option("--checkpoint-every", help="Also checkpoint every this many seconds."),
-    ] = None,
-    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
-    json_out: JsonOpt = False,
-):
+        opt(
+            "--quick",
+            flag=True,
+            help="Smaller, coarser runs: about 40% of the full run's CPU time, same figures "
+            "and claims (docs/benchmarks.md).",
+        ),
+        QUIET,
+        JSON,
+    ],
+)
+
+
+# ---------------------------------------------------------------------------------------
+# run
+
+
+def run(args) -> int | None:
+    from .runner import OutputFull, _StopRequest
+
+    show = not args.quiet and not args.json_out
+    with _StopRequest():  # before anything: a signal from here on keeps what was computed
+        from .config import load_config
+        from .runner import resume as resume_run
+        from .runner import run as run_config
+
+        try:
+            if args.resume is not None:
+                if args.config is not None or args.out is not None:
+                    raise ParameterError(
+                        "--resume OUT takes no CONFIG and no -o (the output is OUT)"
+                    )
+                summary = resume_run(
+                    args.resume, progress=show, checkpoint_every=args.checkpoint_every
+                )
+            else:
+                if args.config is None:
+                    raise ParameterError("give a CONFIG.toml, or --resume OUT")
+                cfg = load_config(args.config)
+                target = args.out if args.out is not None else cfg.output_path
+                if target is None:
+                    raise ParameterError(
+                        "no output: give -o OUT (.nc or .zarr) or [output] path in the config"
+                    )
+                summary = run_config(
+                    cfg,
+                    target,
+                    progress=show,
+                    overwrite=args.overwrite,
+                    checkpoint_every=args.checkpoint_every,
+                )
+        except (ParameterError, ConvergenceError) as e:
+            _fail(e)
+        except OutputFull as e:
+            _echo(f"Error: {e.strerror}", err=True)
+            return 1
+    d = summary.to_dict()
+    if args.json_out:
+        _echo(_json(d, default=str))
+    if summary.interrupted:
+        name = summary.extra.get("signal") or "SIGINT"
+        _echo(
+            f"{summary.model}: interrupted by {name} at t = {summary.t:.6g} "
+            f"({summary.units}): kept {_count(summary.snapshots, 'snapshot')} and "
+            f"{_count(summary.events, 'event')} in {summary.out}.partial; continue with "
+            f"`bkwaves run --resume {summary.out}`",
+            err=True,
+        )
+        return 128 + int(getattr(signal, name))
+    if args.json_out:
+        return None
+    _echo(
+        f"{summary.model}: done at t = {summary.t:.6g} ({summary.units}), "
+        f"{_count(summary.events, 'event')}, {_count(summary.snapshots, 'snapshot')}, "
+        f"{summary.wall_s:.2f} s -> {summary.out}"
+    )
+    return None
+
+
+RUN = Command(
+    "run",
+    run,
+    "Run a chain or free-boundary simulation described by CONFIG.toml.",
     """Run a chain or free-boundary simulation described by CONFIG.toml.
 
     Snapshots go to OUT (NetCDF or Zarr by suffix); the event catalog and trajectories to
@@ -225,109 +428,127 @@ def run_cmd(
     --overwrite. Ctrl-C or SIGTERM stop the run, keep what was computed and leave
     OUT.checkpoint (exit status 130 or 143): `bkwaves run --resume OUT` continues it, bit
     for bit like an uninterrupted run. A full disk keeps what was written (exit status 1).
-    See docs/usage.md for the schema.
-    """
-    from .runner import OutputFull, _StopRequest
-
-    show = not quiet and not json_out
-    with _StopRequest():  # before anything: a signal from here on keeps what was computed
-        from .config import load_config
-        from .runner import resume as resume_run
-        from .runner import run
-
-        try:
-            if resume is not None:
-                if config is not None or out is not None:
-                    raise ParameterError(
-                        "--resume OUT takes no CONFIG and no -o (the output is OUT)"
-                    )
-                summary = resume_run(resume, progress=show, checkpoint_every=checkpoint_every)
-            else:
-                if config is None:
-                    raise ParameterError("give a CONFIG.toml, or --resume OUT")
-                cfg = load_config(config)
-                target = out if out is not None else cfg.output_path
-                if target is None:
-                    raise ParameterError(
-                        "no output: give -o OUT (.nc or .zarr) or [output] path in the config"
-                    )
-                summary = run(
-                    cfg,
-                    target,
-                    progress=show,
-                    overwrite=overwrite,
-                    checkpoint_every=checkpoint_every,
-                )
-        except (ParameterError, ConvergenceError) as e:
-            _fail(e)
-        except OutputFull as e:
-            typer.echo(f"Error: {e.strerror}", err=True)
-            raise typer.Exit(1) from None
-    d = summary.to_dict()
-    if json_out:
-        typer.echo(json.dumps(d, default=str))
-    if summary.interrupted:
-        name = summary.extra.get("signal") or "SIGINT"
-        typer.echo(
-            f"{summary.model}: interrupted by {name} at t = {summary.t:.6g} "
-            f"({summary.units}): kept {_count(summary.snapshots, 'snapshot')} and "
-            f"{_count(summary.events, 'event')} in {summary.out}.partial; continue with "
-            f"`bkwaves run --resume "
-            f"{summary.out}`",
-            err=True,
-        )
-        raise typer.Exit(128 + int(getattr(signal, name)))
-    if json_out:
-        return
-    typer.echo(
-        f"{summary.model}: done at t = {summary.t:.6g} ({summary.units}), "
-        f"{_count(summary.events, 'event')}, {_count(summary.snapshots, 'snapshot')}, "
-        f"{summary.wall_s:.2f} s -> {summary.out}"
-    )
+    See docs/usage.md for the schema.""",
+    [
+        opt(
+            "config",
+            type=Path,
+            nargs="?",
+            metavar="CONFIG",
+            help="A run configuration (TOML); omit with --resume.",
+        ),
+        opt(
+            "-o",
+            "--out",
+            type=Path,
+            metavar="OUT",
+            help="Output (.nc or .zarr); default: [output] path.",
+        ),
+        opt(
+            "--overwrite",
+            flag=True,
+            help="Replace an existing output (only files bkwaves wrote; once the new one is "
+            "complete).",
+        ),
+        opt(
+            "--resume",
+            type=Path,
+            metavar="OUT",
+            help="Continue the run that wrote this output (.nc/.zarr).",
+        ),
+        opt(
+            "--checkpoint-every",
+            type=float,
+            metavar="SECONDS",
+            help="Also checkpoint every this many seconds.",
+        ),
+        QUIET,
+        JSON,
+    ],
+)
 
 
-@app.command("plot")
-def plot_cmd(
-    out: Annotated[Path, typer.Argument(help="A run output (.nc or .zarr).")],
-    outdir: Annotated[
-        Path | None, typer.Option("-o", "--outdir", help="Where to write (default: beside OUT).")
-    ] = None,
-    fmt: Annotated[str, typer.Option("--format", help="png, svg or pdf.")] = "png",
-):
-    """The standard pictures of a run: space-time diagrams, profiles, trajectories, catalog."""
+# ---------------------------------------------------------------------------------------
+# plot
+
+
+def plot(args) -> None:
     from .plot import plot_run
 
     try:
-        files = plot_run(out, outdir, fmt=fmt)
+        files = plot_run(args.out, args.outdir, fmt=args.format)
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
     for f in files:
-        typer.echo(str(f))
+        _echo(str(f))
 
 
-@app.command()
-def front(
-    u_plus: Annotated[float, typer.Option("--u-plus", help="Stress ahead, 0 < U < 1.")],
-    gamma: Annotated[float, typer.Option("--gamma", help="Viscous damping gamma >= 0.")],
-    dx: Annotated[float, typer.Option("--dx", help="Lattice spacing, 0 < DX < 1.")],
-    blocks: Annotated[
-        int | None,
-        typer.Option(
-            "--blocks",
-            help="Chain length (default: from the pulse's w and c, see above). A given "
-            "length is one run, the window as far from the trigger as the end allows.",
+PLOT_COMMAND = Command(
+    "plot",
+    plot,
+    "The standard pictures of a run: space-time diagrams, profiles, trajectories, catalog.",
+    "The standard pictures of a run: space-time diagrams, profiles, trajectories, catalog.",
+    [
+        opt("out", type=Path, metavar="OUT", help="A run output (.nc or .zarr)."),
+        opt(
+            "-o",
+            "--outdir",
+            type=Path,
+            metavar="DIR",
+            help="Where to write (default: beside OUT).",
         ),
-    ] = None,
-    beta: Annotated[
-        float,
-        typer.Option(
-            "--beta",
-            help="f_s/(f_r - f_s): backward slip when u - Lap u/dx^2 <= -(1 + 2 beta). "
-            "Default inf: no backward slip, the paper's model.",
-        ),
-    ] = math.inf,
-    json_out: JsonOpt = False,
-):
+        opt("--format", default="png", metavar="FORMAT", help="png, svg or pdf."),
+    ],
+)
+
+
+# ---------------------------------------------------------------------------------------
+# front
+
+
+def front(args) -> None:
+    from .chain import front as measure
+
+    try:
+        m = measure(args.u_plus, args.gamma, args.dx, args.blocks, beta=args.beta)
+    except (ParameterError, ConvergenceError) as e:
+        _fail(e)
+    d = {k: _json_value(v) for k, v in m.to_dict().items()}
+    d["beta"] = "inf" if math.isinf(m.beta) else m.beta  # JSON has no inf (null: unknown)
+    if args.json_out:
+        _echo(_json(d))
+        return
+    _echo(f"u_plus  = {m.u_plus:.6g}   gamma = {m.gamma:.6g}   dx = {m.dx:.6g}")
+    slip = "no backward slip" if math.isinf(m.beta) else "backward slip on"
+    _echo(f"beta    = {m.beta:g}   ({slip}; {m.backward_slips} backward slips)")
+    _echo(f"blocks  = {m.blocks}   ({m.passes} run{'s' if m.passes > 1 else ''})")
+    _echo(f"c       = {m.c:.12g}   (measured; continuum 1/sqrt(1 - u_plus^2))")
+    _echo(f"regime  = {m.regime}")
+    if m.regime == "pulse":
+        _echo(f"w       = {m.w:.6g}   (pulse width)")
+        _echo(f"u_minus = {m.u_minus:.6g}   (stress behind)")
+    steady = "-" if m.steadiness is None else f"{m.steadiness:.2g}"
+    xs = "-" if m.settling_length is None else f"{m.settling_length:.4g}"
+    _echo(
+        f"steady  = {steady}   (spread of sliding times and re-stick u over the window x = "
+        f"{m.window[0]:.4g}-{m.window[1]:.4g}; settling length x_s = {xs})"
+    )
+    _echo(f"why     : {m.reason}")
+    if m.app_b is not None:
+        b = m.app_b
+        shape = (
+            f"c = {b['c']:.6g}, w = {b['w']:.6g}, u_minus = {b['u_minus']:.6g}"
+            if b["regime"] == "pulse"
+            else f"c = {b['c']:.6g}"
+        )
+        _echo(f"App. B  : {b['regime']}, {shape}   (continuum, dx -> 0)")
+    _echo(f"wall    = {m.wall_s:.3g} s")
+
+
+FRONT = Command(
+    "front",
+    front,
+    "One front in a direct simulation of the discrete chain at v = 0.",
     """One front in a direct simulation of the discrete chain at v = 0.
 
     Uniform u_+ on a free chain, block 0 kicked forward; c from the slip times
@@ -344,120 +565,167 @@ def front(
     twice) from the measured ones, further out while the spread exceeds 1e-6:
     typically 500-5000 blocks and under a second; near u_+ = gamma ~2e4 blocks
     and ~10 s.
-    Without an App. B pulse (u_+ <= gamma): 1600 blocks (at least 40 units).
-    """
-    from .chain import front as measure
+    Without an App. B pulse (u_+ <= gamma): 1600 blocks (at least 40 units).""",
+    [
+        opt("--u-plus", type=float, required=True, metavar="U", help="Stress ahead, 0 < U < 1."),
+        opt("--gamma", type=float, required=True, help="Viscous damping gamma >= 0."),
+        opt("--dx", type=float, required=True, help="Lattice spacing, 0 < DX < 1."),
+        opt(
+            "--blocks",
+            type=int,
+            metavar="N",
+            help="Chain length (default: from the pulse's w and c, see above). A given "
+            "length is one run, the window as far from the trigger as the end allows.",
+        ),
+        opt(
+            "--beta",
+            type=float,
+            default=math.inf,
+            help="f_s/(f_r - f_s): backward slip when u - Lap u/dx^2 <= -(1 + 2 beta). "
+            "Default inf: no backward slip, the paper's model.",
+        ),
+        JSON,
+    ],
+)
+
+
+# ---------------------------------------------------------------------------------------
+# sweep
+
+
+def sweep(args) -> int | None:
+    from .sweeps import sweep as run_sweep
 
     try:
-        m = measure(u_plus, gamma, dx, blocks, beta=beta)
-    except (ParameterError, ConvergenceError) as e:
-        _fail(e)
-    d = {k: _json_value(v) for k, v in m.to_dict().items()}
-    d["beta"] = "inf" if math.isinf(m.beta) else m.beta  # JSON has no inf (null: unknown)
-    if json_out:
-        typer.echo(json.dumps(d))
-        return
-    typer.echo(f"u_plus  = {m.u_plus:.6g}   gamma = {m.gamma:.6g}   dx = {m.dx:.6g}")
-    slip = "no backward slip" if math.isinf(m.beta) else "backward slip on"
-    typer.echo(f"beta    = {m.beta:g}   ({slip}; {m.backward_slips} backward slips)")
-    typer.echo(f"blocks  = {m.blocks}   ({m.passes} run{'s' if m.passes > 1 else ''})")
-    typer.echo(f"c       = {m.c:.12g}   (measured; continuum 1/sqrt(1 - u_plus^2))")
-    typer.echo(f"regime  = {m.regime}")
-    if m.regime == "pulse":
-        typer.echo(f"w       = {m.w:.6g}   (pulse width)")
-        typer.echo(f"u_minus = {m.u_minus:.6g}   (stress behind)")
-    steady = "-" if m.steadiness is None else f"{m.steadiness:.2g}"
-    xs = "-" if m.settling_length is None else f"{m.settling_length:.4g}"
-    typer.echo(
-        f"steady  = {steady}   (spread of sliding times and re-stick u over the window x = "
-        f"{m.window[0]:.4g}-{m.window[1]:.4g}; settling length x_s = {xs})"
-    )
-    typer.echo(f"why     : {m.reason}")
-    if m.app_b is not None:
-        b = m.app_b
-        shape = (
-            f"c = {b['c']:.6g}, w = {b['w']:.6g}, u_minus = {b['u_minus']:.6g}"
-            if b["regime"] == "pulse"
-            else f"c = {b['c']:.6g}"
-        )
-        typer.echo(f"App. B  : {b['regime']}, {shape}   (continuum, dx -> 0)")
-    typer.echo(f"wall    = {m.wall_s:.3g} s")
-
-
-@app.command("sweep")
-def sweep_cmd(
-    sweep_file: Annotated[Path, typer.Argument(help="A sweep description (SWEEP.toml).")],
-    out: Annotated[
-        Path | None,
-        typer.Option(
-            "-o", "--out", help="Output Zarr store (default: SWEEP.zarr beside the file)."
-        ),
-    ] = None,
-    scheduler: Annotated[
-        str | None,
-        typer.Option(
-            "--scheduler", help="Address of a running Dask scheduler (default: a local cluster)."
-        ),
-    ] = None,
-    workers: Annotated[
-        int | None,
-        typer.Option("--workers", help="Workers of the local cluster (default: one per core)."),
-    ] = None,
-    threads: Annotated[
-        bool,
-        typer.Option(
-            "--threads",
-            help="Local cluster of threads in this process instead of worker processes.",
-        ),
-    ] = False,
-    overwrite: Annotated[
-        bool, typer.Option("--overwrite", help="Replace an existing sweep store at OUT.")
-    ] = False,
-    retry_failed: Annotated[
-        bool, typer.Option("--retry-failed", help="Recompute points that failed before.")
-    ] = False,
-    quiet: Annotated[bool, typer.Option("--quiet", help="No progress bar.")] = False,
-    json_out: JsonOpt = False,
-):
-    """A parameter sweep on Dask: every point of SWEEP.toml's axes is one task, the
-    summaries go into one Zarr store (an xarray Dataset indexed by the axes) as points
-    finish. Re-running computes only the points not yet done; Ctrl-C keeps every
-    finished point. See docs/sweeps.md for the schema."""
-    from .sweeps import sweep
-
-    try:
-        r = sweep(
-            sweep_file,
-            out,
-            scheduler=scheduler,
-            workers=workers,
-            processes=not threads,
-            overwrite=overwrite,
-            retry_failed=retry_failed,
-            progress=not quiet and not json_out,
+        r = run_sweep(
+            args.sweep_file,
+            args.out,
+            scheduler=args.scheduler,
+            workers=args.workers,
+            processes=not args.threads,
+            overwrite=args.overwrite,
+            retry_failed=args.retry_failed,
+            progress=not args.quiet and not args.json_out,
         )
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
     d = r.to_dict()
-    if json_out:
-        typer.echo(json.dumps(d, default=str))
+    if args.json_out:
+        _echo(_json(d, default=str))
     else:
-        typer.echo(
+        _echo(
             f"sweep: {d['points']} points ({r.computed} computed, {r.skipped} already done, "
             f"{r.failed} failed) in {r.wall_s:.1f} s -> {r.out}"
         )
     if r.interrupted:
-        typer.echo(
+        _echo(
             "interrupted: finished points are kept; run the same command again to compute the rest",
             err=True,
         )
-        raise typer.Exit(143 if r.signal == signal.SIGTERM else 130)
+        return 143 if r.signal == signal.SIGTERM else 130
+    return None
 
 
-def main():  # entry point
+SWEEP = Command(
+    "sweep",
+    sweep,
+    "A parameter sweep on Dask: every point of SWEEP.toml's axes is one task.",
+    """A parameter sweep on Dask: every point of SWEEP.toml's axes is one task, the
+    summaries go into one Zarr store (an xarray Dataset indexed by the axes) as points
+    finish. Re-running computes only the points not yet done; Ctrl-C keeps every
+    finished point. See docs/sweeps.md for the schema.""",
+    [
+        opt(
+            "sweep_file",
+            type=Path,
+            metavar="SWEEP",
+            help="A sweep description (SWEEP.toml).",
+        ),
+        opt(
+            "-o",
+            "--out",
+            type=Path,
+            metavar="OUT",
+            help="Output Zarr store (default: SWEEP.zarr beside the file).",
+        ),
+        opt(
+            "--scheduler",
+            metavar="ADDRESS",
+            help="Address of a running Dask scheduler (default: a local cluster).",
+        ),
+        opt(
+            "--workers",
+            type=int,
+            metavar="N",
+            help="Workers of the local cluster (default: one per core).",
+        ),
+        opt(
+            "--threads",
+            flag=True,
+            help="Local cluster of threads in this process instead of worker processes.",
+        ),
+        opt("--overwrite", flag=True, help="Replace an existing sweep store at OUT."),
+        opt("--retry-failed", flag=True, help="Recompute points that failed before."),
+        QUIET,
+        JSON,
+    ],
+)
+
+
+COMMANDS = {c.name: c for c in (WAVE, SPEED, PAPER, RUN, PLOT_COMMAND, FRONT, SWEEP)}
+
+
+def _main_parser() -> _Parser:
+    width = max(len(name) for name in COMMANDS)
+    listing = "\n".join(
+        textwrap.fill(
+            c.summary,
+            79,
+            initial_indent=f"  {c.name:<{width}}  ",
+            subsequent_indent=" " * (width + 4),
+        )
+        for c in COMMANDS.values()
+    )
+    p = _Parser(
+        prog=PROG,
+        usage=f"{PROG} [--version] [--help] COMMAND [ARGS]...",
+        description=DESCRIPTION,
+        epilog=f"commands:\n{listing}\n\n`{PROG} COMMAND --help` describes each command.",
+    )
+    p.add_argument("--version", action="version", version=f"{PROG} {__version__}")
+    p.add_argument("command", metavar="COMMAND", choices=list(COMMANDS), help=argparse.SUPPRESS)
+    p.add_argument("args", nargs=argparse.REMAINDER, help=argparse.SUPPRESS)
+    return p
+
+
+def main(argv: list[str] | None = None) -> None:
+    """The entry point: parse ``argv`` (default: the process's), run the command, exit with
+    its status (0 done, 1 a full disk, 2 bad input, 130/143 interrupted by SIGINT/SIGTERM)."""
     # pictures are written to files: draw off-screen unless the user chose a backend
     os.environ.setdefault("MPLBACKEND", "Agg")
-    app()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    top = _main_parser()
+    try:
+        if not argv:
+            top.print_help(sys.stderr)
+            sys.exit(2)
+        ns = top.parse_args(argv)
+        command = COMMANDS[ns.command]
+        # options and arguments in any order, as in `bkwaves speed 0.3 --json 0.6`
+        parser = command.parser()
+        parser.refuse_unknown_options(ns.args)
+        args = parser.parse_intermixed_args(ns.args)
+        status = command.run(args)
+    except UsageError as e:
+        _echo(str(e), err=True)
+        sys.exit(2)
+    except KeyboardInterrupt:  # commands that do not stop cleanly on their own
+        _echo("\nInterrupted.", err=True)
+        sys.exit(128 + signal.SIGINT)
+    except BrokenPipeError:  # e.g. `bkwaves speed ... | head -1`
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(1)
+    sys.exit(status or 0)
 
 
 if __name__ == "__main__":
