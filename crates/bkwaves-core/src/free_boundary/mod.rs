@@ -837,18 +837,21 @@ impl FreeBoundary {
     }
 
     /// Meeting of right-moving a and left-moving b in the same cell: (time, s).
+    ///
+    /// A function of the two trajectories alone (not of the current time): the root is
+    /// bracketed by where the paths start and end in the cell, so the meeting computed
+    /// when the pair forms is the one found at any later time (the event queue relies on
+    /// it, and a restored checkpoint finds the same meeting).
     fn meeting(&self, a: usize, b: usize) -> Option<(f64, f64)> {
         let h = self.field.h;
         let (ta, tb) = (&self.shocks[a].traj, &self.shocks[b].traj);
-        let sa = self.shock_s(a);
-        let sb = self.shock_s(b);
-        if sa >= sb {
+        if ta.s_start >= tb.s_start {
             return None;
         }
         let a_hi = ta.s_start + ta.y_end() / h;
         let b_lo = tb.s_start - tb.y_end() / h;
-        let lo = sa.max(b_lo);
-        let hi = sb.min(a_hi);
+        let lo = ta.s_start.max(b_lo);
+        let hi = tb.s_start.min(a_hi);
         if lo > hi {
             return None;
         }
