@@ -13,9 +13,12 @@
 //! Stored: the field (b, prev, reset_by, epoch), the reset stamps, every live shock with
 //! its cell, trajectory (the accepted points are its dense output) and cell interpolant,
 //! the per-cell maxima, the catalog, the path and the counters. Rebuilt: the stopping
-//! threshold (from the options) and the max-tree over the cell maxima (setting every leaf
+//! threshold (from the options), the max-tree over the cell maxima (setting every leaf
 //! in order, as the constructor does, gives the same tree: each inner node is the maximum
-//! of its children).
+//! of its children) and the event queue (`schedule`: the shocks of each cell, then the
+//! pairing of every cell with shocks, which depends only on the shocks' order in the cell
+//! and their trajectories). The position of each shock now is written (a derived value,
+//! kept so that the byte layout is that of earlier versions) and ignored on reading.
 
 use super::births::{CellMax, MaxTree};
 use super::catalog::{FbEvent, PathKind, PathPoint};
@@ -84,14 +87,15 @@ impl FreeBoundary {
         w.u(self.steps);
         w.z(self.open.unwrap_or(NONE));
         w.u(self.shocks.len() as u64);
-        for sh in &self.shocks {
+        for (i, sh) in self.shocks.iter().enumerate() {
             w.z(sh.id);
             w.i(sh.dir);
             w.z(sh.cell);
             w.z(sh.event);
             w.b(sh.born);
             w.u(sh.stamp);
-            for x in [sh.xl_unw, sh.last_x_unw, sh.last_a, sh.s_now] {
+            // (the position now: derived from the trajectory, kept in the layout)
+            for x in [sh.xl_unw, sh.last_x_unw, sh.last_a, self.shock_s(i)] {
                 w.f(x);
             }
             let tr = &sh.traj;
@@ -215,7 +219,8 @@ impl FreeBoundary {
             let event = r.z()?;
             let born = r.b()?;
             let sstamp = r.u()?;
-            let (xl_unw, last_x_unw, last_a, s_now) = (r.f()?, r.f()?, r.f()?, r.f()?);
+            let (xl_unw, last_x_unw, last_a) = (r.f()?, r.f()?, r.f()?);
+            let _position_now = r.f()?;
             let s_start = r.f()?;
             let tdir = r.dir()?;
             let end = match r.u()? {
@@ -266,7 +271,7 @@ impl FreeBoundary {
                 xl_unw,
                 last_x_unw,
                 last_a,
-                s_now,
+                pos: super::PositionCache::empty(),
             });
         }
         if r.len(24)? != nc {
@@ -360,6 +365,7 @@ impl FreeBoundary {
         self.open = open;
         self.path = path;
         self.steps = steps;
+        self.rebuild_schedule();
         Ok(())
     }
 }

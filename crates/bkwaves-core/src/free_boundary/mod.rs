@@ -17,7 +17,9 @@
 //! next event is the earliest of: a shock reaching a node (reset the node, enter the next
 //! cell), two facing shocks meeting in a cell (root of t_1(x) = t_2(x) on their dense
 //! outputs), u_+ reaching the stopping threshold inside a cell, or the maximum of the field
-//! reaching 1 ([`births`]).
+//! reaching 1 ([`births`]). The shocks of each cell and a queue of their next events
+//! (`schedule`) make an engine event cost O(log N) in the number N of shocks, not O(N)
+//! (docs/free_boundary.md, "Cost").
 //!
 //! Creep (u_+ < u_c = gamma) is outside the paper's theory (Sec. IV assumes it never
 //! happens). It is never silent: each node reset in creep is flagged in the path and
@@ -29,6 +31,7 @@ pub mod births;
 pub mod catalog;
 pub mod checkpoint;
 pub mod field;
+mod schedule;
 pub mod shock;
 
 use crate::error::{check_at_least, Error, Result};
@@ -37,6 +40,7 @@ use crate::wave::u_minus_from_speed;
 use births::{CellMax, MaxTree};
 use catalog::{FbEvent, PathKind, PathPoint};
 use field::{CellPoly, Field};
+use schedule::Schedule;
 use shock::{CellField, TrajEnd, TrajPoint, Trajectory};
 
 /// Ends of the domain.
@@ -143,8 +147,52 @@ struct ShockState {
     xl_unw: f64,
     last_x_unw: f64,
     last_a: f64,
-    /// Cell coordinate at the engine's current time (updated once per engine event).
-    s_now: f64,
+    /// The last position computed from the trajectory.
+    pos: PositionCache,
+}
+
+/// (time, cell coordinate) of the last position of a shock computed from its trajectory;
+/// time NaN when none was computed since the trajectory last changed. Written through a
+/// shared reference (the neighbour searches read positions), so atomics (relaxed: the
+/// engine is used from one thread at a time) rather than a `Cell`, to stay `Sync`.
+#[derive(Debug, Default)]
+struct PositionCache {
+    t: std::sync::atomic::AtomicU64,
+    s: std::sync::atomic::AtomicU64,
+}
+
+impl PositionCache {
+    const RELAXED: std::sync::atomic::Ordering = std::sync::atomic::Ordering::Relaxed;
+
+    fn empty() -> Self {
+        let c = PositionCache::default();
+        c.clear();
+        c
+    }
+
+    fn clear(&self) {
+        self.t.store(f64::NAN.to_bits(), Self::RELAXED);
+    }
+
+    /// The cell coordinate cached for time t, if any.
+    fn get(&self, t: f64) -> Option<f64> {
+        (f64::from_bits(self.t.load(Self::RELAXED)) == t)
+            .then(|| f64::from_bits(self.s.load(Self::RELAXED)))
+    }
+
+    fn set(&self, t: f64, s: f64) {
+        self.s.store(s.to_bits(), Self::RELAXED);
+        self.t.store(t.to_bits(), Self::RELAXED);
+    }
+}
+
+impl Clone for PositionCache {
+    fn clone(&self) -> Self {
+        let c = PositionCache::default();
+        c.t.store(self.t.load(Self::RELAXED), Self::RELAXED);
+        c.s.store(self.s.load(Self::RELAXED), Self::RELAXED);
+        c
+    }
 }
 
 /// A shock as seen from outside at the current time.
@@ -181,8 +229,18 @@ pub struct FreeBoundary {
     open: Option<usize>,
     path: Vec<PathPoint>,
     steps: u64,
+    /// The shocks of each cell and the queue of their next events (derived state).
+    sched: Schedule,
+    /// Test only: find neighbours and next events by scanning every shock (the
+    /// reference the schedule is checked against).
+    #[cfg(test)]
+    scan: bool,
+    /// Test only: shocks looked at by the neighbour searches and the event selection.
+    #[cfg(test)]
+    visits: std::cell::Cell<u64>,
 }
 
+#[derive(Debug, Clone, Copy, PartialEq)]
 enum Next {
     None,
     Birth,
@@ -244,6 +302,11 @@ impl FreeBoundary {
             open: None,
             path: Vec::new(),
             steps: 0,
+            sched: Schedule::new(nc),
+            #[cfg(test)]
+            scan: false,
+            #[cfg(test)]
+            visits: Default::default(),
             field,
         };
         // initial shocks
@@ -312,8 +375,9 @@ impl FreeBoundary {
                 xl_unw: xl,
                 last_x_unw: xl + s * h,
                 last_a: f64::NAN,
-                s_now: s,
+                pos: PositionCache::empty(),
             });
+            fb.sched.add(fb.shocks.len() - 1, cell);
         }
         for i in 0..fb.shocks.len() {
             let poly = fb.gather_for_shock(i);
@@ -354,7 +418,7 @@ impl FreeBoundary {
         (0..self.shocks.len())
             .map(|i| {
                 let sh = &self.shocks[i];
-                let s = self.traj_s(i);
+                let s = self.shock_s(i);
                 ShockView {
                     id: sh.id,
                     event: sh.event,
@@ -408,21 +472,46 @@ impl FreeBoundary {
     }
 
     // ------------------------------------------------------------------ geometry
-    /// Cell coordinate of shock i now, from its trajectory.
-    fn traj_s(&self, i: usize) -> f64 {
-        let tr = &self.shocks[i].traj;
-        tr.s_at(tr.y_at(self.now), self.field.h)
-    }
-
-    /// Cell coordinate of shock i now (cached once per engine event).
+    /// Cell coordinate of shock i now, from its trajectory (computed once per shock and
+    /// engine time: the neighbour searches ask for it several times).
     fn shock_s(&self, i: usize) -> f64 {
-        self.shocks[i].s_now
+        let sh = &self.shocks[i];
+        if let Some(s) = sh.pos.get(self.now) {
+            return s;
+        }
+        let s = sh.traj.s_at(sh.traj.y_at(self.now), self.field.h);
+        sh.pos.set(self.now, s);
+        s
     }
 
-    fn update_positions(&mut self) {
-        for i in 0..self.shocks.len() {
-            self.shocks[i].s_now = self.traj_s(i);
+    /// Indices (ascending) of the shocks in the cells within `reach` cells of cell j.
+    ///
+    /// Everything the engine asks about other shocks is local: which shocks lie between a
+    /// point and the nodes of its interpolation stencil (offsets -3..=4, so shocks at most
+    /// 4 cells away) or touch a cell. Shocks further away have offsets outside every range
+    /// tested, so leaving them out changes nothing (ascending order keeps the ties).
+    fn shocks_near(&self, j: usize, reach: usize) -> Near {
+        let nc = self.field.n_cells();
+        let everywhere = self.field.periodic && 2 * reach + 1 >= nc;
+        #[cfg(test)]
+        let everywhere = everywhere || self.scan;
+        let mut out = Near::default();
+        if everywhere {
+            (0..self.shocks.len()).for_each(|q| out.push(q));
+        } else {
+            let (lo, hi) = if self.field.periodic {
+                (j + nc - reach, j + nc + reach)
+            } else {
+                (j.saturating_sub(reach), (j + reach).min(nc - 1))
+            };
+            for c in lo..=hi {
+                self.sched.in_cell(c % nc).iter().for_each(|&q| out.push(q));
+            }
+            out.sort();
         }
+        #[cfg(test)]
+        self.visits.set(self.visits.get() + out.len() as u64);
+        out
     }
 
     /// Position of shock q relative to node j, in cells (signed along +x, wrapped to about
@@ -471,7 +560,10 @@ impl FreeBoundary {
         let dirf = f64::from(sh.dir);
         let s_now = self.shock_s(i);
         // distances ahead of shock i, in cells
-        let others: Vec<(f64, usize)> = (0..self.shocks.len())
+        let others: Vec<(f64, usize)> = self
+            .shocks_near(j, 4)
+            .iter()
+            .copied()
             .filter(|&q| q != i)
             .map(|q| (dirf * (self.offset(j, q) - s_now), q))
             .collect();
@@ -535,8 +627,15 @@ impl FreeBoundary {
     /// point at once, before u = u_0 + v t < 1 there can reach 1.
     fn gather_for_cell(&self, j: usize, upto: usize) -> Option<CellPoly> {
         let eps = 1e-12;
-        let rs: Vec<f64> = (0..upto).map(|q| self.offset(j, q)).collect();
-        if rs.iter().any(|&r| r >= -eps && r <= 1.0 + eps) {
+        // (offset from node j, shock) of the shocks near the cell, ascending in the shock
+        let rs: Vec<(f64, usize)> = self
+            .shocks_near(j, 4)
+            .iter()
+            .copied()
+            .filter(|&q| q < upto)
+            .map(|q| (self.offset(j, q), q))
+            .collect();
+        if rs.iter().any(|&(r, _)| r >= -eps && r <= 1.0 + eps) {
             return None;
         }
         let mut vals = [f64::NAN; 8];
@@ -549,15 +648,17 @@ impl FreeBoundary {
             // (distance from the cell, shock) of the shocks between the cell and node k;
             // `towards` is the direction of a shock facing the cell from that side
             let (between, towards): (Vec<(f64, usize)>, i8) = if o < 0 {
-                let b = (0..upto)
-                    .filter(|&q| rs[q] >= of - eps && rs[q] <= eps)
-                    .map(|q| (-rs[q], q))
+                let b = rs
+                    .iter()
+                    .filter(|&&(r, _)| r >= of - eps && r <= eps)
+                    .map(|&(r, q)| (-r, q))
                     .collect();
                 (b, 1)
             } else if o > 1 {
-                let b = (0..upto)
-                    .filter(|&q| rs[q] >= 1.0 - eps && rs[q] <= of + eps)
-                    .map(|q| (rs[q] - 1.0, q))
+                let b = rs
+                    .iter()
+                    .filter(|&&(r, _)| r >= 1.0 - eps && r <= of + eps)
+                    .map(|&(r, q)| (r - 1.0, q))
                     .collect();
                 (b, -1)
             } else {
@@ -586,7 +687,9 @@ impl FreeBoundary {
 
     /// Does a shock lie in the closed span of cell c?
     fn cell_touches_shock(&self, c: usize) -> bool {
-        (0..self.shocks.len()).any(|q| (-1e-12..=1.0 + 1e-12).contains(&self.offset(c, q)))
+        self.shocks_near(c, 1)
+            .iter()
+            .any(|&q| (-1e-12..=1.0 + 1e-12).contains(&self.offset(c, q)))
     }
 
     fn refresh_cell(&mut self, j: usize) {
@@ -650,6 +753,8 @@ impl FreeBoundary {
         let (now, u_stop, tol) = (self.now, self.u_stop, self.opts.tol);
         let sh = &mut self.shocks[i];
         sh.cf = cf;
+        sh.pos.clear();
+        self.sched.touch(sh.cell);
         shock::integrate(&cf, s, dir, now, u_stop, tol, &mut sh.traj)
     }
 
@@ -696,6 +801,9 @@ impl FreeBoundary {
     }
 
     fn remove_shock(&mut self, i: usize) {
+        let last = self.shocks.len() - 1;
+        let (ci, cl) = (self.shocks[i].cell, self.shocks[last].cell);
+        self.sched.swap_remove(i, ci, last, cl);
         self.shocks.swap_remove(i);
         if self.shocks.is_empty() {
             if let Some(e) = self.open.take() {
@@ -716,8 +824,6 @@ impl FreeBoundary {
             });
         }
         let mut done = 0u64;
-        // positions are kept current after every engine event below
-        self.update_positions();
         loop {
             if self.completed_events() >= max_events {
                 return Ok(Stop::Events);
@@ -734,7 +840,6 @@ impl FreeBoundary {
                 return Ok(Stop::Time);
             }
             self.now = t.max(self.now);
-            self.update_positions();
             match next {
                 Next::Birth => self.birth()?,
                 Next::ShockEnd(i) => self.shock_end(i)?,
@@ -760,80 +865,126 @@ impl FreeBoundary {
         }
     }
 
-    fn next_event(&self, t_stop: f64) -> (f64, Next) {
+    /// The earliest of: a birth, a meeting of facing shocks, the end of an unpaired
+    /// shock's trajectory (before or at `t_stop`; at equal times in that order, see
+    /// [`schedule`]).
+    fn next_event(&mut self, t_stop: f64) -> (f64, Next) {
+        #[cfg(test)]
+        if self.scan {
+            return self.next_event_by_scan(t_stop);
+        }
+        self.pair_changed_cells();
         let mut best_t = t_stop;
         let mut best = Next::None;
-        if self.field.v > 0.0 {
-            let (m, _) = self.tree.max();
-            if m.is_finite() {
-                let tb = (self.field.epoch + (1.0 - m) / self.field.v).max(self.now);
-                if tb <= best_t {
-                    best_t = tb;
-                    best = Next::Birth;
-                }
+        if let Some(tb) = self.birth_time() {
+            if tb <= best_t {
+                best_t = tb;
+                best = Next::Birth;
             }
         }
-        // Facing shocks in one cell that meet do so before either reaches its far node
-        // (the meeting point lies between them), so their own ends are not candidates;
-        // where u_+ >= 1 the paths are flat in t and the times agree only to rounding.
-        let mut paired = vec![false; self.shocks.len()];
-        // shocks grouped by cell (in index order within a cell): O(N log N), not O(N^2)
-        let mut by_cell: Vec<(usize, usize)> = (0..self.shocks.len())
-            .map(|q| (self.shocks[q].cell, q))
-            .collect();
-        by_cell.sort_unstable();
-        for a in 0..self.shocks.len() {
-            if self.shocks[a].dir < 0 {
-                continue;
-            }
-            // the nearest shock ahead of a in its cell (a left-mover wins a tie: the
-            // left shock of a pair born at one point is the one facing a)
-            let (ca, sa) = (self.shocks[a].cell, self.shocks[a].s_now);
-            let mut near: Option<(f64, usize)> = None;
-            let lo = by_cell.partition_point(|&(c, _)| c < ca);
-            let hi = by_cell.partition_point(|&(c, _)| c <= ca);
-            for &(_, b) in &by_cell[lo..hi] {
-                let sb = self.shocks[b].s_now;
-                if b == a || sb <= sa {
-                    continue;
-                }
-                let better = match near {
-                    None => true,
-                    Some((s0, b0)) => {
-                        sb < s0 || (sb == s0 && self.shocks[b].dir < 0 && self.shocks[b0].dir > 0)
-                    }
-                };
-                if better {
-                    near = Some((sb, b));
-                }
-            }
-            let Some((_, b)) = near else { continue };
-            if self.shocks[b].dir > 0 {
-                continue;
-            }
-            if let Some((tc, s)) = self.meeting(a, b) {
-                paired[a] = true;
-                paired[b] = true;
-                let tc = tc
-                    .min(self.shocks[a].traj.t_end())
-                    .min(self.shocks[b].traj.t_end());
-                if tc <= best_t {
-                    best_t = tc;
-                    best = Next::Collision(a, b, s);
-                }
+        if let Some((tc, a, b, s)) = self.sched.first_meeting() {
+            if tc <= best_t {
+                best_t = tc;
+                best = Next::Collision(a, b, s);
             }
         }
-        for i in 0..self.shocks.len() {
-            if paired[i] {
-                continue;
-            }
-            let te = self.shocks[i].traj.t_end();
+        if let Some((te, i)) = self.sched.first_end() {
             if te < best_t || (te == best_t && matches!(best, Next::None)) {
                 best_t = te;
                 best = Next::ShockEnd(i);
             }
         }
         (best_t, best)
+    }
+
+    /// When the maximum of the field reaches 1 (none without loading or without cells
+    /// free of shocks).
+    fn birth_time(&self) -> Option<f64> {
+        if self.field.v > 0.0 {
+            let (m, _) = self.tree.max();
+            if m.is_finite() {
+                return Some((self.field.epoch + (1.0 - m) / self.field.v).max(self.now));
+            }
+        }
+        None
+    }
+
+    /// Facing shocks of one cell meet before either reaches its far node (the meeting
+    /// point lies between them), so a paired shock's own end is not queued; where
+    /// u_+ >= 1 the paths are flat in t and the times agree only to rounding. For each
+    /// right-mover a of the cell, the nearest shock ahead of it in the cell (a left-mover
+    /// wins a tie: the left shock of a pair born at one point is the one facing a), if it
+    /// moves left and the two paths meet. Done for the cells whose shocks changed since the
+    /// last engine event.
+    fn pair_changed_cells(&mut self) {
+        for c in self.sched.take_dirty() {
+            #[cfg(test)]
+            self.visits
+                .set(self.visits.get() + self.sched.in_cell(c).len() as u64);
+            if let &[q] = self.sched.in_cell(c) {
+                // a shock alone in its cell (the usual case): its end is next
+                self.sched.unqueue(q);
+                self.sched.queue_end(q, self.shocks[q].traj.t_end());
+                continue;
+            }
+            let members = self.sched.in_cell(c).to_vec();
+            let s_now: Vec<f64> = members.iter().map(|&q| self.shock_s(q)).collect();
+            for &q in &members {
+                self.sched.unqueue(q);
+            }
+            let mut paired = vec![false; members.len()];
+            for (ia, &a) in members.iter().enumerate() {
+                if self.shocks[a].dir < 0 {
+                    continue;
+                }
+                let sa = s_now[ia];
+                let mut near: Option<(f64, usize)> = None;
+                for (ib, &b) in members.iter().enumerate() {
+                    let sb = s_now[ib];
+                    if b == a || sb <= sa {
+                        continue;
+                    }
+                    let better = match near {
+                        None => true,
+                        Some((s0, ib0)) => {
+                            sb < s0
+                                || (sb == s0
+                                    && self.shocks[b].dir < 0
+                                    && self.shocks[members[ib0]].dir > 0)
+                        }
+                    };
+                    if better {
+                        near = Some((sb, ib));
+                    }
+                }
+                let Some((_, ib)) = near else { continue };
+                let b = members[ib];
+                if self.shocks[b].dir > 0 {
+                    continue;
+                }
+                if let Some((tc, s)) = self.meeting(a, b) {
+                    paired[ia] = true;
+                    paired[ib] = true;
+                    let tc = tc
+                        .min(self.shocks[a].traj.t_end())
+                        .min(self.shocks[b].traj.t_end());
+                    self.sched.queue_meeting(a, b, tc, s);
+                }
+            }
+            for (iq, &q) in members.iter().enumerate() {
+                if !paired[iq] {
+                    self.sched.queue_end(q, self.shocks[q].traj.t_end());
+                }
+            }
+        }
+    }
+
+    /// Rebuild the schedule from the shocks (after a restore).
+    fn rebuild_schedule(&mut self) {
+        self.sched = Schedule::new(self.field.n_cells());
+        for i in 0..self.shocks.len() {
+            self.sched.add(i, self.shocks[i].cell);
+        }
     }
 
     /// Meeting of right-moving a and left-moving b in the same cell: (time, s).
@@ -955,8 +1106,9 @@ impl FreeBoundary {
                 xl_unw: xl,
                 last_x_unw: xl + s * h,
                 last_a: f64::NAN,
-                s_now: s,
+                pos: PositionCache::empty(),
             });
+            self.sched.add(self.shocks.len() - 1, cell);
         }
         self.next_id += starts.len();
         // interpolants before any node is reset
@@ -1075,12 +1227,13 @@ impl FreeBoundary {
         } else {
             (self.field.node_at(k, -1).unwrap_or(0), 1.0)
         };
+        self.sched.moved(i, cell, new_cell);
         {
             let sh = &mut self.shocks[i];
             sh.xl_unw += if dir > 0 { h } else { -h };
             sh.cell = new_cell;
-            sh.s_now = s0;
             sh.traj.s_start = s0;
+            sh.pos.clear();
             sh.traj.pts.clear();
             sh.traj.pts.push(TrajPoint {
                 y: 0.0,
@@ -1118,9 +1271,62 @@ impl FreeBoundary {
         // if the two shocks belong to different events (cannot happen: events are
         // defined by overlap in time), merge nothing.
         let (hi, lo) = if a > b { (a, b) } else { (b, a) };
-        self.shocks.swap_remove(hi);
+        self.remove_shock(hi);
         self.remove_shock(lo);
         self.refresh_around(cell);
+    }
+}
+
+/// Shock indices near a cell: on the stack while there are few (the usual case; the
+/// neighbour searches run several times per engine event).
+enum Near {
+    Few([usize; 16], usize),
+    Many(Vec<usize>),
+}
+
+impl Default for Near {
+    fn default() -> Self {
+        Near::Few([0; 16], 0)
+    }
+}
+
+impl Near {
+    fn push(&mut self, q: usize) {
+        match self {
+            Near::Few(buf, n) if *n < buf.len() => {
+                buf[*n] = q;
+                *n += 1;
+            }
+            Near::Few(buf, n) => {
+                let mut v = buf[..*n].to_vec();
+                v.push(q);
+                *self = Near::Many(v);
+            }
+            Near::Many(v) => v.push(q),
+        }
+    }
+
+    fn as_slice(&self) -> &[usize] {
+        match self {
+            Near::Few(buf, n) => &buf[..*n],
+            Near::Many(v) => v,
+        }
+    }
+
+    fn iter(&self) -> std::slice::Iter<'_, usize> {
+        self.as_slice().iter()
+    }
+
+    #[cfg(test)]
+    fn len(&self) -> usize {
+        self.as_slice().len()
+    }
+
+    fn sort(&mut self) {
+        match self {
+            Near::Few(buf, n) => buf[..*n].sort_unstable(),
+            Near::Many(v) => v.sort_unstable(),
+        }
     }
 }
 
