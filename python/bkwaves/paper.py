@@ -796,10 +796,9 @@ def claims_bristol(quick: bool) -> list[Claim]:
 
 # ------------------------------------------------------------- chain runs
 #: The paper's chain has no backward slip (a block slides until its speed returns to zero):
-#: a backward-slip threshold -(1 + 2 beta) that u never reaches (the same runs as beta =
-#: inf, which bk.Params does not take yet). Passed explicitly to every chain run of the
-#: report, whatever the library's default.
-PAPER_BETA = 1e6
+#: beta = inf. Passed explicitly to every chain run of the report, whatever the library's
+#: default.
+PAPER_BETA = math.inf
 
 
 def chain_fronts(quick: bool):
