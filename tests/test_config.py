@@ -2,6 +2,7 @@
 
 import math
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -147,3 +148,156 @@ def test_bad_toml_file(tmp_path):
         load_config(p)
     with pytest.raises(bk.ParameterError, match="not found"):
         load_config(tmp_path / "missing.toml")
+
+
+# ----------------------------------------------------------------- issue 12: bad input
+FB = {
+    "model": "free_boundary",
+    "params": {"gamma": 0.3, "v": 1e-2, "dx": 1e-3},
+    "domain": {"length": 20.0, "grid": 41},
+    "initial": {"kind": "uniform", "value": 0.5},
+    "run": {"t_end": 10.0},
+}
+
+
+def fb_cfg(**changes):
+    doc = {k: (dict(v) if isinstance(v, dict) else v) for k, v in FB.items()}
+    for path, value in changes.items():
+        sec, key = path.split("__")
+        doc[sec][key] = value
+    return doc
+
+
+def refused(doc, where, *words):
+    with pytest.raises(bk.ParameterError) as e:
+        parse_config(doc)
+    msg = str(e.value)
+    assert where in msg and all(w in msg for w in words), msg
+    return msg
+
+
+def test_file_level_errors_are_clean(tmp_path):
+    p = tmp_path / "c.toml"
+    p.write_bytes(b'model = "chain"\ntitle = "caf\xe9"\n')  # Latin-1, not UTF-8
+    with pytest.raises(bk.ParameterError, match="not UTF-8"):
+        load_config(p)
+    p.write_text('model = "chain"\ntitle = "a\\u0000b"\n')
+    with pytest.raises(bk.ParameterError, match="title"):
+        load_config(p)
+    with pytest.raises(bk.ParameterError, match="cannot read config"):
+        load_config(tmp_path)  # a directory
+
+
+@pytest.mark.parametrize(
+    "changes, where, words",
+    [
+        ({"run": {"max_events": 1e30}}, "run.max_events", ["integer"]),
+        ({"run": {"t_end": "10"}}, "run.t_end", ["expected a number"]),
+        ({"params__gamma": "0.3"}, "params.gamma", ["expected a number"]),
+        ({"seed": "x"}, "seed", ["integer"]),
+        ({"seed": 1.5}, "seed", ["integer"]),
+        ({"title": "a\x00b"}, "title", ["NUL"]),
+        ({"initial__value": 1e300}, "initial.value", ["<= 1000000"]),
+        ({"params__v": 1e293}, "params.v", ["<= 1000000"]),
+        ({"params__gamma": 1e5}, "params.gamma", ["gamma <="]),  # derived step: named gamma
+        ({"output": {"path": 5}}, "output.path", ["string"]),
+        ({"run": {"t_end": 10.0, "max_event_slips": 0}}, "run.max_event_slips", [">= 1"]),
+    ],
+)
+def test_bad_values_name_the_key_the_user_wrote(changes, where, words):
+    refused(cfg(**changes), where, *words)
+
+
+def test_physical_scales_that_overflow_are_refused():
+    phys = dict(
+        mass=1.0, k_c=1.0, k_p=1.0, f_static=1.0, f_kinetic=0.5, alpha=0.0, V=0.0, spacing=1e308
+    )
+    doc = cfg(params=None, physical=phys)
+    refused(doc, "spacing")
+    with pytest.raises(bk.ParameterError, match="spacing"):
+        bk.Chain(10, bk.Params.from_physical(**phys))  # would write x = inf
+
+
+def test_free_boundary_keys_that_make_no_sense_are_named():
+    refused(fb_cfg(params__dx=1.5), "params.dx", "continuum")
+    refused(fb_cfg(params__gamma=1.2), "params.gamma")
+    c = parse_config(fb_cfg(initial__value=1.2))
+    with pytest.raises(bk.ParameterError) as e:
+        initial_state(c)
+    assert str(e.value).startswith("initial.value") and "u < 1" in str(e.value)
+
+
+def test_initial_files_that_cannot_be_read(tmp_path):
+    np.save(tmp_path / "pickled.npy", np.array([{"a": 1}] * 200, dtype=object))
+    (tmp_path / "junk.npy").write_bytes(b"\x93NUMPY junk" * 5)
+    np.save(tmp_path / "words.npy", np.array(["a"] * 200))
+    (tmp_path / "words.txt").write_text("hello world\n")
+    (tmp_path / "dir.npy").mkdir()
+    for name in ("pickled.npy", "junk.npy", "words.npy", "words.txt", "dir.npy"):
+        c = parse_config(cfg(initial={"kind": "file", "path": str(tmp_path / name)}))
+        with pytest.raises(bk.ParameterError) as e:
+            initial_state(c)
+        assert str(e.value).startswith("initial.path"), (name, str(e.value))
+
+
+# ----------------------------------------------------------------- issue 12: never run away
+def test_configs_that_cannot_be_done_are_refused_naming_key_and_estimate():
+    refused(cfg(run={"t_end": 1e30}), "run.t_end", "cannot be done", "block-steps")
+    msg = refused(cfg(output={"snapshot_every": 1e-9}), "output.snapshot_every", "TiB")
+    assert "snapshots" in msg
+    refused(cfg(domain__blocks=2**50), "domain.blocks", "RAM")
+    refused(cfg(domain__blocks=2**63 - 1), "domain.blocks", "2**62")
+    doc = fb_cfg(params__v=0.0)
+    doc["run"] = {"max_events": 3}
+    refused(doc, "run.max_events", "v = 0", "run.t_end")
+
+
+def test_a_long_physical_run_is_warned_with_its_time_units():
+    doc = cfg(params=None, physical={"preset": "bristol_board", "V": 1e-6})
+    doc["run"] = {"t_end": 60.0}  # 60 s = 1.9e8 time units sqrt(m/k_p)
+    with pytest.warns(bk.limits.LongRunWarning) as w:
+        c = parse_config(doc)
+    msg = str(w[0].message)
+    assert "run.t_end = 60 s" in msg and "time units" in msg, msg
+    assert c.t_end == pytest.approx(60.0 / c.params.units.time_scale)
+    assert 1e8 < c.t_end < 1e9
+
+
+def test_unwritable_output_is_refused_before_any_work(tmp_path):
+    from bkwaves.runner import run
+
+    c = parse_config(cfg())
+    for out, words in [
+        (tmp_path / "missing" / "o.nc", "does not exist"),
+        (Path("/proc/o.nc"), "cannot write"),
+        (tmp_path / "o.txt", "suffixes"),
+    ]:
+        with pytest.raises(bk.ParameterError, match=words):
+            run(c, out)
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_runaway_event_stops_the_run_with_the_regime_named(tmp_path):
+    """examples/chain_loading.toml run on: event 76 is a pulse circling the ring that
+    never ends (12.3 M slips in 3.5 min before). The run stops on the slip bound, names
+    the regime and keeps everything computed."""
+    from bkwaves.runner import run
+
+    doc = tomllib.loads((Path(__file__).parents[1] / "examples" / "chain_loading.toml").read_text())
+    doc = {**doc, "run": {"max_events": 150, "max_event_slips": 20_000}}
+    doc["output"] = {"snapshot_events": 1}
+    s = run(parse_config(doc), tmp_path / "o.nc")
+    assert s.extra["stop"] == "long_event" and not s.interrupted
+    assert s.events == 76 and s.snapshots == 1 + 76  # the initial state, then one per event
+    msg = s.extra["message"]
+    assert "event 76" in msg and "run.max_event_slips = 20000" in msg and "ring" in msg
+    cat = bk.io.load_tables(tmp_path / "o.nc")[1]["events"]
+    assert len(cat) == 77 and 20_000 < cat.n_slips.iloc[-1] <= 20_400
+
+
+def test_docs_carry_the_parameter_tables():
+    """docs/usage.md lists every key of the validation tables as the code checks it."""
+    from bkwaves._validate import schema_markdown
+
+    docs = (Path(__file__).parents[1] / "docs" / "usage.md").read_text()
+    assert schema_markdown() in docs

@@ -33,7 +33,15 @@ from . import _core
 from . import _validate as V
 from .params import Params
 
-__all__ = ["BOUNDARIES", "DEFAULT_STEP", "Chain", "ChainResult", "FrontMeasurement", "front"]
+__all__ = [
+    "BOUNDARIES",
+    "DEFAULT_STEP",
+    "Chain",
+    "ChainResult",
+    "FrontMeasurement",
+    "RunawayEventWarning",
+    "front",
+]
 
 #: Boundary conditions by name (the core's registry; the first is the default).
 BOUNDARIES = tuple(b["name"] for b in _core.boundaries())
@@ -47,6 +55,48 @@ DEFAULT_STEP = _core.defaults()["step"]
 #: Per-block properties a chain can carry (docs/chain.md): ``coupling`` has one value per
 #: bond (n - 1 free, n + 1 fixed, n periodic), the others one per block; default 1.
 PROPERTIES = ("threshold", "mass", "loader", "coupling")
+#: Work per engine call (steps plus sliding-block steps; ~0.5 s): Ctrl-C, SIGTERM and
+#: progress reports are handled between calls, so this bounds their latency.
+CHUNK_WORK = 2_000_000
+
+
+def default_max_event_slips(n: int) -> int:
+    """The runaway bound on the slips of one event: 100 slips per block on average (the
+    events of examples/chain_loading.toml have at most 7), at least 10**4."""
+    return max(100 * int(n), 10_000)
+
+
+def default_max_event_duration(n: int, dx: float) -> float:
+    """The runaway bound on the duration of one event: 100 times the time sound takes to
+    cross the chain (n dx; +1 for short chains). The longest event of
+    examples/chain_loading.toml lasts 2.4 crossings."""
+    return 100.0 * (n * dx + 1.0)
+
+
+class RunawayEventWarning(RuntimeWarning):
+    """A chain run stopped because one event exceeded its slip bound (``max_event_slips``):
+    the chain slides on without re-sticking (creep, steady sliding, a circling pulse)."""
+
+
+def runaway_message(chain, slips_limit: int, duration_limit: float, keys=None) -> str:
+    """One message naming the regime of an event that does not end."""
+    keys = keys or ("max_event_slips", "max_event_duration")
+    eng = chain._engine
+    slips, duration = eng.open_event or (0, 0.0)
+    p = chain.params
+    if p.gamma >= 1.0:
+        regime = f"creep (gamma = {p.gamma:g} >= 1: sliding blocks never re-stick)"
+    elif chain.boundary == "periodic":
+        regime = "steady sliding, or a pulse circling the ring and re-exciting reloaded blocks"
+    else:
+        regime = "steady sliding or creep (blocks keep sliding without re-sticking)"
+    return (
+        f"event {eng.events_finished} has not ended after {slips} slips and a duration of "
+        f"{duration:.6g} ({keys[0]} = {slips_limit}, {keys[1]} = {duration_limit:.6g}) at "
+        f"t = {chain.t:.6g}: {regime}. The run stopped there and kept everything computed; "
+        f"raise {keys[0]} / {keys[1]} to go on."
+    )
+
 
 #: Units of the dimensionless chain variables (paper eq. dimless).
 UNITS = {
@@ -72,6 +122,9 @@ class ChainResult:
     version, seed).
     energy: initial and final energy, the flows and the balance residual.
     interrupted: True when the run was stopped by Ctrl-C (everything up to then is kept).
+    stop: why the run ended: "time", "events", "interrupted" or "long_event" (an event
+    exceeded ``max_event_slips`` or ``max_event_duration``: see
+    :class:`RunawayEventWarning`).
     """
 
     params: Params
@@ -133,22 +186,35 @@ class Chain:
         loader=None,
         coupling=None,
     ):
-        if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 1:
-            V._fail("n", n, "an integer n >= 1")
+        spec = V.CHAIN
+        n = spec["n"].check(n)
+        from .limits import check_memory
+
+        check_memory("n", "chain", n)
         if not isinstance(params, Params):
             V._fail("params", params, "a bkwaves.Params")
-        if boundary not in BOUNDARIES:
-            V._fail("boundary", boundary, "one of " + ", ".join(BOUNDARIES))
+        if params.units is not None and not math.isfinite(
+            (n - 1) * params.dx * params.units.length_scale
+        ):
+            V._fail(
+                "spacing",
+                params.units.spacing,
+                f"a spacing for which the {n} blocks' positions are finite",
+            )
+        boundary = spec["boundary"].check(boundary)
+        integrator = spec["integrator"].check(integrator)
         self.n = int(n)
         self.params = params
         self.boundary = boundary
-        self.seed = seed
-        self.step = V.number("step", step, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+        self.seed = V.seed("seed", seed)
+        self.step = spec["step"].check(step)
         u0 = _per_block("u0", u0, self.n)
         if u_t0 is not None:
             u_t0 = _per_block("u_t0", u_t0, self.n)
         if fixed is None:
             fixed = (float(u0[0]), float(u0[-1]))
+        if isinstance(fixed, str | bytes) or not hasattr(fixed, "__len__") or len(fixed) != 2:
+            V._fail("fixed", fixed, "a pair (left, right) of wall positions u_wall, or None")
         fixed = (V.number("fixed[0]", fixed[0]), V.number("fixed[1]", fixed[1]))
         self.fixed = fixed
         bonds = {"free": self.n - 1, "fixed": self.n + 1, "periodic": self.n}.get(boundary)
@@ -168,8 +234,6 @@ class Chain:
             u_t0=u_t0,
             **self.properties,
         )
-        if integrator not in INTEGRATORS:
-            V._fail("integrator", integrator, "one of " + ", ".join(INTEGRATORS))
         self._engine.set_integrator(integrator)
         self.integrator = integrator
         self._e0 = sum(self._engine.energy())
@@ -246,19 +310,23 @@ class Chain:
     # --- triggers ------------------------------------------------------------------
     def kick(self, block: int, du_t: float, t: float = 0.0) -> Chain:
         """Add du_t to block's u_t at time t (negative: a forward kick)."""
-        self._engine.add_trigger(float(t), self._block(block), "kick", float(du_t))
+        block = self._block(block)
+        du_t = V.number("du_t", du_t, lo=-1e6, hi=1e6)
+        t = V.number("t", t, lo=self.t)
+        self._engine.add_trigger(t, block, "kick", du_t)
         return self
 
     def release(self, block: int, t: float = 0.0, direction: int = 1) -> Chain:
-        """Let block start sliding (forward for direction=+1) at time t."""
-        self._engine.add_trigger(float(t), self._block(block), "release", float(direction))
+        """Let block start sliding (forward for direction=+1, backward for -1) at time t."""
+        block = self._block(block)
+        t = V.number("t", t, lo=self.t)
+        direction = V.direction("direction", direction)
+        self._engine.add_trigger(t, block, "release", float(direction))
         return self
 
     def _block(self, block) -> int:
-        if isinstance(block, bool) or not isinstance(block, int | np.integer):
+        if not V._is_int(block) or not 0 <= int(block) < self.n:
             V._fail("block", block, f"an integer 0 <= block < {self.n}")
-        if not 0 <= block < self.n:
-            V._fail("block", block, f"0 <= block < {self.n}")
         return int(block)
 
     # --- state ---------------------------------------------------------------------
@@ -294,6 +362,8 @@ class Chain:
         snapshot_every: int = 0,
         progress: bool | None = None,
         chunk_steps: int = 20_000,
+        max_event_slips: int | None = None,
+        max_event_duration: float | None = None,
     ) -> ChainResult:
         """Advance to ``t_end`` or until ``max_events`` more events have finished.
 
@@ -301,23 +371,48 @@ class Chain:
         dense output, exact for stuck blocks); snapshot_every: also at the end of every
         k-th event. progress: a progress bar (default: on when stderr is a terminal).
         Ctrl-C stops the run and returns what was computed (``interrupted=True``).
-        An event may never end (creep at v = 0; a pulse circulating on a ring, re-exciting
-        the reloaded blocks), so give ``t_end`` too when counting events.
+        An event may never end (creep at gamma >= 1; steady sliding; a pulse circulating
+        on a ring, re-exciting the reloaded blocks): when the running event exceeds
+        ``max_event_slips`` slips (default :func:`default_max_event_slips`: 100 per block)
+        or lasts longer than ``max_event_duration`` (default
+        :func:`default_max_event_duration`: 100 sound crossings of the chain) the run stops
+        with ``stop="long_event"``, a :class:`RunawayEventWarning` naming the regime, and
+        everything computed so far.
         """
-        t_end = V.number("t_end", t_end, lo=self.t) if math.isfinite(t_end) else math.inf
+        spec = V.CHAIN
+        if t_end is None or (V._is_real(t_end) and t_end == math.inf):
+            t_end = math.inf
+        else:
+            t_end = V.number("t_end", t_end, lo=self.t)
+        max_events = V.optional_integer("max_events", max_events, lo=1)
         if max_events is None and not math.isfinite(t_end):
             V._fail("t_end", t_end, "a finite t_end or a max_events limit")
-        if max_events is not None:
-            if isinstance(max_events, bool) or not isinstance(max_events, int | np.integer):
-                V._fail("max_events", max_events, "an integer >= 1")
-            if max_events < 1:
-                V._fail("max_events", max_events, "max_events >= 1")
-        if isinstance(snapshot_every, bool) or snapshot_every < 0:
-            V._fail("snapshot_every", snapshot_every, "an integer >= 0")
+        snapshot_every = spec["snapshot_every"].check(snapshot_every)
+        chunk_steps = spec["chunk_steps"].check(chunk_steps)
+        if progress is not None:
+            progress = V.flag("progress", progress)
+        limit = (
+            default_max_event_slips(self.n)
+            if max_event_slips is None
+            else spec["max_event_slips"].check(max_event_slips)
+        )
+        max_duration = (
+            default_max_event_duration(self.n, self.params.dx)
+            if max_event_duration is None
+            else V.number("max_event_duration", max_event_duration, lo=0.0, lo_open=True)
+        )
         times = np.sort(V.array("snapshots", [] if snapshots is None else snapshots).ravel())
         if times.size and times[0] < self.t:
             V._fail("snapshots", float(times[0]), f"times >= current time {self.t}")
+        if math.isfinite(t_end):
+            from .limits import chain_work, check_wall
+
+            work, wall = chain_work(
+                self.n, t_end - self.t, self.step, self.params.dx, self.params.v
+            )
+            check_wall(f"t_end = {t_end:.6g}", wall, f"~{work:.2g} block-steps")
         self._engine.add_snapshots(times, int(snapshot_every))
+        self._engine.set_run_limits(limit, max_duration, CHUNK_WORK)
         t_stop = t_end if math.isfinite(t_end) else 1e300
         events_left = max_events if max_events is not None else 2**62
         start_events = self._engine.events_finished
@@ -328,7 +423,7 @@ class Chain:
         try:
             while True:
                 done = self._engine.events_finished - start_events
-                stop = self._engine.advance(t_stop, max(events_left - done, 0), int(chunk_steps))
+                stop = self._engine.advance(t_stop, max(events_left - done, 0), chunk_steps)
                 bar.advance(self.t, self._engine.events_finished)
                 if stop != "steps":
                     break
@@ -337,6 +432,12 @@ class Chain:
             stop = "interrupted"
         finally:
             bar.close()
+        if stop == "long_event":
+            import warnings
+
+            warnings.warn(
+                runaway_message(self, limit, max_duration), RunawayEventWarning, stacklevel=2
+            )
         return self._result(stop, interrupted, _time.perf_counter() - t_wall)
 
     # --- outputs -------------------------------------------------------------------
@@ -473,7 +574,7 @@ def _property(name, value, n):
 
 
 def _per_block(name, value, n) -> np.ndarray:
-    a = V.array(name, value)
+    a = V.array(name, value, lo=-1e6, hi=1e6)
     if a.ndim > 1 or (a.ndim == 1 and a.size not in (1, n)):
         V._fail(name, f"array of shape {a.shape}", f"a scalar or {n} values (one per block)")
     return np.broadcast_to(a.reshape(-1) if a.ndim else a, (n,)).astype(float).copy()
@@ -494,6 +595,15 @@ def smooth_random_stress(
 ) -> np.ndarray:
     """A smooth random stress profile: Gaussian-filtered white noise with correlation
     length ``correlation`` (units of x), scaled to the given mean and std amplitude."""
+    n = V.integer("n", n, lo=1)
+    from .limits import check_memory
+
+    check_memory("n", "chain", n)
+    dx = V.PARAMS["dx"].check(dx)
+    mean = V.number("mean", mean, lo=-1e6, hi=1e6)
+    amplitude = V.number("amplitude", amplitude, lo=0.0, hi=1e6)
+    correlation = V.number("correlation", correlation, lo=0.0)
+    seed = V.seed("seed", seed)
     rng = np.random.default_rng(seed)
     noise = rng.standard_normal(n)
     k = np.fft.rfftfreq(n, d=dx)
@@ -677,11 +787,13 @@ def front(
     gamma = V.number("gamma", gamma, lo=0.0)
     dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     beta = check_beta(beta)
+    step = V.CHAIN["step"].check(step)
     fixed = blocks is not None
-    if fixed and (
-        isinstance(blocks, bool) or not isinstance(blocks, int | np.integer) or blocks < 16
-    ):
-        V._fail("blocks", blocks, "an integer blocks >= 16")
+    if fixed:
+        blocks = V.integer("blocks", blocks, lo=16)
+        from .limits import check_memory
+
+        check_memory("blocks", "chain", blocks)
     tw = _app_b(u_plus, gamma)
     theory = (tw.c, tw.w, tw.u_minus) if tw is not None and tw.regime == "pulse" else None
     creep_n = max(CREEP_BLOCKS, int(math.ceil(40.0 / dx)))
@@ -692,6 +804,20 @@ def front(
         plan = _plan(theory[0], theory[1], dx) if theory else None
         if plan is None:
             plan = (creep_n, creep_n // 2, 3 * creep_n // 4)
+    # one uninterruptible engine call: the front crosses the chain in ~ n dx (unit speed)
+    # with every block sliding behind it, at steps of step dx
+    from .limits import LIMITS, _duration
+
+    wall = float(plan[0]) ** 2 / step / LIMITS["chain_block_steps_per_s"]
+    if wall > LIMITS["max_call_s"]:
+        key, value = ("blocks", plan[0]) if fixed else ("dx", dx)  # dx sets the default size
+        V._fail(
+            "step" if step < DEFAULT_STEP else key,
+            step if step < DEFAULT_STEP else value,
+            f"a measurement of at most {_duration(LIMITS['max_call_s'])} (estimated "
+            f"blocks^2/step = {plan[0] ** 2 / step:.3g} block-steps, about {_duration(wall)}; "
+            "bkwaves.limits.LIMITS['max_call_s'])",
+        )
     t0 = _time.perf_counter()
     from types import SimpleNamespace
 

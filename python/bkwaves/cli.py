@@ -424,13 +424,17 @@ def run(args) -> int | None:
             err=True,
         )
         return 128 + int(getattr(signal, name))
-    if args.json_out:
-        return None
-    _echo(
-        f"{summary.model}: done at t = {summary.t:.6g} ({summary.units}), "
-        f"{_count(summary.events, 'event')}, {_count(summary.snapshots, 'snapshot')}, "
-        f"{summary.wall_s:.2f} s -> {summary.out}"
-    )
+    runaway = summary.extra.get("stop") == "long_event"
+    if not args.json_out:
+        state = "stopped (an event does not end)" if runaway else "done"
+        _echo(
+            f"{summary.model}: {state} at t = {summary.t:.6g} ({summary.units}), "
+            f"{_count(summary.events, 'event')}, {_count(summary.snapshots, 'snapshot')}, "
+            f"{summary.wall_s:.2f} s -> {summary.out}"
+        )
+    if runaway:
+        _echo(f"Stopped: {summary.extra['message']}", err=True)
+        return 3
     return None
 
 
@@ -446,6 +450,8 @@ RUN = Command(
     --overwrite. Ctrl-C or SIGTERM stop the run, keep what was computed and leave
     OUT.checkpoint (exit status 130 or 143): `bkwaves run --resume OUT` continues it, bit
     for bit like an uninterrupted run. A full disk keeps what was written (exit status 1).
+    An event that does not end (creep, steady sliding; bounds run.max_event_slips and
+    run.max_event_duration) stops the run with everything kept (exit status 3).
     See docs/usage.md for the schema.""",
     [
         opt(
@@ -718,7 +724,8 @@ def _main_parser() -> _Parser:
 
 def main(argv: list[str] | None = None) -> None:
     """The entry point: parse ``argv`` (default: the process's), run the command, exit with
-    its status (0 done, 1 a full disk, 2 bad input, 130/143 interrupted by SIGINT/SIGTERM)."""
+    its status (0 done, 1 a full disk, 2 bad input, 3 an event that does not end (runaway),
+    130/143 interrupted by SIGINT/SIGTERM)."""
     # pictures are written to files: draw off-screen unless the user chose a backend
     os.environ.setdefault("MPLBACKEND", "Agg")
     argv = sys.argv[1:] if argv is None else list(argv)

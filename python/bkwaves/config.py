@@ -36,7 +36,8 @@ Schema (all sections optional except those marked)::
     [[triggers]] time, block, kind = "kick" (velocity: forward speed added, default 1) |
                  "release"   (chain only)
 
-    [run]       t_end and/or max_events
+    [run]       t_end and/or max_events; chain: max_event_slips, max_event_duration
+                (runaway bounds of one event; see docs/usage.md)
     [output]    path, snapshot_every (time) or snapshot_events (every k events),
                 units = "native" | "dimensionless"
 
@@ -66,7 +67,7 @@ from ._core import ParameterError
 from .chain import BOUNDARIES as CHAIN_BOUNDARIES
 from .chain import PROPERTIES, TRIGGERS
 from .disorder import DISTRIBUTIONS, draw, property_seed
-from .params import Params, check_beta
+from .params import Params
 
 __all__ = ["RunConfig", "load_config", "parse_config", "initial_state"]
 
@@ -82,7 +83,7 @@ def _err(path: str, msg: str):
 
 def _table(d: Any, path: str) -> dict:
     if not isinstance(d, dict):
-        _err(path, f"expected a table, got {type(d).__name__}")
+        _err(path, f"expected a table, got {V._show(d)}")
     return d
 
 
@@ -97,17 +98,26 @@ def _keys(d: dict, path: str, allowed: tuple[str, ...], required: tuple[str, ...
             _err(where, "missing required key")
 
 
-def _num(d: dict, key: str, path: str, default=None, **rng) -> float:
+_REQUIRED = object()
+
+
+def _value(d: dict, key: str, path: str, spec: V.Spec, default=_REQUIRED, **override):
+    """d[key] checked against ``spec`` (range overrides allowed) with the key path in the
+    message, or ``default`` when the key is absent."""
     where = f"{path}.{key}" if path else key
     if key not in d:
-        if default is None:
-            _err(where, "missing required key")
+        if default is _REQUIRED:
+            _err(where, "missing required key" + (
+                f"; {spec.allowed(key)}" if spec.kind == "choice" else ""))  # fmt: skip
         return default
+    if override:
+        spec = V.Spec(**{**spec.__dict__, **override})
     x = d[key]
-    if isinstance(x, bool) or not isinstance(x, int | float):
-        _err(where, f"expected a number, got {x!r}")
+    if spec.kind in ("real", "int") and (isinstance(x, bool) or not isinstance(x, int | float)):
+        kind = "a number" if spec.kind == "real" else "an integer"
+        _err(where, f"expected {kind}, got {V._show(x)} ({spec.allowed(key)})")
     try:
-        return V.number(key, x, **rng)
+        return spec.check(x, key)
     except ParameterError as e:
         _err(where, str(e))
 
@@ -118,39 +128,22 @@ _NO_BACKWARD = (
 )
 
 
-def _beta(x) -> float:
-    if isinstance(x, bool) or not isinstance(x, int | float):
-        _err("params.beta", f"expected a number (or inf), got {x!r}")
-    try:
-        return check_beta(x)
-    except ParameterError as e:
-        _err("params.beta", str(e))
+def _num(d: dict, key: str, path: str, default=_REQUIRED, **rng) -> float:
+    return _value(d, key, path, V.Spec(key, "real", **rng), default)
 
 
-def _int(d: dict, key: str, path: str, default=None, lo=None) -> int:
-    where = f"{path}.{key}" if path else key
-    if key not in d:
-        if default is None:
-            _err(where, "missing required key")
-        return default
-    x = d[key]
-    if isinstance(x, bool) or not isinstance(x, int):
-        _err(where, f"expected an integer, got {x!r}")
-    if lo is not None and x < lo:
-        _err(where, f"invalid {key} = {x}: allowed {key} >= {lo}")
-    return x
+def _choice(d: dict, key: str, path: str, choices, default=_REQUIRED) -> str:
+    return _value(d, key, path, V.Spec(key, "choice", choices=tuple(choices)), default)
 
 
-def _choice(d: dict, key: str, path: str, choices, default=None) -> str:
-    where = f"{path}.{key}" if path else key
-    if key not in d:
-        if default is None:
-            _err(where, f"missing required key; one of: {', '.join(choices)}")
-        return default
-    x = d[key]
-    if x not in choices:
-        _err(where, f"invalid value {x!r}; one of: {', '.join(choices)}")
-    return x
+def _cfg(d: dict, key: str, section: str, default=_REQUIRED, **override):
+    """A config key checked against its entry in the parameter table ``V.CONFIG``."""
+    return _value(d, key, section, V.CONFIG[section][key], default, **override)
+
+
+#: Initial stress values are dimensionless (1: the static threshold); beyond this size
+#: they have no meaning for the model (and overflow the outputs' conversions).
+U_LIMIT = 1e6
 
 
 @dataclass(frozen=True)
@@ -198,6 +191,8 @@ class RunConfig:
     triggers: tuple[Trigger, ...] = ()
     t_end: float | None = None
     max_events: int | None = None
+    max_event_slips: int | None = None
+    max_event_duration: float | None = None
     output_path: str | None = None
     snapshot_every: float | None = None
     snapshot_events: int | None = None
@@ -262,15 +257,13 @@ def _params(doc: dict) -> Params:
         _err(f"friction.{k}", "set by [physical] (alpha, f_static, f_kinetic); remove it here")
     if has_p:
         t = _table(doc["params"], "params")
-        _keys(t, "params", ("gamma", "v", "dx", "beta"), ("v", "dx"))
+        _keys(t, "params", tuple(V.PARAMS), ("v", "dx"))
         for k in shared:
             if k in t:
                 _err(f"friction.{k}", f"given in [params] too; give {k} in one place")
         if "gamma" not in t and "gamma" not in shared:
             _err("params.gamma", "missing required key (or give it in [friction])")
-        vals = {k: _num(t, k, "params") for k in t if k != "beta"}
-        if "beta" in t:
-            vals["beta"] = _beta(t["beta"])
+        vals = {k: _value(t, k, "params", V.PARAMS[k]) for k in t}
         try:
             return Params(**vals, **shared, friction_law=law if "friction" in doc else None)
         except ParameterError as e:
@@ -278,14 +271,21 @@ def _params(doc: dict) -> Params:
     t = _table(doc["physical"], "physical")
     if "preset" in t:
         _keys(t, "physical", ("preset", "V"), ("preset", "V"))
-        _choice(t, "preset", "physical", ("bristol_board",))
+        _value(t, "preset", "physical", V.Spec("preset", "choice", choices=("bristol_board",)))
         from .presets import bristol_board
 
-        p = bristol_board(V=_num(t, "V", "physical", lo=0.0))
+        p = bristol_board(V=_value(t, "V", "physical", V.PHYSICAL["V"]))
     else:
-        names = ("mass", "k_c", "k_p", "f_static", "f_kinetic", "alpha", "V", "spacing")
-        _keys(t, "physical", names, names)
-        vals = {k: _num(t, k, "physical") for k in names}
+        names = tuple(V.PHYSICAL)
+        _keys(t, "physical", (*names, "preset"))
+        for k in names:
+            if k not in t:
+                _err(
+                    f"physical.{k}",
+                    f"missing required key; give all of {', '.join(names)}, or "
+                    'preset = "bristol_board" with V',
+                )
+        vals = {k: _value(t, k, "physical", V.PHYSICAL[k]) for k in names}
         try:
             p = Params.from_physical(**vals)
         except ParameterError as e:
@@ -360,26 +360,29 @@ def disorder_arrays(cfg: RunConfig) -> dict:
     return out
 
 
+def _u(t: dict, key: str, path: str, default=_REQUIRED) -> float:
+    """A stress value of the initial state (dimensionless, |u| <= U_LIMIT)."""
+    return _num(t, key, path, default, lo=-U_LIMIT, hi=U_LIMIT)
+
+
 def _initial(doc: dict, model: str) -> InitialSpec:
     p = "initial"
     t = _table(doc.get("initial", {"kind": "uniform", "value": 0.0}), p)
-    kind = _choice(t, "kind", p, INITIAL_KINDS)
+    kind = _value(t, "kind", p, V.Spec("kind", "choice", choices=INITIAL_KINDS))
     common = ("kind", "velocity") if model == "chain" else ("kind",)
-    velocity = _num(t, "velocity", p, 0.0) if model == "chain" else 0.0
+    velocity = _num(t, "velocity", p, 0.0, lo=-U_LIMIT, hi=U_LIMIT) if model == "chain" else 0.0
     if kind == "uniform":
         _keys(t, p, (*common, "value"), ("value",))
-        return InitialSpec(kind, value=_num(t, "value", p), velocity=velocity)
+        return InitialSpec(kind, value=_u(t, "value", p), velocity=velocity)
     if kind == "ramp":
         _keys(t, p, (*common, "start", "end"), ("start", "end"))
-        return InitialSpec(
-            kind, start=_num(t, "start", p), end=_num(t, "end", p), velocity=velocity
-        )
+        return InitialSpec(kind, start=_u(t, "start", p), end=_u(t, "end", p), velocity=velocity)
     if kind == "random":
         _keys(t, p, (*common, "mean", "amplitude", "correlation_length"), ("mean", "amplitude"))
         return InitialSpec(
             kind,
-            mean=_num(t, "mean", p),
-            amplitude=_num(t, "amplitude", p, lo=0.0),
+            mean=_u(t, "mean", p),
+            amplitude=_num(t, "amplitude", p, lo=0.0, hi=U_LIMIT),
             correlation_length=_num(t, "correlation_length", p, 1.0, lo=0.0, lo_open=True),
             velocity=velocity,
         )
@@ -397,60 +400,62 @@ def _initial(doc: dict, model: str) -> InitialSpec:
                 Bump(
                     _num(b, "center", q),
                     _num(b, "width", q, lo=0.0, lo_open=True),
-                    _num(b, "height", q),
+                    _u(b, "height", q),
                 )
             )
         return InitialSpec(
             kind,
-            base=_num(t, "base", p, 0.0),
+            base=_u(t, "base", p, 0.0),
             slope=_num(t, "slope", p, 0.0),
             bumps=tuple(bumps),
             velocity=velocity,
         )
     _keys(t, p, (*common, "path"), ("path",))
     path = t["path"]
-    if not isinstance(path, str) or not path:
-        _err(f"{p}.path", f"expected a file name, got {path!r}")
+    if not isinstance(path, str) or not path or "\x00" in path:
+        _err(f"{p}.path", f"expected a file name, got {V._show(path)}")
     return InitialSpec(kind, path=path, velocity=velocity)
 
 
+TOP_KEYS = (
+    "model",
+    "seed",
+    "title",
+    "params",
+    "physical",
+    "friction",
+    "disorder",
+    "domain",
+    "initial",
+    "triggers",
+    "run",
+    "output",
+    "input_units",
+)
+
+
 def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
-    """Validate a parsed TOML document and build a :class:`RunConfig`."""
+    """Validate a parsed TOML document and build a :class:`RunConfig`. Every key is
+    checked against the parameter tables of :mod:`bkwaves._validate` (type, range),
+    and so are the sizes that follow from them (:func:`check_sizes`), before any work."""
     doc = _table(doc, "(top level)")
-    top = (
-        "model",
-        "seed",
-        "title",
-        "params",
-        "physical",
-        "friction",
-        "disorder",
-        "domain",
-        "initial",
-        "triggers",
-        "run",
-        "output",
-        "input_units",
-    )
-    _keys(doc, "", top, ("model",))
-    model = _choice(doc, "model", "", MODELS)
-    seed = _int(doc, "seed", "", 0, lo=0)
-    title = doc.get("title", "")
-    if not isinstance(title, str):
-        _err("title", "expected a string")
+    _keys(doc, "", TOP_KEYS, ("model",))
+    model = _cfg(doc, "model", "")
+    seed = _cfg(doc, "seed", "", 0)
+    title = _cfg(doc, "title", "", "")
     params = _params(doc)
 
     d = _table(doc.get("domain", {}), "domain")
     if model == "chain":
         _keys(d, "domain", ("blocks", "boundary"), ("blocks",))
-        blocks = _int(d, "blocks", "domain", lo=2)
+        blocks = _cfg(d, "blocks", "domain")
         length, grid = 0.0, 0
     else:
         _keys(d, "domain", ("length", "grid", "boundary"), ("length", "grid"))
-        length = _num(d, "length", "domain", lo=0.0, lo_open=True)
-        grid = _int(d, "grid", "domain", lo=4)
+        length = _cfg(d, "length", "domain")
+        grid = _cfg(d, "grid", "domain")
         blocks = 0
-    boundary = _choice(d, "boundary", "domain", BOUNDARIES[model], "free")
+    boundary = _cfg(d, "boundary", "domain", "free", choices=BOUNDARIES[model])
 
     initial = _initial(doc, model)
     if initial.kind == "file" and base_dir is not None and not Path(initial.path).is_absolute():
@@ -465,20 +470,32 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     for i, tr in enumerate(raw):
         q = f"triggers[{i}]"
         tr = _table(tr, q)
-        kind = _choice(tr, "kind", q, TRIGGER_KINDS)
+        kind = _value(tr, "kind", q, V.CONFIG["triggers"]["kind"])
         allowed = (
             ("time", "block", "kind", "velocity") if kind == "kick" else ("time", "block", "kind")
         )
         _keys(tr, q, allowed, ("block",))
-        block = _int(tr, "block", q, lo=0)
+        block = _value(tr, "block", q, V.CONFIG["triggers"]["block"])
         if block >= blocks:
             _err(f"{q}.block", f"invalid block = {block}: allowed 0 <= block < {blocks}")
         triggers.append(
             Trigger(
-                time=_num(tr, "time", q, 0.0, lo=0.0),
+                time=_value(tr, "time", q, V.CONFIG["triggers"]["time"], 0.0),
                 block=block,
                 kind=kind,
-                velocity=_num(tr, "velocity", q, 1.0) if kind == "kick" else 0.0,
+                velocity=(
+                    _value(
+                        tr,
+                        "velocity",
+                        q,
+                        V.CONFIG["triggers"]["velocity"],
+                        1.0,
+                        lo=-U_LIMIT,
+                        hi=U_LIMIT,
+                    )  # fmt: skip
+                    if kind == "kick"
+                    else 0.0
+                ),
             )
         )
         if triggers[-1].velocity < 0 and not params.backward_slip:
@@ -487,27 +504,28 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         _err("initial.velocity", _NO_BACKWARD)
 
     r = _table(doc.get("run", {}), "run")
-    _keys(r, "run", ("t_end", "max_events"))
-    t_end = _num(r, "t_end", "run", lo=0.0, lo_open=True) if "t_end" in r else None
-    max_events = _int(r, "max_events", "run", lo=1) if "max_events" in r else None
+    _keys(r, "run", tuple(V.CONFIG["run"]))
+    t_end = _cfg(r, "t_end", "run", None)
+    max_events = _cfg(r, "max_events", "run", None)
+    max_event_slips = _cfg(r, "max_event_slips", "run", None)
+    max_event_duration = _cfg(r, "max_event_duration", "run", None)
     if t_end is None and max_events is None:
         _err("run", "give t_end, max_events or both")
+    for key in ("max_event_slips", "max_event_duration"):
+        if key in r and model != "chain":
+            _err(f"run.{key}", "applies to the chain model only")
 
     o = _table(doc.get("output", {}), "output")
-    _keys(o, "output", ("path", "snapshot_every", "snapshot_events", "units"))
+    _keys(o, "output", tuple(V.CONFIG["output"]))
     if "snapshot_every" in o and "snapshot_events" in o:
         _err("output", "give at most one of snapshot_every or snapshot_events")
-    out_path = o.get("path")
-    if out_path is not None and (not isinstance(out_path, str) or not out_path):
-        _err("output.path", f"expected a file name, got {out_path!r}")
+    out_path = _cfg(o, "path", "output", None)
+    if out_path is not None and not out_path:
+        _err("output.path", "expected a file name, got ''")
     # physical configs: convert times and lengths to the paper's units (unless the
     # document says its values are dimensionless already, as RunConfig.to_dict writes)
-    input_units = _choice(
-        doc,
-        "input_units",
-        "",
-        ("SI", "dimensionless"),
-        "SI" if params.units is not None else "dimensionless",
+    input_units = _cfg(
+        doc, "input_units", "", "SI" if params.units is not None else "dimensionless"
     )
     if params.units is None and input_units != "dimensionless":
         _err("input_units", "'SI' needs a [physical] table; with [params] values are dimensionless")
@@ -528,11 +546,9 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         triggers = [Trigger(t.time / ts, t.block, t.kind, t.velocity / vs) for t in triggers]
         length /= ls
         t_end = None if t_end is None else t_end / ts
-    snapshot_every = (
-        _num(o, "snapshot_every", "output", lo=0.0, lo_open=True) / ts
-        if "snapshot_every" in o
-        else None
-    )
+        if max_event_duration is not None:
+            max_event_duration /= ts
+    snapshot_every = _cfg(o, "snapshot_every", "output", None)
     cfg = RunConfig(
         model=model,
         params=params,
@@ -544,12 +560,12 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         triggers=tuple(triggers),
         t_end=t_end,
         max_events=max_events,
+        max_event_slips=max_event_slips,
+        max_event_duration=max_event_duration,
         output_path=out_path,
-        snapshot_every=snapshot_every,
-        snapshot_events=(
-            _int(o, "snapshot_events", "output", lo=1) if "snapshot_events" in o else None
-        ),
-        output_units=_choice(o, "units", "output", ("native", "dimensionless"), "native"),
+        snapshot_every=None if snapshot_every is None else snapshot_every / ts,
+        snapshot_events=_cfg(o, "snapshot_events", "output", None),
+        output_units=_cfg(o, "units", "output", "native"),
         seed=seed,
         title=title,
         disorder=_disorder(doc, model),
@@ -562,7 +578,68 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
             if bad.size:
                 i = int(bad[0])
                 _err(f"disorder.{k}[{i}]", f"invalid value {a[i]}: allowed {k} > 0")
+    _check_derived(cfg)
+    from .limits import check_sizes
+
+    check_sizes(cfg)
     return cfg
+
+
+def _check_derived(cfg: RunConfig) -> None:
+    """Quantities derived from several keys: finite, and meaningful for the model."""
+    p = cfg.params
+    if cfg.physical:
+        u = p.units
+        ls, ts = u.length_scale, u.time_scale
+        span = (cfg.blocks - 1) * p.dx * ls if cfg.model == "chain" else cfg.length * ls
+        if not math.isfinite(span):
+            _err("physical.spacing", f"the chain spans {span} m: positions overflow")
+        for key, value in (("run.t_end", cfg.t_end), ("output.snapshot_every", cfg.snapshot_every)):
+            if value is not None and not (math.isfinite(value) and value > 0):
+                _err(key, f"is {value} time units sqrt(m/k_p) = {ts:.3g} s: out of range")
+        for key, value in (("domain.length", cfg.length),):
+            if cfg.model != "chain" and not (math.isfinite(value) and value > 0):
+                _err(key, f"is {value} length units: out of range")
+    if cfg.model == "chain":
+        # RK4 stability of the chain's default time step h = step dx (the engine's test)
+        from .chain import DEFAULT_STEP
+
+        h = DEFAULT_STEP * p.dx
+        sound = math.sqrt(1.0 + 4.0 / (p.dx * p.dx))
+        if h * (sound + 2.0 * p.gamma) > 2.5:
+            g_max = 0.5 * (2.5 / h - sound)
+            if g_max > 0:
+                key = "params.gamma" if not cfg.physical else "physical.alpha"
+                _err(
+                    key,
+                    f"gamma = {p.gamma:.6g} is too strong a damping for the chain's time step "
+                    f"(RK4 stability at step = {DEFAULT_STEP} dx): allowed gamma <= {g_max:.6g}",
+                )
+            key = "params.dx" if not cfg.physical else "physical.k_c"
+            _err(key, f"dx = {p.dx:.6g} is too large for the chain's time step")
+    if cfg.model == "free_boundary":
+        if p.gamma >= 1.0:
+            _err(
+                "params.gamma" if not cfg.physical else "physical.alpha",
+                f"gamma = {p.gamma:.6g}: the free boundary model needs 0 <= gamma < 1 (for "
+                "gamma >= 1 every wave creeps)",
+            )
+        if p.dx >= 1.0:
+            _err(
+                "params.dx" if not cfg.physical else "physical.k_c",
+                f"dx = {p.dx:.6g}: the free boundary model is the continuum limit, "
+                "allowed 0 < dx < 1",
+            )
+        if not cfg.length / (cfg.grid - 1) > 0:
+            _err("domain.length", "the grid spacing length/(grid - 1) underflows to 0")
+    if cfg.initial.kind == "random":
+        span = cfg.length if cfg.model != "chain" else cfg.blocks * p.dx
+        if cfg.initial.correlation_length > 100.0 * span:
+            _err(
+                "initial.correlation_length",
+                f"= {cfg.initial.correlation_length:.6g} length units is more than 100 times "
+                f"the domain ({span:.6g}): allowed correlation_length <= 100 x the domain",
+            )
 
 
 def _to_doc(cfg: RunConfig) -> dict:
@@ -613,6 +690,10 @@ def _to_doc(cfg: RunConfig) -> dict:
         run["t_end"] = cfg.t_end
     if cfg.max_events is not None:
         run["max_events"] = cfg.max_events
+    if cfg.max_event_slips is not None:
+        run["max_event_slips"] = cfg.max_event_slips
+    if cfg.max_event_duration is not None:
+        run["max_event_duration"] = cfg.max_event_duration
     doc["run"] = run
     out: dict = {"units": cfg.output_units}
     if cfg.output_path is not None:
@@ -626,15 +707,41 @@ def _to_doc(cfg: RunConfig) -> dict:
 
 
 def load_config(path) -> RunConfig:
-    """Read and validate a TOML run configuration."""
+    """Read and validate a TOML run configuration (UTF-8)."""
     path = Path(path)
     try:
-        doc = tomllib.loads(path.read_text())
+        data = path.read_bytes()
     except FileNotFoundError:
         raise ParameterError(f"config file not found: {path}") from None
+    except OSError as e:
+        raise ParameterError(f"cannot read config file {path}: {e.strerror or e}") from None
+    try:
+        doc = tomllib.loads(data.decode("utf-8"))
+    except UnicodeDecodeError as e:
+        raise ParameterError(
+            f"{path}: not UTF-8 text (byte {e.start}: {data[e.start : e.start + 1]!r}); "
+            "TOML files must be UTF-8"
+        ) from None
     except tomllib.TOMLDecodeError as e:
         raise ParameterError(f"{path}: not valid TOML: {e}") from None
     return parse_config(doc, base_dir=path.parent)
+
+
+def _read_initial_file(p: Path, n: int) -> np.ndarray:
+    """One value per node from a .npy (numbers, no pickles) or a text file."""
+    try:
+        raw = np.load(p, allow_pickle=False) if p.suffix == ".npy" else np.loadtxt(p, ndmin=1)
+    except (OSError, ValueError, UnicodeDecodeError, EOFError) as e:
+        reason = getattr(e, "strerror", None) or str(e).splitlines()[0][:200]
+        what = "a .npy array" if p.suffix == ".npy" else "text numbers"
+        raise ParameterError(f"initial.path: cannot read {p} as {what} ({reason})") from None
+    raw = np.asarray(raw)
+    if raw.dtype.kind not in "iuf":
+        _err("initial.path", f"{p} holds {raw.dtype} values; expected real numbers")
+    u = raw.astype(float).ravel()
+    if len(u) != n:
+        _err("initial.path", f"{p} has {len(u)} values; the domain has {n} nodes")
+    return u
 
 
 def _smooth_random(x: np.ndarray, corr: float, rng: np.random.Generator, periodic: bool):
@@ -671,14 +778,21 @@ def initial_state(cfg: RunConfig) -> np.ndarray:
         for b in s.bumps:
             u = u + b.height * np.exp(-0.5 * ((x - b.center) / b.width) ** 2)
     else:
-        p = Path(s.path)
-        try:
-            u = np.load(p) if p.suffix == ".npy" else np.loadtxt(p)
-        except OSError as e:
-            raise ParameterError(f"initial.path: cannot read {p}: {e}") from None
-        u = np.asarray(u, dtype=float).ravel()
-        if len(u) != len(x):
-            _err("initial.path", f"{p} has {len(u)} values; the domain has {len(x)} nodes")
-    if not np.all(np.isfinite(u)):
-        _err("initial", "the initial state has non-finite values")
+        u = _read_initial_file(Path(s.path), len(x))
+    key = {
+        "uniform": "initial.value",
+        "ramp": "initial.start/end",
+        "random": "initial.mean/amplitude",
+        "bumps": "initial.base/slope/bumps",
+        "file": "initial.path",
+    }[s.kind]
+    if not np.all(np.isfinite(u)) or np.max(np.abs(u)) > U_LIMIT:
+        _err(key, f"the initial state has values outside |u| <= {U_LIMIT:g} (or not finite)")
+    if cfg.model == "free_boundary" and np.max(u) >= 1.0:
+        i = int(np.argmax(u))
+        _err(
+            key,
+            f"the initial state reaches u = {u[i]:.6g} >= 1 at x = {x[i]:.6g}: the free "
+            "boundary model needs u < 1 (the static threshold) everywhere",
+        )
     return u

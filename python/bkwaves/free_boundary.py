@@ -110,10 +110,16 @@ class FreeBoundary:
                 params.gamma,
                 "0 <= gamma < 1 (for gamma >= 1 every wave creeps: no free boundary problem)",
             )
-        if boundary not in BOUNDARIES:
-            V._fail("boundary", boundary, " or ".join(repr(b) for b in BOUNDARIES))
-        if creep not in CREEP_RULES:
-            V._fail("creep", creep, " or ".join(repr(b) for b in CREEP_RULES))
+        if params.dx >= 1.0:
+            V._fail(
+                "dx",
+                params.dx,
+                "0 < dx < 1 (the free boundary model is the continuum limit dx -> 0 of the "
+                "chain; dx maps its results to blocks)",
+            )
+        spec = V.FREE_BOUNDARY
+        boundary = spec["boundary"].check(boundary)
+        creep = spec["creep"].check(creep)
         x = V.array("x", x)
         if x.ndim != 1 or x.size < 5:
             V._fail("x", f"array of shape {x.shape}", "a 1-d grid of at least 5 nodes")
@@ -121,20 +127,23 @@ class FreeBoundary:
         h = (x[-1] - x[0]) / (x.size - 1)
         if not (h > 0 and np.all(np.abs(dxs - h) <= 1e-9 * h)):
             V._fail("x", "non-uniform grid", "uniformly spaced, increasing nodes")
-        u0 = V.array("u0", u0, hi=1.0, hi_open=True)
+        u0 = V.array("u0", u0, lo=-1e6, hi=1.0, hi_open=True)
         if u0.shape != x.shape:
             V._fail("u0", f"array of shape {u0.shape}", f"the shape of x, {x.shape}")
+        if shocks is not None and (
+            isinstance(shocks, str | bytes) or not hasattr(shocks, "__iter__")
+        ):
+            V._fail("shocks", shocks, "a list of pairs (x, direction)")
         sx, sd = [], []
-        for item in shocks or []:
+        for item in shocks if shocks is not None else []:
             try:
                 xs, d = item
             except (TypeError, ValueError):
                 V._fail("shocks", item, "pairs (x, direction) with direction +1 or -1")
-            sx.append(V.number("shock x", xs))
-            if d not in (1, -1):
-                V._fail("shock direction", d, "+1 or -1")
-            sd.append(int(d))
-        V.number("tol", tol, lo=0.0, hi=1e-3, lo_open=True, hi_open=True)
+            sx.append(V.number("shock position", xs))
+            sd.append(V.direction("shock direction", d))
+        tol = spec["tol"].check(tol)
+        record_path = spec["record_path"].check(record_path)
         self.params = params
         self.x = x
         self.h = float(h)
@@ -307,27 +316,31 @@ class FreeBoundary:
         or an array of times; the state is always recorded at the start and the end.
         ``progress`` shows a progress bar. Ctrl-C stops the run and returns what was
         computed (``result.interrupted``). Calling ``run`` again continues the run."""
+        spec = V.FREE_BOUNDARY
         if t_end is None and max_events is None:
             V._fail("t_end", None, "a finite end time, or max_events")
         t0 = self.time
         t_end = math.inf if t_end is None else V.number("t_end", t_end, lo=t0)
-        target_events = (
-            2**62
-            if max_events is None
-            else self._engine.completed_events + int(V.number("max_events", max_events, lo=1))
-        )
+        max_events = V.optional_integer("max_events", max_events, lo=1)
+        target_events = 2**62 if max_events is None else self._engine.completed_events + max_events
         if snapshots is None:
             times = np.array([], dtype=float)
-        elif np.isscalar(snapshots) and float(snapshots).is_integer():
-            n = int(snapshots)
+        elif V._is_int(snapshots):
+            n = V.integer("snapshots", snapshots, lo=1, hi=10**7)
             if not math.isfinite(t_end):
                 V._fail("snapshots", snapshots, "an array of times when t_end is not given")
-            times = np.linspace(t0, t_end, max(n, 1))
+            times = np.linspace(t0, t_end, n)
         else:
-            times = np.sort(V.array("snapshots", snapshots, lo=t0))
+            times = np.sort(V.array("snapshots", snapshots, lo=t0).ravel())
             if math.isfinite(t_end):
                 times = times[times <= t_end]
-        chunk = int(V.number("chunk", chunk, lo=1))
+        chunk = spec["chunk"].check(chunk)
+        progress = V.flag("progress", progress)
+        if math.isfinite(t_end):
+            from .limits import check_wall, fb_work
+
+            work, wall = fb_work(self.x.size, t_end - t0, self.params.v)
+            check_wall(f"t_end = {t_end:.6g}", wall, f"~{work:.2g} shock-node crossings")
         interrupted = False
         bar = RunProgress(
             progress, "free boundary", t0, t_end, max_events, self._engine.completed_events

@@ -13,6 +13,8 @@ import math
 from dataclasses import asdict, dataclass, field
 
 from . import _validate as V
+from ._validate import PARAMS as _PARAMS
+from ._validate import ParameterError
 from .friction import Law
 
 __all__ = ["NO_BACKWARD_SLIP", "Params", "PhysicalUnits", "check_beta", "friction_note"]
@@ -22,18 +24,9 @@ NO_BACKWARD_SLIP = math.inf
 
 
 def check_beta(value, name: str = "beta") -> float:
-    """beta = f_s/(f_r - f_s): a finite number >= 0 (backward slip at phi <= -(1 + 2 beta))
-    or inf (no backward slip, the paper's model)."""
-    allowed = f"{name} >= 0, or inf for no backward slip (the paper's model, the default)"
-    if isinstance(value, bool):
-        V._fail(name, value, allowed)
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        V._fail(name, value, allowed)
-    if not (x >= 0.0):  # NaN and negatives
-        V._fail(name, value, allowed)
-    return x
+    """beta = f_s/(f_r - f_s): a number >= 0 (backward slip at phi <= -(1 + 2 beta)) or
+    inf (no backward slip, the paper's model); never a string, bytes or bool."""
+    return V.PARAMS["beta"].check(value, name)
 
 
 def friction_note(beta: float) -> str:
@@ -73,18 +66,29 @@ class PhysicalUnits:
     spacing: float
 
     def __post_init__(self):
-        for name in ("mass", "k_c", "k_p", "spacing"):
-            V.number(name, getattr(self, name), lo=0.0, lo_open=True)
-        V.number("f_kinetic", self.f_kinetic, lo=0.0)
-        V.number("f_static", self.f_static, lo=0.0, lo_open=True)
+        for name, spec in V.PHYSICAL.items():
+            object.__setattr__(self, name, spec.check(getattr(self, name)))
         if not self.f_kinetic < self.f_static:
             V._fail(
                 "f_kinetic",
                 self.f_kinetic,
                 f"0 <= f_kinetic < f_static = {self.f_static} (static friction exceeds kinetic)",
             )
-        V.number("alpha", self.alpha, lo=0.0)
-        V.number("V", self.V, lo=0.0)
+        # every scale must be a finite, nonzero number (1e308 m spacings would write x = inf)
+        for scale, inputs in (
+            ("time_scale", "mass, k_p"),
+            ("length_scale", "spacing, k_c, k_p"),
+            ("force_scale", "f_static, f_kinetic"),
+            ("velocity_scale", "f_static, f_kinetic, k_p, mass"),
+            ("displacement_scale", "f_static, f_kinetic, k_p"),
+        ):
+            value = getattr(self, scale)
+            if not (math.isfinite(value) and value > 0.0 and math.isfinite(1.0 / value)):
+                raise ParameterError(
+                    f"invalid {inputs.split(', ')[0]} = {getattr(self, inputs.split(', ')[0])!r}: "
+                    f"the {scale.replace('_', ' ')} derived from {inputs} is {value!r}; allowed "
+                    "values whose scales are finite and nonzero"
+                )
 
     # --- scales -----------------------------------------------------------------
     @property
@@ -187,10 +191,8 @@ class Params:
     friction_law: Law | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "gamma", V.number("gamma", self.gamma, lo=0.0))
-        object.__setattr__(self, "v", V.number("v", self.v, lo=0.0))
-        object.__setattr__(self, "dx", V.number("dx", self.dx, lo=0.0, lo_open=True))
-        object.__setattr__(self, "beta", check_beta(self.beta))
+        for name, spec in V.PARAMS.items():
+            object.__setattr__(self, name, spec.check(getattr(self, name)))
         if self.units is not None and not isinstance(self.units, PhysicalUnits):
             V._fail("units", self.units, "a PhysicalUnits instance or None")
         if isinstance(self.friction_law, str):
@@ -236,14 +238,22 @@ class Params:
         alpha [kg/s], loader speed V [m/s] and block spacing a [m]."""
         u = PhysicalUnits(mass, k_c, k_p, f_static, f_kinetic, alpha, V, spacing)
         df = u.force_scale
-        sq = math.sqrt(k_p * mass)
-        return cls(
-            gamma=alpha / (2.0 * sq),
-            v=V * sq / df,
-            dx=math.sqrt(k_p / k_c),
-            beta=f_kinetic / df,
-            units=u,
-        )
+        sq = math.sqrt(u.k_p) * math.sqrt(u.mass)
+        derived = {
+            "gamma": (u.alpha / (2.0 * sq), "alpha"),
+            "v": (u.V * (sq / df), "V"),
+            "dx": (math.sqrt(u.k_p) / math.sqrt(u.k_c), "k_c"),
+            "beta": (u.f_kinetic / df, "f_kinetic"),
+        }
+        for name, (value, key) in derived.items():
+            try:
+                _PARAMS[name].check(value)
+            except ParameterError:
+                raise ParameterError(
+                    f"invalid {key} = {getattr(u, key)!r}: the dimensionless {name} derived "
+                    f"from it is {value!r}; allowed values giving {_PARAMS[name].allowed()}"
+                ) from None
+        return cls(**{k: v for k, (v, _) in derived.items()}, units=u)
 
     @property
     def backward_slip(self) -> bool:

@@ -290,8 +290,39 @@ def run(
         ctl = _Control(
             out, cfg, checkpoint_every, _stop_after_chunks, _state, stop_request, _memory
         )
+        if out is not None:
+            _check_output(out, cfg)
         body = _run_chain if cfg.model == "chain" else _run_free_boundary
         return body(cfg, out, progress, overwrite, flush_every, chunk, ctl)
+
+
+def _check_output(out, cfg: RunConfig) -> None:
+    """Before any work: the output path can be written, and the output fits."""
+    from ._core import ParameterError
+    from .io import SUFFIXES
+    from .limits import check_free_space, estimate
+
+    text = str(out)
+    if "\x00" in text or not text.strip():
+        raise ParameterError(f"invalid output path = {text!r}: allowed a file name (no NUL)")
+    p = Path(out)
+    if p.suffix not in SUFFIXES:
+        raise ParameterError(
+            f"invalid output path = {text!r}: allowed suffixes .nc (NetCDF) or .zarr (Zarr)"
+        )
+    parent = p.resolve().parent
+    if not parent.is_dir():
+        raise ParameterError(f"output path {text!r}: the directory {parent} does not exist")
+    import tempfile
+
+    try:
+        with tempfile.NamedTemporaryFile(dir=parent, prefix=".bkwaves-probe-"):
+            pass
+    except OSError as e:
+        raise ParameterError(
+            f"output path {text!r}: cannot write in {parent} ({e.strerror or e})"
+        ) from None
+    check_free_space(p, estimate(cfg).output_bytes)
 
 
 def resume(
@@ -620,7 +651,13 @@ def _frame(cols: dict, stop: int | None = None):
 
 
 def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
-    from .chain import Chain
+    from .chain import (
+        CHUNK_WORK,
+        Chain,
+        default_max_event_duration,
+        default_max_event_slips,
+        runaway_message,
+    )
 
     p = cfg.params
     if ctl.resuming:
@@ -642,6 +679,9 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
             times = np.concatenate([[chain.t], times])
         chain._engine.add_snapshots(times, int(cfg.snapshot_events or 0))
     eng = chain._engine
+    slip_limit = cfg.max_event_slips or default_max_event_slips(cfg.blocks)
+    duration_limit = cfg.max_event_duration or default_max_event_duration(cfg.blocks, p.dx)
+    eng.set_run_limits(slip_limit, duration_limit, CHUNK_WORK)
     units = _Units(cfg)
     x = np.arange(cfg.blocks) * p.dx
     rate_units, rate_attrs = units.rate_spec()
@@ -688,6 +728,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
             sliding = np.sign(p.v - np.asarray(uts)).astype(np.int8)
             writer.append_block(units.t(np.asarray(ts)), u=us, u_t=units.rate(uts), sliding=sliding)
 
+    stop = "steps"
     try:
         finished = False
         while not ctl.stop:
@@ -717,6 +758,17 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         if writer is not None and not writer.closed:
             writer.close(publish=False)
         raise
+    extra = {
+        "blocks": cfg.blocks,
+        "counters": eng.counters(),
+        "signal": ctl.signal_name() if interrupted else None,
+        "stop": stop,
+    }
+    if stop == "long_event":
+        # the chain slides on without re-sticking: stopped, what was computed is kept
+        extra["message"] = runaway_message(
+            chain, slip_limit, duration_limit, ("run.max_event_slips", "run.max_event_duration")
+        )
     return RunSummary(
         model="chain",
         out=str(out) if out else None,
@@ -726,11 +778,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         interrupted=interrupted,
         wall_s=time.perf_counter() - wall0,
         units=units.name,
-        extra={
-            "blocks": cfg.blocks,
-            "counters": eng.counters(),
-            "signal": ctl.signal_name() if interrupted else None,
-        },
+        extra=extra,
     )
 
 

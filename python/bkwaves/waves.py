@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -38,8 +39,20 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
     u = V.array("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     dx = V.number("dx", dx, lo=0.0)
     gamma = V.number("gamma", gamma, lo=0.0)
-    if method not in ("exact", "tip"):
-        V._fail("method", method, "'exact' or 'tip'")
+    method = V.choice("method", method, ("exact", "tip"))
+    if u.size > 10**7:
+        V._fail("u_plus", f"an array of {u.size} values", "at most 10**7 values")
+    if dx > 0.0 and gamma == 0.0 and u.size:
+        # a steady undamped lattice front needs dx sqrt(1 - u^2) <= 2 u: name dx too
+        worst = float(np.max(dx * np.sqrt((1.0 - u) * (1.0 + u)) / (2.0 * u)))
+        if worst > 1.0:
+            u_min = float(u.ravel()[np.argmax(dx * np.sqrt(1.0 - u * u) / (2.0 * u))])
+            V._fail(
+                "dx",
+                dx,
+                f"dx <= 2 u_plus / sqrt(1 - u_plus^2) = {2 * u_min / math.sqrt(1 - u_min**2):.6g}"
+                f" at u_plus = {u_min:g} (beyond it no steady lattice front exists)",
+            )
     if method == "exact" and dx == 0.0:
         return _scalar_or_array(_core.front_speed(u))
     if method == "exact" and gamma == 0.0:
@@ -47,6 +60,28 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
     # (the tip solver makes the same domain check at dx > 0)
     out = np.array([_core.tip_solve_u_plus(float(x), 16, 40.0, dx, gamma)["c"] for x in u.ravel()])
     return _scalar_or_array(out.reshape(u.shape))
+
+
+def _tip_memory(c: float, degree: int, decay: float) -> float:
+    """Bytes of the tip solver's banded system for speed c: (decay / (lambda T) + 4)
+    intervals of degree + 1 nodes, a band of 6 (degree + 1) entries per row (LU fill
+    included) and a copy; lambda T from lambda = 2 sinh(lambda T / 2), T = 1/c."""
+    m = degree + 1
+    if c >= 2.0:  # lambda T grows with c (4.3 at c = 2): 2 bounds the system from above
+        return (decay / 2.0 + 4.0) * m * 6.0 * m * 8.0 * 2.0
+    lam_t = math.sqrt(24.0 * (c - 1.0))  # small-(c - 1) root, refined by Newton
+    for _ in range(50):
+        f = lam_t * c - 2.0 * math.sinh(lam_t / 2.0)
+        df = c - math.cosh(lam_t / 2.0)
+        if df == 0.0:
+            break
+        step = f / df
+        lam_t -= step
+        if abs(step) < 1e-12 * lam_t:
+            break
+    if not lam_t > 0.0:
+        return math.inf
+    return (decay / lam_t + 4.0) * m * 6.0 * m * 8.0 * 2.0
 
 
 def tip_solve(
@@ -62,15 +97,37 @@ def tip_solve(
     there too (for studies of the tip problem itself). ``dx = 0`` is the paper's continuum
     limit. Returns a dict
     with c, theta = (1 - u_+)/u_+, u_plus, the number of intervals kept behind the
-    tip and the decay rate of the slowest transient.
+    tip and the decay rate of the slowest transient. ``degree`` (4..64) and ``decay``
+    (e-folds of the slowest transient kept, > 0) set the resolution; a solve whose
+    system would exceed ``bkwaves.limits.LIMITS["max_solver_bytes"]`` is refused.
     """
+    from .limits import LIMITS, _bytes
+
     if (u_plus is None) == (c is None):
         raise V.ParameterError("give exactly one of u_plus or c")
     if not isinstance(chain_domain, bool):
         V._fail("chain_domain", chain_domain, "True or False")
+    degree = V.integer("degree", degree, lo=4, hi=64)
+    decay = V.number("decay", decay, lo=0.0, lo_open=True)
+    dx = V.number("dx", dx, lo=0.0)
+    gamma = V.number("gamma", gamma, lo=0.0)
     if u_plus is not None:
-        return _core.tip_solve_u_plus(float(u_plus), degree, decay, dx, gamma, chain_domain)
-    return _core.tip_solve_speed(float(c), degree, decay, dx, gamma, chain_domain)
+        u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+        speed, key = 1.0 / math.sqrt((1.0 - u_plus) * (1.0 + u_plus)), "u_plus"
+    else:
+        c = V.number("c", c, lo=1.0, lo_open=True)
+        speed, key = c, "c"
+    need = _tip_memory(speed, degree, decay)
+    if need > LIMITS["max_solver_bytes"]:
+        raise V.ParameterError(
+            f"invalid decay = {decay:g}: at {key} = {u_plus if c is None else c:g} (c ~ "
+            f"{speed:.6g}) the tip solve needs about {_bytes(need)}, more than the limit "
+            f"{_bytes(LIMITS['max_solver_bytes'])} (bkwaves.limits.LIMITS['max_solver_bytes']); "
+            "lower decay or degree"
+        )
+    if u_plus is not None:
+        return _core.tip_solve_u_plus(u_plus, degree, decay, dx, gamma, chain_domain)
+    return _core.tip_solve_speed(c, degree, decay, dx, gamma, chain_domain)
 
 
 @dataclass(frozen=True)

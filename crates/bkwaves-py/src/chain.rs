@@ -282,7 +282,8 @@ impl ChainEngine {
     }
 
     /// Advance (GIL released) to t_end, max_events more finished events or max_steps
-    /// steps, whichever comes first. Returns "time", "events" or "steps".
+    /// steps, whichever comes first. Returns "time", "events", "steps" or "long_event"
+    /// (see `set_run_limits`).
     fn advance(
         &mut self,
         py: Python<'_>,
@@ -298,7 +299,22 @@ impl ChainEngine {
             Stop::Time => "time",
             Stop::Events => "events",
             Stop::Steps => "steps",
+            Stop::LongEvent => "long_event",
         })
+    }
+
+    /// Run limits: `advance` returns "long_event" when the running event has more than
+    /// `event_slips` slips or has lasted longer than `event_duration`, and "steps" after
+    /// `chunk_work` units of work (one per step plus one per sliding block per step).
+    fn set_run_limits(&mut self, event_slips: usize, event_duration: f64, chunk_work: u64) {
+        self.inner
+            .set_run_limits(event_slips, event_duration, chunk_work);
+    }
+
+    /// (slips, duration) of the running event, or None.
+    #[getter]
+    fn open_event(&self) -> Option<(usize, f64)> {
+        self.inner.open_event()
     }
 
     #[getter]

@@ -173,6 +173,10 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             counters: Default::default(),
             need_check: false,
             full_check: false,
+            // run limits are not state: the restored chain keeps its own
+            event_slip_limit: self.event_slip_limit,
+            event_duration_limit: self.event_duration_limit,
+            chunk_work: self.chunk_work,
         };
         next.need_check = r.b()?;
         next.full_check = r.b()?;

@@ -43,6 +43,10 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
     fn add_snapshots(&mut self, times: &[f64], every_events: usize) -> Result<()>;
     /// See [`Chain::run`].
     fn run(&mut self, t_end: f64, max_events: usize, max_steps: u64) -> Result<Stop>;
+    /// See [`Chain::set_run_limits`].
+    fn set_run_limits(&mut self, event_slips: usize, event_duration: f64, chunk_work: u64);
+    /// See [`Chain::open_event`].
+    fn open_event(&self) -> Option<(usize, f64)>;
     /// Current time.
     fn time(&self) -> f64;
     /// Number of blocks.
@@ -76,6 +80,12 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
 }
 
 impl<F: Friction, M: Medium> DynChain for Chain<F, M> {
+    fn set_run_limits(&mut self, event_slips: usize, event_duration: f64, chunk_work: u64) {
+        Chain::set_run_limits(self, event_slips, event_duration, chunk_work)
+    }
+    fn open_event(&self) -> Option<(usize, f64)> {
+        Chain::open_event(self)
+    }
     fn set_integrator(&mut self, method: Method) -> Result<()> {
         Chain::set_integrator(self, method)
     }

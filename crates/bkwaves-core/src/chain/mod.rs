@@ -135,8 +135,12 @@ pub enum Stop {
     Time,
     /// max_events events finished.
     Events,
-    /// The step budget of this call was used up (call again to go on).
+    /// The step or work budget of this call was used up (call again to go on).
     Steps,
+    /// The running event has more slips, or has lasted longer, than the limits set by
+    /// [`Chain::set_run_limits`]: the chain slides on without re-sticking (steady
+    /// sliding, creep, or a pulse circling a ring). Raise the limits to go on.
+    LongEvent,
 }
 
 /// Snapshots of u and u_t.
@@ -197,6 +201,11 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     pub counters: Counters,
     need_check: bool,
     full_check: bool,
+    /// Run limits (not part of the state): slips in and duration of one event, work per
+    /// `run` call.
+    event_slip_limit: usize,
+    event_duration_limit: f64,
+    chunk_work: u64,
 }
 
 impl<F: Friction> Chain<F, Uniform> {
@@ -323,6 +332,9 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             counters: Counters::default(),
             need_check: true,
             full_check: true,
+            event_slip_limit: usize::MAX,
+            event_duration_limit: f64::INFINITY,
+            chunk_work: u64::MAX,
             st,
         };
         for p in 1..=n {
@@ -844,9 +856,41 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.refresh_around(p);
     }
 
+    /// Limits of [`Chain::run`]: it returns [`Stop::LongEvent`] when the running event
+    /// has more than `event_slips` slips or has lasted longer than `event_duration`, and
+    /// [`Stop::Steps`] once a call has done `chunk_work` units of work (one per step plus
+    /// one per sliding block per step, redone partial steps included), so a call on a
+    /// large sliding chain hands control back as soon as one on a small one. Defaults:
+    /// no limits. Limits are not part of the state (checkpoints omit them).
+    pub fn set_run_limits(&mut self, event_slips: usize, event_duration: f64, chunk_work: u64) {
+        self.event_slip_limit = event_slips;
+        self.event_duration_limit = if event_duration.is_nan() {
+            f64::INFINITY
+        } else {
+            event_duration
+        };
+        self.chunk_work = chunk_work.max(1);
+    }
+
+    /// Slips and duration so far of the running event (None when none is running).
+    pub fn open_event(&self) -> Option<(usize, f64)> {
+        if !self.catalog.event_open() {
+            return None;
+        }
+        let e = self.catalog.events.last()?;
+        Some((e.n_slips, self.t - e.t_start))
+    }
+
+    /// Work counted against `chunk_work`: integration steps plus block-steps (redone
+    /// partial steps included), as in [`Counters`].
+    fn work_done(&self) -> u64 {
+        self.counters.steps + self.counters.block_steps
+    }
+
     /// Advance to `t_end`, or until `max_events` more events have finished, or at most
     /// `max_steps` integration steps in this call (to hand control back for progress
-    /// reports and interrupts; call again to continue).
+    /// reports and interrupts; call again to continue), or until the work or event-slip
+    /// limits of [`Chain::set_run_limits`] are reached.
     pub fn run(&mut self, t_end: f64, max_events: usize, max_steps: u64) -> Result<Stop> {
         if t_end.is_nan() || t_end < self.t {
             return Err(Error::InvalidParameter {
@@ -857,6 +901,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
         let target_events = self.catalog.finished().saturating_add(max_events);
         let mut steps = 0u64;
+        let work0 = self.work_done();
         loop {
             if self.need_check {
                 self.settle()?;
@@ -885,8 +930,13 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 self.quiet_or_dense_tail();
                 return Ok(Stop::Time);
             }
-            if steps >= max_steps {
+            if steps >= max_steps || self.work_done() - work0 >= self.chunk_work {
                 return Ok(Stop::Steps);
+            }
+            if let Some((slips, duration)) = self.open_event() {
+                if slips > self.event_slip_limit || duration > self.event_duration_limit {
+                    return Ok(Stop::LongEvent);
+                }
             }
             let ttr = self.triggers.last().map_or(f64::INFINITY, |tr| tr.t);
             let t_next = tq.min(ttr).min(t_end);

@@ -475,3 +475,85 @@ fn a_restored_checkpoint_continues_bit_for_bit() {
         assert!(wrong.checkpoint() == before);
     }
 }
+
+#[test]
+fn an_event_that_never_ends_stops_on_its_slip_or_duration_limit() {
+    // gamma >= 1 at v = 0: a creep front; blocks behind it relax towards u = 0 without
+    // their speed ever returning to v, so the event never ends (each block slips about
+    // once, then slides on).
+    let make = || {
+        let fr = Coulomb::new(1.5, 0.0).unwrap();
+        let mut ch = Chain::new(cfg(0.1, 0.0, 0.05), fr, &Free, &[0.6; 200], None).unwrap();
+        ch.add_trigger(Trigger {
+            t: 0.0,
+            block: 0,
+            kind: TriggerKind::Kick { du_t: -2.0 },
+        })
+        .unwrap();
+        ch
+    };
+    let mut free_run = make();
+    assert_eq!(free_run.run(60.0, 1, u64::MAX).unwrap(), Stop::Time);
+    assert!(free_run.catalog.event_open() && free_run.catalog.finished() == 0);
+    let (slips_60, _) = free_run.open_event().unwrap();
+    assert!((200..400).contains(&slips_60), "{slips_60}");
+    // a slip bound
+    let mut by_slips = make();
+    by_slips.set_run_limits(150, f64::INFINITY, u64::MAX);
+    assert_eq!(by_slips.run(1e9, 1, u64::MAX).unwrap(), Stop::LongEvent);
+    let (slips, duration) = by_slips.open_event().unwrap();
+    assert!(slips > 150 && slips <= 150 + 200, "{slips}");
+    assert!(duration < 60.0);
+    // with the limit still exceeded, the next call returns at once
+    let t = by_slips.time();
+    assert_eq!(by_slips.run(1e9, 1, u64::MAX).unwrap(), Stop::LongEvent);
+    assert_eq!(by_slips.time(), t);
+    // a duration bound: the slips hardly grow, the event goes on
+    let mut by_time = make();
+    by_time.set_run_limits(10_000, 80.0, u64::MAX);
+    assert_eq!(by_time.run(1e9, 1, u64::MAX).unwrap(), Stop::LongEvent);
+    let (slips, duration) = by_time.open_event().unwrap();
+    assert!(slips < 2 * slips_60, "{slips}");
+    assert!(
+        duration > 80.0 && duration < 80.0 + 0.05 * 0.1 + 1e-12,
+        "{duration}"
+    );
+}
+
+#[test]
+fn a_run_call_is_bounded_in_work_not_only_in_steps() {
+    let n = 2000;
+    let make = || {
+        let fr = Coulomb::new(0.3, 0.0).unwrap();
+        Chain::new(
+            cfg(0.05, 0.0, 0.05),
+            fr,
+            &Free,
+            &vec![0.5; n],
+            Some(&vec![-0.5; n]),
+        )
+        .unwrap()
+    };
+    let mut whole = make();
+    assert_eq!(whole.run(3.0, usize::MAX, u64::MAX).unwrap(), Stop::Time);
+    let mut chunked = make();
+    let budget = 50_000u64;
+    chunked.set_run_limits(usize::MAX, f64::INFINITY, budget);
+    let mut calls = 0;
+    loop {
+        let before = chunked.counters;
+        let stop = chunked.run(3.0, usize::MAX, u64::MAX).unwrap();
+        let done = (chunked.counters.steps - before.steps)
+            + (chunked.counters.block_steps - before.block_steps);
+        // every block slides: a call stops within one step (and its redo) of its budget
+        assert!(done < budget + 2 * (1 + n as u64), "{done}");
+        calls += 1;
+        if stop == Stop::Time {
+            break;
+        }
+        assert_eq!(stop, Stop::Steps);
+    }
+    assert!(calls > 5, "{calls}");
+    // chunking does not change the trajectory
+    assert!(whole.u() == chunked.u() && whole.u_t() == chunked.u_t());
+}
