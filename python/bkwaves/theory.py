@@ -282,10 +282,14 @@ def a_max(v, gamma):
     return v * v * (1.0 + k) / (2.0 * k * k)
 
 
+MAX_MAP_ITERATIONS = 10**7  # an array of n + 1 floats; ~10 s of Python per 10**7
+
+
 def iterate_map(a0, v, gamma, n: int):
-    """The map a -> a' of eq. (ap) iterated n times from a0: array a_0 .. a_n.
-    Iteration stops (NaN after) once a' <= 0, where the maximum is lost."""
-    n = int(V.number("n", n, lo=0))
+    """The map a -> a' of eq. (ap) iterated n times from a0: array a_0 .. a_n
+    (0 <= n <= 10**7). Iteration stops (NaN after) once a' <= 0, where the maximum is
+    lost."""
+    n = V.integer("n", n, lo=0, hi=MAX_MAP_ITERATIONS)
     out = np.full(n + 1, np.nan)
     out[0] = V.number("a0", a0, lo=0.0, lo_open=True)
     for i in range(n):
