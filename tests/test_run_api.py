@@ -104,3 +104,29 @@ def test_every_k_events_snapshots_start_with_the_initial_state():
     assert t[0] == 0.0 and len(t) == 1 + 3
     np.testing.assert_array_equal(r.snapshots["u"].values[0], initial_state(cfg))
     np.testing.assert_array_equal(t[1:], r.events["t_end"].values[:3])
+
+
+def test_seed_is_recorded_only_when_given_or_drawn(tmp_path):
+    """No seed in a config: a deterministic run records none (not 0); a random run draws a
+    fresh seed and records it, so that the file repeats the run exactly."""
+    root = Path(__file__).parents[1] / "examples"
+    det = load_config(root / "free_boundary_source.toml")
+    assert det.seed is None and not det.random and det.seeded() is det
+    out = tmp_path / "d.nc"
+    bk.runner.run(dataclasses.replace(det, max_events=1), out)
+    ds, _ = bk.load(out)
+    assert ds.attrs["seed"] == "" and "seed" not in json.loads(ds.attrs["config"])
+    rnd = dataclasses.replace(
+        load_config(root / "free_boundary_random.toml"), seed=None, t_end=100.0
+    )
+    assert rnd.random
+    a, b = rnd.seeded(), rnd.seeded()
+    assert a.seed is not None and a.seed != b.seed
+    out = tmp_path / "r.nc"
+    bk.runner.run(rnd, out)
+    ds, _ = bk.load(out)
+    seed = int(ds.attrs["seed"])
+    stored = RunConfig.from_dict(json.loads(ds.attrs["config"]))
+    assert stored.seed == seed
+    again = bk.run(stored, snapshots=True)
+    np.testing.assert_array_equal(again.snapshots["u"].values[0], ds["u"].values[0])

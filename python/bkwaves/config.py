@@ -7,7 +7,9 @@ the allowed values. See ``examples/`` for one file per use case.
 Schema (all sections optional except those marked)::
 
     model = "chain" | "free_boundary"          # required
-    seed = 0                                   # for random initial states
+    seed = 0                                   # random initial states and [disorder]
+                                               # (none given: a fresh seed is drawn when
+                                               # something is random, and recorded)
     title = "..."                              # free text
 
     [params]    gamma, v, dx, beta              # dimensionless  (exactly one of
@@ -197,7 +199,7 @@ class RunConfig:
     snapshot_every: float | None = None
     snapshot_events: int | None = None
     output_units: str = "native"
-    seed: int = 0
+    seed: int | None = None
     title: str = ""
     disorder: tuple = ()
     base_dir: Path | None = field(default=None, compare=False, repr=False)
@@ -205,6 +207,23 @@ class RunConfig:
     @property
     def physical(self) -> bool:
         return self.params.units is not None
+
+    @property
+    def random(self) -> bool:
+        """Whether the run draws random numbers (a random initial state, drawn [disorder])."""
+        drawn = any(isinstance(spec, dict) for _, spec in self.disorder)
+        return self.initial.kind == "random" or drawn
+
+    def seeded(self) -> RunConfig:
+        """This config with a seed: its own, or for a random run without one a fresh seed
+        drawn from the operating system's entropy (recorded in the outputs, so the run can
+        be repeated)."""
+        if self.seed is not None or not self.random:
+            return self
+        import dataclasses
+
+        fresh = int(np.random.SeedSequence().entropy % (2**63 - 1))
+        return dataclasses.replace(self, seed=fresh)
 
     def to_dict(self) -> dict:
         """This config as a document of the TOML schema, in the paper's dimensionless
@@ -441,7 +460,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     doc = _table(doc, "(top level)")
     _keys(doc, "", TOP_KEYS, ("model",))
     model = _cfg(doc, "model", "")
-    seed = _cfg(doc, "seed", "", 0)
+    seed = _cfg(doc, "seed", "", None)
     title = _cfg(doc, "title", "", "")
     params = _params(doc)
 
@@ -644,7 +663,9 @@ def _check_derived(cfg: RunConfig) -> None:
 
 def _to_doc(cfg: RunConfig) -> dict:
     p = cfg.params
-    doc: dict = {"model": cfg.model, "seed": cfg.seed}
+    doc: dict = {"model": cfg.model}
+    if cfg.seed is not None:
+        doc["seed"] = cfg.seed
     if cfg.title:
         doc["title"] = cfg.title
     if p.units is not None:

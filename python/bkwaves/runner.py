@@ -243,7 +243,8 @@ def _attrs(cfg: RunConfig, units: _Units) -> dict:
     return {
         "title": cfg.title or f"bkwaves {cfg.model} run",
         "model": cfg.model,
-        "seed": cfg.seed,
+        # the seed of the run's random numbers: "" when nothing in it is random
+        "seed": cfg.seed if cfg.random or cfg.seed is not None else "",
         "config": json.dumps(cfg.to_dict(), default=str),
         "params": json.dumps({k: v for k, v in p.to_dict().items() if k != "units"}),
         "friction": p.friction if cfg.model == "chain" else "",
@@ -281,6 +282,7 @@ def run(
 
     with _StopRequest() as stop_request:  # first: a signal from here on is never lost
         out = out if out is not None else cfg.output_path
+        cfg = cfg.seeded()  # a random run without a seed gets a fresh one, recorded
         if checkpoint_every is not None and out is None:
             raise ParameterError("checkpoints need an output path (-o OUT)")
         if checkpoint_every is not None and not checkpoint_every > 0:
