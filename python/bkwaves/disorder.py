@@ -13,11 +13,26 @@ TOML config the ``[disorder]`` table gives each property as a number, an array o
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from . import _validate as V
+from ._core import ParameterError
 
-__all__ = ["DISTRIBUTIONS", "draw", "property_seed"]
+__all__ = [
+    "DISTRIBUTIONS",
+    "DefectResponse",
+    "defect_response",
+    "NOISE",
+    "EnsembleFront",
+    "LocalTheories",
+    "draw",
+    "front_speed_ensemble",
+    "local_theories",
+    "property_seed",
+    "thresholds",
+]
 
 #: Distributions by name: what ``mean`` and ``spread`` mean for each.
 DISTRIBUTIONS = {
@@ -49,3 +64,313 @@ def property_seed(seed: int, name: str) -> list[int]:
     from .chain import PROPERTIES
 
     return [int(seed), 1 + PROPERTIES.index(name)]
+
+
+# --- the front in a disordered chain (docs/disorder.md) ---------------------------------
+
+#: Distributions of the threshold noise xi (zero mean, unit variance): theta = 1 + sigma xi.
+NOISE = {
+    "uniform": "uniform on [-sqrt(3), sqrt(3)]",
+    "normal": "standard normal",
+}
+
+
+def thresholds(n: int, sigma: float, *, distribution: str = "uniform", seed=0) -> np.ndarray:
+    """n thresholds theta_i = 1 + sigma xi_i, xi iid with zero mean and unit variance
+    (``NOISE``), drawn with numpy's default generator seeded by ``seed``."""
+    if distribution not in NOISE:
+        V._fail("distribution", distribution, "one of " + ", ".join(NOISE))
+    sigma = V.number("sigma", sigma, lo=0.0)
+    rng = np.random.default_rng(seed)
+    if distribution == "uniform":
+        if sigma * np.sqrt(3.0) >= 1.0:
+            V._fail("sigma", sigma, "0 <= sigma < 1/sqrt(3) (uniform thresholds stay > 0)")
+        return 1.0 + sigma * rng.uniform(-np.sqrt(3.0), np.sqrt(3.0), n)
+    return 1.0 + sigma * rng.standard_normal(n)
+
+
+def _noise_quadrature(distribution: str):
+    """Nodes and weights of E[h(xi)] for the noise ``distribution`` (unit variance):
+    48 Gauss-Legendre nodes; 20 Gauss-Hermite nodes (|xi| <= 7.6)."""
+    if distribution == "uniform":
+        x, w = np.polynomial.legendre.leggauss(48)
+        return np.sqrt(3.0) * x, w / 2.0
+    x, w = np.polynomial.hermite_e.hermegauss(20)
+    return x, w / np.sqrt(2.0 * np.pi)
+
+
+def local_speed(u_plus: float, gamma: float, dx: float):
+    """theta -> c(u_+/theta; dx, gamma), the uniform chain's front speed at threshold
+    theta (a uniform threshold s is the uniform chain at u_+/s exactly: docs/disorder.md)."""
+    from .waves import front_speed
+
+    def c(theta):
+        return front_speed(u_plus / np.asarray(theta, dtype=float), dx=dx, gamma=gamma)
+
+    return c
+
+
+@dataclass
+class LocalTheories:
+    """Averages of local front speeds c_i = c(u_+/theta_i) over the threshold noise:
+    ``arithmetic`` <c>, ``harmonic`` 1/<1/c> (each block crossed in dx/c_i), and their
+    sigma^2 coefficients from the derivatives of f(theta) = c(u_+/theta) at theta = 1:
+    k_arithmetic = f''/2, k_harmonic = f''/2 - f'^2/f (c_eff = c0 + k sigma^2 + ...)."""
+
+    c0: float
+    arithmetic: float
+    harmonic: float
+    k_arithmetic: float
+    k_harmonic: float
+
+
+def local_theories(
+    u_plus: float,
+    gamma: float,
+    sigma: float,
+    *,
+    dx: float,
+    distribution: str = "uniform",
+) -> LocalTheories:
+    """The local-speed theories of c_eff for theta = 1 + sigma xi (``NOISE``), with the
+    uniform chain's speed at the same dx and gamma (``bk.front_speed``: it refuses
+    thresholds where the tip problem is not the chain's front)."""
+    if distribution not in NOISE:
+        V._fail("distribution", distribution, "one of " + ", ".join(NOISE))
+    sigma = V.number("sigma", sigma, lo=0.0)
+    c = local_speed(u_plus, gamma, dx)
+    xi, w = _noise_quadrature(distribution)
+    theta = 1.0 + sigma * xi
+    if np.any(theta <= u_plus):
+        V._fail("sigma", sigma, f"thresholds above u_plus = {u_plus} over the noise's range")
+    ci = c(theta)
+    h = 1e-2
+    f0, fp, fm = c(np.array([1.0, 1.0 + h, 1.0 - h]))
+    d1 = (fp - fm) / (2 * h)
+    d2 = (fp - 2 * f0 + fm) / h**2
+    return LocalTheories(
+        c0=float(f0),
+        arithmetic=float(np.sum(w * ci)),
+        harmonic=float(1.0 / np.sum(w / ci)),
+        k_arithmetic=float(d2 / 2),
+        k_harmonic=float(d2 / 2 - d1**2 / f0),
+    )
+
+
+@dataclass
+class EnsembleFront:
+    """What :func:`front_speed_ensemble` returns.
+
+    c: c_eff per realisation, dx (b - a)/(t_b - t_a) from the first slip times of the
+    window blocks a..b; c_mean, c_sem (standard error), realisations. c_local: the
+    harmonic local-speed prediction of the same realisation, dx (b - a)/sum_{a<i<=b}
+    dx/c(u_+/theta_i) (the same thresholds, so its first-order noise is the measurement's);
+    excess_mean, excess_sem: c - c_local (paired). window: (a, b) block indices."""
+
+    u_plus: float
+    gamma: float
+    sigma: float
+    dx: float
+    blocks: int
+    distribution: str
+    seed: int
+    window: tuple
+    c: np.ndarray
+    c_local: np.ndarray | None
+
+    @property
+    def realisations(self) -> int:
+        return len(self.c)
+
+    @property
+    def c_mean(self) -> float:
+        return float(np.mean(self.c))
+
+    @property
+    def c_sem(self) -> float:
+        n = len(self.c)
+        return float(np.std(self.c, ddof=1) / np.sqrt(n)) if n > 1 else float("nan")
+
+    @property
+    def excess_mean(self) -> float | None:
+        return None if self.c_local is None else float(np.mean(self.c - self.c_local))
+
+    @property
+    def excess_sem(self) -> float | None:
+        n = len(self.c)
+        if self.c_local is None or n < 2:
+            return None
+        return float(np.std(self.c - self.c_local, ddof=1) / np.sqrt(n))
+
+
+def front_speed_ensemble(
+    u_plus: float,
+    gamma: float,
+    sigma: float,
+    *,
+    dx: float = 0.1,
+    blocks: int = 2000,
+    realisations: int = 8,
+    distribution: str = "uniform",
+    seed: int = 0,
+    local: bool = True,
+) -> EnsembleFront:
+    """c_eff of a front in a chain with thresholds theta_i = 1 + sigma xi_i
+    (:func:`thresholds`, realisation r seeded by ``[seed, r]``), measured like
+    ``bk.chain.front``: v = 0, uniform u_+ on a free chain of ``blocks`` blocks, block 0
+    kicked forward, c from the first slip times of a window as far from the trigger as
+    the far end's reflection allows. Every threshold must exceed u_+ (a block with
+    theta_i <= u_+ would slip spontaneously). local: also the harmonic local-speed
+    prediction of each realisation (``bk.front_speed`` at this dx and gamma; None when a
+    local speed u_+/theta_i is outside its domain, e.g. a narrow pulse)."""
+    from .chain import Chain, _app_b, _plan
+    from .params import Params
+
+    u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    gamma = V.number("gamma", gamma, lo=0.0)
+    sigma = V.number("sigma", sigma, lo=0.0)
+    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    for name, x, lo in (("blocks", blocks, 64), ("realisations", realisations, 1)):
+        if isinstance(x, bool) or not isinstance(x, int | np.integer) or x < lo:
+            V._fail(name, x, f"an integer {name} >= {lo}")
+    if distribution not in NOISE:
+        V._fail("distribution", distribution, "one of " + ", ".join(NOISE))
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        V._fail("seed", seed, "an integer seed >= 0")
+    n = int(blocks)
+    tw = _app_b(u_plus, gamma)
+    if tw is not None and tw.regime == "pulse":
+        # from the settled distance of bk.chain.front to the far end's reflection
+        a, b = _plan(tw.c, tw.w, dx)[1], _plan(tw.c, tw.w, dx, n)[2]
+    else:
+        a, b = n // 4, 3 * n // 4
+    if b - a < 32:
+        V._fail(
+            "blocks",
+            blocks,
+            f"a chain long enough for a window of 32 blocks ({a} + {n - b} needed)",
+        )
+    params = Params(gamma=gamma, v=0.0, dx=dx)
+    speeds, predicted = [], []
+    for r in range(int(realisations)):
+        theta = thresholds(n, sigma, distribution=distribution, seed=[int(seed), r])
+        if np.min(theta) <= u_plus:
+            i = int(np.argmin(theta))
+            V._fail(
+                "sigma",
+                sigma,
+                f"thresholds above u_plus = {u_plus}: realisation {r} has "
+                f"theta[{i}] = {theta[i]:.4g}, a block that slips spontaneously",
+            )
+        ch = Chain(n, params, u0=u_plus, threshold=theta)
+        ch.kick(0, -2.0)
+        res = ch.run(t_end=4.0 * n * dx + 100.0, max_events=1)
+        ts = res.first_slip_times()
+        if not (np.isfinite(ts[a]) and np.isfinite(ts[b])):
+            V._fail("u_plus", u_plus, "a front that crosses the chain (it stopped)")
+        speeds.append(float(dx * (b - a) / (ts[b] - ts[a])))
+        if local:
+            try:
+                predicted.append(_harmonic_window(u_plus, gamma, dx, theta[a + 1 : b + 1]))
+            except ParameterError:  # a local speed outside bk.front_speed's domain
+                local = False
+    return EnsembleFront(
+        u_plus=u_plus,
+        gamma=gamma,
+        sigma=sigma,
+        dx=dx,
+        blocks=n,
+        distribution=distribution,
+        seed=int(seed),
+        window=(a, b),
+        c=np.array(speeds),
+        c_local=np.array(predicted) if local else None,
+    )
+
+
+def _harmonic_window(u_plus, gamma, dx, theta) -> float:
+    """(number of blocks) / sum 1/c(u_+/theta_i), 1/c interpolated (cubic spline on 65
+    nodes over the thresholds' range, kept for the next realisation if it covers it)
+    from the uniform chain's speeds ``bk.front_speed``."""
+    from scipy.interpolate import CubicSpline
+
+    lo, hi = float(theta.min()), float(theta.max())
+    key = (u_plus, gamma, dx)
+    cached = _SPLINES.get(key)
+    if cached is None or lo < cached[0] or hi > cached[1]:
+        if cached is not None:
+            lo, hi = min(lo, cached[0]), max(hi, cached[1])
+        nodes = np.linspace(lo, hi, 65) if hi > lo else np.array([lo - 1e-9, lo, lo + 1e-9])
+        cached = (lo, hi, CubicSpline(nodes, 1.0 / local_speed(u_plus, gamma, dx)(nodes)))
+        _SPLINES[key] = cached
+    return len(theta) / float(np.sum(cached[2](theta)))
+
+
+_SPLINES: dict = {}
+
+
+@dataclass
+class DefectResponse:
+    """The far front's delay D(delta) caused by one block with threshold 1 + delta in a
+    uniform chain (``defect_response``): D = a delta + b delta^2 + O(delta^3).
+    For iid thresholds 1 + sigma xi (zero mean, unit variance, symmetric) the mean slip
+    interval is dx/c0 + b sigma^2 + O(sigma^4) exactly (the cross terms average to zero),
+    so c_eff = c0 + k sigma^2 with k = -c0^2 b/dx. a obeys the sum rule a = d(dx/c(u_+/theta))
+    /dtheta at theta = 1 (a uniform shift of every threshold: docs/disorder.md)."""
+
+    u_plus: float
+    gamma: float
+    dx: float
+    c0: float
+    a: float
+    b: float
+    k: float
+
+
+def _first_slips(u_plus, gamma, dx, theta, kick: float = -2.0) -> np.ndarray:
+    from .chain import Chain
+    from .params import Params
+
+    n = len(theta)
+    ch = Chain(n, Params(gamma=gamma, v=0.0, dx=dx), u0=u_plus, threshold=theta)
+    ch.kick(0, kick)
+    return ch.run(t_end=4.0 * n * dx + 100.0, max_events=1).first_slip_times()
+
+
+def defect_response(
+    u_plus: float, gamma: float, *, dx: float = 0.1, delta: float = 0.05, blocks: int = 1500
+) -> DefectResponse:
+    """a, b and k of :class:`DefectResponse` from five chains (defect 0, +-delta,
+    +-delta/2 at the settled start of ``bk.chain.front``'s window, the delay read at its
+    far end), b Richardson-extrapolated to delta -> 0 (its error is O(delta^2))."""
+    from .chain import _app_b, _plan
+
+    u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    gamma = V.number("gamma", gamma, lo=0.0)
+    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    delta = V.number("delta", delta, lo=0.0, hi=1.0 - u_plus, lo_open=True, hi_open=True)
+    if isinstance(blocks, bool) or not isinstance(blocks, int | np.integer) or blocks < 64:
+        V._fail("blocks", blocks, "an integer blocks >= 64")
+    n = int(blocks)
+    tw = _app_b(u_plus, gamma)
+    if tw is None or tw.regime != "pulse":
+        V._fail("u_plus", u_plus, f"u_plus > gamma = {gamma} (a pulse; creep is not covered)")
+    j, far = _plan(tw.c, tw.w, dx)[1], _plan(tw.c, tw.w, dx, n)[2]
+    if far - j < 32:
+        V._fail("blocks", blocks, "a chain long enough for 32 blocks between defect and end")
+
+    def delay(d):
+        theta = np.ones(n)
+        theta[j] = 1.0 + d
+        return _first_slips(u_plus, gamma, dx, theta)[far]
+
+    ts0 = _first_slips(u_plus, gamma, dx, np.ones(n))
+    t0 = ts0[far]
+    dp, dm, hp, hm = (delay(s * delta) - t0 for s in (1.0, -1.0, 0.5, -0.5))
+    a = (4.0 * (hp - hm) / delta - (dp - dm) / (2.0 * delta)) / 3.0
+    b_full, b_half = (dp + dm) / (2.0 * delta**2), (hp + hm) / (0.5 * delta**2)
+    b = (4.0 * b_half - b_full) / 3.0
+    c0 = dx * (far - j) / (ts0[far] - ts0[j])
+    return DefectResponse(
+        u_plus, gamma, dx, c0=float(c0), a=float(a), b=float(b), k=float(-(c0**2) * b / dx)
+    )
