@@ -116,6 +116,11 @@ def test_seed_is_recorded_only_when_given_or_drawn(tmp_path):
     bk.runner.run(dataclasses.replace(det, max_events=1), out)
     ds, _ = bk.load(out)
     assert ds.attrs["seed"] == "" and "seed" not in json.loads(ds.attrs["config"])
+    doc = load_config(root / "free_boundary_random.toml").to_dict()
+    doc.pop("seed")
+    a, b = RunConfig.from_dict(doc), RunConfig.from_dict(doc)
+    assert a.seed is not None and a.seed != b.seed  # drawn when read, then kept
+    assert RunConfig.from_dict(a.to_dict()) == a
     rnd = dataclasses.replace(
         load_config(root / "free_boundary_random.toml"), seed=None, t_end=100.0
     )

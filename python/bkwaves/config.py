@@ -590,6 +590,9 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         disorder=_disorder(doc, model),
         base_dir=base_dir,
     )
+    # a random config without a seed gets a fresh one now: the drawn properties checked
+    # here are the ones the run uses, and cfg.to_dict() records the seed
+    cfg = cfg.seeded()
     for k, a in disorder_arrays(cfg).items() if cfg.disorder else ():
         if a is not None:
             a = np.atleast_1d(np.asarray(a, dtype=float))
