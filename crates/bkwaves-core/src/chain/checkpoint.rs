@@ -16,7 +16,7 @@ use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 use crate::friction::Friction;
 
-const MAGIC: &[u8; 8] = b"BKCHAIN2";
+const MAGIC: &[u8; 8] = b"BKCHAIN3";
 
 impl<F: Friction, M: Medium> Chain<F, M> {
     fn fingerprint(&self, w: &mut W) {
@@ -55,6 +55,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         w.fs(&self.st.w);
         w.fs(&self.st.tref);
         w.fs(&self.st.dir);
+        w.fs(&self.st.onset);
         let q = self.queue.entries();
         w.u(q.len() as u64);
         for (t, p) in q {
@@ -184,16 +185,17 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         next.s_start.u = r.f()?;
         next.s_start.dry = r.f()?;
         next.s_start.visc = r.f()?;
-        let arrays = [r.fs()?, r.fs()?, r.fs()?, r.fs()?, r.fs()?];
+        let arrays = [r.fs()?, r.fs()?, r.fs()?, r.fs()?, r.fs()?, r.fs()?];
         if arrays.iter().any(|a| a.len() != n2) {
             return Err(bad(r.i, "arrays of n + 2 values"));
         }
-        let [a_start, u, w, tref, dir] = arrays;
+        let [a_start, u, w, tref, dir, onset] = arrays;
         next.a_start = a_start;
         next.st.u = u;
         next.st.w = w;
         next.st.tref = tref;
         next.st.dir = dir;
+        next.st.onset = onset;
         next.st.runs.clear();
         next.st.n_active = 0;
         for p in 1..=next.st.n {

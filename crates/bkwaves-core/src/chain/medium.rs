@@ -53,14 +53,24 @@ impl<F: Friction, M: Medium> Blocks<F, M> {
         let r = st.neighbour(p + 1, p, t);
         self.phi_of(p, l, up, r, st.inv_dx2)
     }
-    /// Acceleration of sliding block p (direction `dir`, speed s over the ground) from its
-    /// displacement and its neighbours'.
+    /// Acceleration of sliding block p (direction `dir`, speed s over the ground, threshold
+    /// `th` in R: `State::onset`) from its displacement and its neighbours'.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    pub fn accel(&self, p: usize, l: f64, up: f64, r: f64, s: f64, dir: f64, k: f64) -> f64 {
+    pub fn accel(
+        &self,
+        p: usize,
+        l: f64,
+        up: f64,
+        r: f64,
+        s: f64,
+        dir: f64,
+        th: f64,
+        k: f64,
+    ) -> f64 {
         let (cl, cr) = (self.med.bond(p), self.med.bond(p + 1));
         ((cl * l + cr * r - (cl + cr) * up) * k - self.med.loader(p) * up
-            + self.fr.excess(s, dir, self.med.threshold(p)))
+            + self.fr.excess(s, dir, th))
             * self.med.inv_mass(p)
     }
 }

@@ -13,7 +13,8 @@
 //!   it goes on sliding in the direction the force pushes it (forward if phi >= upper,
 //!   backward if phi <= lower).
 //!
-//! Runs of sliding blocks are stepped with RK4 (step h = `step` * dx); every stick and
+//! Runs of sliding blocks are stepped with RK4 (step h = `step` * dx, or `step` times the
+//! friction law's own time scale if that is shorter); every stick and
 //! every slip of a stuck neighbour is located in time on the cubic Hermite dense output
 //! of the step, the step is redone up to that instant and the event applied there.
 //! Stuck blocks whose neighbours are stuck have phi rising at exactly v: their slip
@@ -46,7 +47,8 @@ pub struct ChainConfig {
     pub dx: f64,
     /// Loading rate v >= 0.
     pub v: f64,
-    /// Time step as a fraction of dx (h = step * dx).
+    /// Time step as a fraction of dx (h = step * dx; of the friction law's time scale,
+    /// m_min v_f / theta_max for velocity weakening, if that is shorter).
     pub step: f64,
 }
 
@@ -245,7 +247,15 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         check_open("dx", cfg.dx, 0.0, f64::INFINITY, "dx > 0")?;
         check_at_least("v", cfg.v, 0.0, "v >= 0")?;
         check_open("step", cfg.step, 0.0, 1.0, "0 < step < 1 (time step / dx)")?;
-        let h = cfg.step * cfg.dx;
+        // the step: a fraction of dx, and of the law's own time scale if it has one
+        // (m_min v_f/theta_max for velocity weakening; none for Coulomb: h = step dx)
+        let m_min = (1..=n)
+            .map(|p| medium.mass(p))
+            .fold(f64::INFINITY, f64::min);
+        let h = cfg.step
+            * cfg
+                .dx
+                .min(friction.time_scale(medium.max_threshold()) * m_min);
         // RK4 stability: |h lambda| < 2.78 on the imaginary axis; the fastest mode of a
         // sliding run has |lambda| <= max_i sqrt((k_p,i + 2 (k_c,l + k_c,r)/dx^2)/m_i)
         // (Gershgorin; sqrt(1 + 4/dx^2) for alike blocks) plus max |dR/ds|/m (damping).
@@ -499,10 +509,22 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.stuck_loader -= kp;
         self.st.u[p] = u;
         self.st.dir[p] = dir as f64;
+        self.st.onset[p] = self.blk.med.threshold(p);
         self.st.add_to_runs(p);
         self.catalog.slip(p - 1, t, u, dir);
         self.counters.switches += 1;
         self.a_valid = false;
+    }
+
+    /// Stuck block p crosses its threshold in direction `dir` (a located or due slip):
+    /// it slides with the law's onset threshold (see `Friction::onset_threshold`).
+    fn slip_at_threshold(&mut self, p: usize, dir: i8) {
+        let phi = self.blk.phi(&self.st, p, self.t);
+        self.start_sliding(p, dir);
+        self.st.onset[p] =
+            self.blk
+                .fr
+                .onset_threshold(self.blk.med.threshold(p), phi, f64::from(dir));
     }
 
     fn stick(&mut self, p: usize) {
@@ -523,27 +545,41 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     }
 
     /// The sliding block p has u_t = v (within the located event): stick or go on.
-    fn on_rest(&mut self, p: usize) {
+    /// Returns false when nothing changed: it slides on in the same direction, already at
+    /// u_t = v (a block just slipped at its onset threshold, with zero acceleration).
+    fn on_rest(&mut self, p: usize) -> bool {
         let phi = self.blk.phi(&self.st, p, self.t);
-        let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
+        // its thresholds: those of the threshold it slides with (its static one, or a
+        // hair lower when it slipped there: Friction::onset_threshold)
+        let th = self.st.onset[p].min(self.blk.med.threshold(p));
+        let (lo, hi) = (self.blk.fr.lower(th), self.blk.fr.upper(th));
         if phi > lo && phi < hi {
             self.stick(p);
         } else {
+            let dir = if phi >= hi { 1.0 } else { -1.0 };
+            if dir == self.st.dir[p] && self.st.w[p] == self.cfg.v {
+                return false;
+            }
             // still over a threshold: slide on in the direction of the force
             let s = self.cfg.v - self.st.w[p];
             self.ledger.projection += 0.5 * self.blk.med.mass(p) * s * s;
             self.st.w[p] = self.cfg.v;
-            let dir = if phi >= hi { 1.0 } else { -1.0 };
             if dir != self.st.dir[p] {
                 // reversal: close the slip record and open one in the new direction
                 let u = self.st.u[p];
                 self.catalog.stick(p - 1, self.t, u, self.cfg.v);
                 self.catalog.slip(p - 1, self.t, u, dir as i8);
                 self.counters.switches += 1;
+                // a slip at the other threshold
+                self.st.onset[p] = self
+                    .blk
+                    .fr
+                    .onset_threshold(self.blk.med.threshold(p), phi, dir);
             }
             self.st.dir[p] = dir;
             self.a_valid = false;
         }
+        true
     }
 
     /// Re-evaluate the queue entry of real block p and its neighbours.
@@ -603,10 +639,10 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 }
                 let phi = self.blk.phi(&self.st, p, t);
                 if phi >= self.blk.upper(p) {
-                    self.start_sliding(p, 1);
+                    self.slip_at_threshold(p, 1);
                     changed.push(p);
                 } else if phi <= self.blk.lower(p) {
-                    self.start_sliding(p, -1);
+                    self.slip_at_threshold(p, -1);
                     changed.push(p);
                 }
             }
@@ -621,8 +657,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 }
             }
             for p in rest {
-                if self.st.sliding(p) {
-                    self.on_rest(p);
+                if self.st.sliding(p) && self.on_rest(p) {
                     changed.push(p);
                 }
             }
@@ -657,12 +692,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     fn accel_of(&self, p: usize) -> f64 {
         let phi = self.blk.phi(&self.st, p, self.t);
         let s = self.cfg.v - self.st.w[p];
-        (-phi
-            + self
-                .blk
-                .fr
-                .excess(s, self.st.dir[p], self.blk.med.threshold(p)))
-            * self.blk.med.inv_mass(p)
+        (-phi + self.blk.fr.excess(s, self.st.dir[p], self.st.onset[p])) * self.blk.med.inv_mass(p)
     }
 
     fn snapshot_now(&mut self) {
@@ -921,7 +951,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             let tq = self.queue.peek().map_or(f64::INFINITY, |(t, _)| t);
             if tq <= self.t {
                 let (_, p) = self.queue.pop().expect("peeked");
-                self.start_sliding(p, 1);
+                self.slip_at_threshold(p, 1);
                 self.refresh_around(p);
                 self.need_check = true;
                 continue;
@@ -1033,7 +1063,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                         self.on_rest(p);
                     }
                 } else if !self.st.sliding(p) {
-                    self.start_sliding(p, kind);
+                    self.slip_at_threshold(p, kind);
                 }
                 self.refresh_around(p);
             }
@@ -1067,3 +1097,5 @@ impl<F: Friction, M: Medium> Chain<F, M> {
 mod tests;
 #[cfg(test)]
 mod tests_blocks;
+#[cfg(test)]
+mod tests_laws;

@@ -36,6 +36,9 @@ pub struct State {
     pub tref: Vec<f64>,
     /// Mode: 0 stuck, +1 sliding forward (u_t < v), -1 sliding backward (u_t > v).
     pub dir: Vec<f64>,
+    /// The threshold in R of each sliding block: its static threshold, or the phi at its
+    /// slip onset where that was a hair lower ([`crate::friction::Friction::onset_threshold`]).
+    pub onset: Vec<f64>,
     /// Maximal runs [a, b) of consecutive sliding blocks (padded indices), sorted.
     pub runs: Vec<(usize, usize)>,
     /// Ghost beyond the left end.
@@ -60,6 +63,7 @@ impl State {
             w: vec![v; n + 2],
             tref: vec![0.0; n + 2],
             dir: vec![0.0; n + 2],
+            onset: vec![0.0; n + 2],
             runs: Vec::new(),
             left,
             right,

@@ -20,8 +20,10 @@
 //! Adding a law: one file implementing [`Friction`] and one line in [`LAWS`].
 
 pub mod coulomb;
+pub mod velocity_weakening;
 
 pub use coulomb::Coulomb;
+pub use velocity_weakening::VelocityWeakening;
 
 use crate::chain::dynamic::{build_chain, ChainSpec, DynChain};
 use crate::chain::front::{measure_front_with, FrontOptions, FrontResult};
@@ -62,6 +64,23 @@ pub trait Friction: Clone + Send + Sync + std::fmt::Debug + 'static {
     /// A bound on |dR/ds| over both branches for thresholds up to `threshold_max`
     /// (the fastest rate the law adds to a sliding block: step-size checks).
     fn max_slope(&self, threshold_max: f64) -> f64;
+    /// The law's own time scale for a unit mass (1/(growth rate at slip onset) of a
+    /// weakening law): the chain's step is `step` times the smaller of dx and this times
+    /// the smallest mass. Infinite (the default) for laws without one.
+    fn time_scale(&self, _threshold_max: f64) -> f64 {
+        f64::INFINITY
+    }
+    /// The threshold a block uses in R while it slides, given that it slipped in direction
+    /// `dir` at a located threshold crossing where its phi is `phi`. A law whose force at
+    /// s = 0 equals the threshold (R(0) = upper, velocity weakening) returns the threshold
+    /// that puts phi exactly on it when phi is a hair short (the crossing is located on
+    /// the interpolated phi, the state's phi may differ by the location error): the block
+    /// then starts with zero acceleration instead of sticking at once and slipping again
+    /// at the same instant, for ever. The default (a law that ignores the threshold in R,
+    /// Coulomb) returns `threshold`.
+    fn onset_threshold(&self, threshold: f64, _phi: f64, _dir: f64) -> f64 {
+        threshold
+    }
 }
 
 /// Builds a chain with a law from its values (table order).
@@ -101,7 +120,7 @@ impl PartialEq for Law {
 }
 
 /// The registry of friction laws (the first is the default).
-pub const LAWS: &[Law] = &[Law::of::<Coulomb>()];
+pub const LAWS: &[Law] = &[Law::of::<Coulomb>(), Law::of::<VelocityWeakening>()];
 
 /// The default law's name.
 pub const DEFAULT_LAW: &str = LAWS[0].name;
@@ -170,7 +189,7 @@ mod tests {
     fn unknown_names_list_the_known_ones() {
         let e = FrictionSpec::new("colomb", &[]).unwrap_err().to_string();
         assert!(
-            e.contains("\"colomb\"") && e.contains("one of: coulomb"),
+            e.contains("\"colomb\"") && e.contains("one of: coulomb, velocity_weakening"),
             "{e}"
         );
         let e = FrictionSpec::new("coulomb", &[("gamma", 0.1), ("v_f", 1.0)])

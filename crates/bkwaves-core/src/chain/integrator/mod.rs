@@ -131,6 +131,7 @@ pub(crate) fn stage_accel<F: Friction, M: Medium>(
     let mut sums = StageSums::default();
     for &(a, b) in &st.runs {
         let dir = &st.dir[a..b];
+        let th = &st.onset[a..b];
         let u = &su[a - 1..b + 1];
         let w = &sw[a..b];
         let out = &mut acc[a..b];
@@ -139,8 +140,8 @@ pub(crate) fn stage_accel<F: Friction, M: Medium>(
             let p = a + i;
             let ui = u[i + 1];
             let s = v - w[i];
-            out[i] = fr.accel(p, u[i], ui, u[i + 2], s, dir[i], k);
-            let (pd, pv) = fr.fr.power(s, dir[i], fr.med.threshold(p));
+            out[i] = fr.accel(p, u[i], ui, u[i + 2], s, dir[i], th[i], k);
+            let (pd, pv) = fr.fr.power(s, dir[i], th[i]);
             // the loader work rate is v sum (k_p,i u_i + beta)
             su_ += fr.med.loader(p) * ui;
             sd += pd;
