@@ -466,6 +466,32 @@ def test_cli_front_text_says_how_steady_and_takes_beta():
     assert "no backward slip; 0 backward slips" in r.stdout
 
 
+def test_cli_front_takes_the_law_and_its_parameters():
+    base = ["front", "--u-plus", "0.6", "--gamma", "0.3", "--dx", "0.1", "--blocks", "120"]
+    vw = ["--law", "velocity_weakening", "--v-f", "0.01"]
+    r = cli(*base, *vw, "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["law"] == "velocity_weakening" and d["v_f"] == 0.01
+    law = bk.friction.law("velocity_weakening", v_f=0.01)
+    m = bk.chain.front(0.6, 0.3, 0.1, 120, friction=law)
+    assert d["c"] == m.c and d["regime"] == m.regime
+    # weakening slows the front (docs/chain.md: c = 1.072 against Coulomb's 1.234)
+    assert d["c"] < bk.chain.front(0.6, 0.3, 0.1, 120).c - 0.1
+    out = cli(*base, *vw).stdout
+    assert "law     = velocity_weakening   v_f = 0.01" in out and "regime  = " in out
+    assert "Coulomb friction" in out
+    assert "--v-f" in cli("front", "--help").stdout
+    for extra, words in (
+        (["--v-f", "0.01"], "v_f"),  # coulomb has no v_f
+        (["--law", "colomb"], "velocity_weakening"),
+        (["--law", "velocity_weakening"], "v_f"),
+        (["--law", "velocity_weakening", "--v-f", "0"], "0 < v_f"),
+    ):
+        r = cli(*base, *extra, "--json")
+        assert r.returncode == 2 and words in r.stderr and "Traceback" not in r.stderr, r.stderr
+
+
 @pytest.mark.parametrize(
     "args,name",
     [

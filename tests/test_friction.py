@@ -1,6 +1,7 @@
 """Friction laws behind one registry, per-block properties, and the uniform engine kept
 bit for bit (issue 13, "The engine")."""
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -248,10 +249,29 @@ def test_toml_friction_and_disorder_tables():
     assert not np.array_equal(th, other_seed)
 
 
+def test_toml_velocity_weakening():
+    doc = dict(BASE, friction={"law": "velocity_weakening", "v_f": 0.05})
+    p = parse_config(doc).params
+    assert p.law.name == "velocity_weakening"
+    assert p.law_values() == {"gamma": p.gamma, "v_f": 0.05, "beta": math.inf}
+    # [physical] V_f: v_f = V_f sqrt(k_p m)/(f_r - f_s) = 0.01 * 4 / 2
+    si = dict(mass=2.0, k_c=800.0, k_p=8.0, f_static=3.0, f_kinetic=1.0, alpha=1.6, V=0.5)
+    doc = {k: v for k, v in BASE.items() if k != "params"}
+    doc["physical"] = dict(si, spacing=0.1, V_f=0.01)
+    p = parse_config(doc).params
+    assert p.law.name == "velocity_weakening"
+    assert p.law_values()["v_f"] == pytest.approx(0.02)
+    assert p.law_values()["beta"] == pytest.approx(0.5)
+    with pytest.raises(bk.ParameterError, match=r"^physical.V_f"):
+        parse_config(dict(doc, friction={"law": "velocity_weakening", "v_f": 0.1}))
+
+
 @pytest.mark.parametrize(
     "changes,where,words",
     [
         ({"friction": {"law": "colomb"}}, "friction.law", "coulomb"),
+        ({"friction": {"law": "velocity_weakening", "v_f": 0.0}}, "friction.v_f", "0 < v_f"),
+        ({"friction": {"law": "velocity_weakening"}}, "friction.v_f", "missing required"),
         ({"friction": {"v_f": 1.0}}, "friction.v_f", "valid keys here: law, gamma, beta"),
         ({"friction": {"beta": -1.0}}, "friction.beta", "0 <= beta <= inf"),
         ({"friction": {"gamma": 0.2}}, "friction.gamma", "given in [params] too"),

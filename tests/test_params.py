@@ -62,6 +62,21 @@ def test_from_physical_dimensionless_groups():
     assert p.beta == pytest.approx(0.5)  # f_s/(f_r - f_s)
 
 
+def test_from_physical_velocity_weakening():
+    # v_f = V_f sqrt(k_p m)/(f_r - f_s): the velocity unit is (f_r - f_s)/sqrt(k_p m) = 0.5
+    p = bk.Params.from_physical(**SI, V_f=0.01)
+    assert p.friction_law.name == "velocity_weakening"
+    assert dict(p.friction_law.params)["v_f"] == pytest.approx(0.02)
+    assert p.friction_law.params and p.v == pytest.approx(0.5 * 4 / 2)
+    # the same speed in both: V_f = V gives v_f = v
+    q = bk.Params.from_physical(**{**SI, "V_f": SI["V"]})
+    assert dict(q.friction_law.params)["v_f"] == pytest.approx(q.v)
+    assert bk.Params.from_physical(**SI).friction_law is None
+    for bad in (0.0, -1.0, math.nan):
+        with pytest.raises(bk.ParameterError, match="V_f"):
+            bk.Params.from_physical(**SI, V_f=bad)
+
+
 def test_unit_conversions_round_trip_and_are_consistent():
     u = bk.Params.from_physical(**SI).units
     assert u.time_scale == pytest.approx(0.5)  # sqrt(m/k_p)

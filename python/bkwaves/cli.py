@@ -20,7 +20,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import NamedTuple
 
-from . import __version__
+from . import __version__, _core
 from ._core import ConvergenceError, ParameterError
 
 PROG = "bkwaves"
@@ -530,19 +530,68 @@ PLOT_COMMAND = Command(
 # front
 
 
+# The friction laws' own parameters as options of `front` (gamma and beta have their
+# own): generated from the core's parameter tables, `--v-f` for v_f.
+_LAWS = _core.friction_laws()
+_LAW_PARAMS: dict[str, list[dict]] = {}
+for _law in _LAWS:
+    for _p in _law["params"]:
+        if _p["name"] not in ("gamma", "beta"):
+            _LAW_PARAMS.setdefault(_p["name"], []).append(dict(_p, law=_law["name"]))
+
+
+def _law_options() -> list[Opt]:
+    out = [
+        opt(
+            "--law",
+            default=_core.defaults()["law"],
+            metavar="NAME",
+            help="Friction law: "
+            + "; ".join(f"{d['name']} ({d['doc']})" for d in _LAWS)
+            + ". Its other parameters: the options below.",
+        )
+    ]
+    for name, rows in _LAW_PARAMS.items():
+        r = rows[0]
+        laws = ", ".join(x["law"] for x in rows)
+        out.append(
+            opt(
+                "--" + name.replace("_", "-"),
+                type=float,
+                dest=f"law_{name}",
+                metavar=name.upper(),
+                help=f"{r['doc']}; {r['allowed']} (law {laws}).",
+            )
+        )
+    return out
+
+
+def _front_law(args):
+    from .friction import Law
+
+    given = {k: getattr(args, f"law_{k}") for k in _LAW_PARAMS}
+    given = {k: x for k, x in given.items() if x is not None}
+    return Law(args.law, tuple(given.items()))
+
+
 def front(args) -> None:
     from .chain import front as measure
 
     try:
-        m = measure(args.u_plus, args.gamma, args.dx, args.blocks, beta=args.beta)
+        law = _front_law(args)
+        m = measure(args.u_plus, args.gamma, args.dx, args.blocks, beta=args.beta, friction=law)
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
     d = {k: _json_value(v) for k, v in m.to_dict().items()}
     d["beta"] = "inf" if math.isinf(m.beta) else m.beta  # JSON has no inf (null: unknown)
+    d["law"] = law.name
+    d.update(law.params)
     if args.json_out:
         _echo(_json(d))
         return
     _echo(f"u_plus  = {m.u_plus:.6g}   gamma = {m.gamma:.6g}   dx = {m.dx:.6g}")
+    own = "".join(f"   {k} = {x:.6g}" for k, x in law.params)
+    _echo(f"law     = {law.name}{own}")
     slip = "no backward slip" if math.isinf(m.beta) else "backward slip on"
     _echo(f"beta    = {m.beta:g}   ({slip}; {m.backward_slips} backward slips)")
     _echo(f"blocks  = {m.blocks}   ({m.passes} run{'s' if m.passes > 1 else ''})")
@@ -565,7 +614,8 @@ def front(args) -> None:
             if b["regime"] == "pulse"
             else f"c = {b['c']:.6g}"
         )
-        _echo(f"App. B  : {b['regime']}, {shape}   (continuum, dx -> 0)")
+        coulomb = "" if law.name == "coulomb" else ", Coulomb friction"
+        _echo(f"App. B  : {b['regime']}, {shape}   (continuum, dx -> 0{coulomb})")
     _echo(f"wall    = {m.wall_s:.3g} s")
 
 
@@ -608,6 +658,7 @@ FRONT = Command(
             help="f_s/(f_r - f_s): backward slip when u - Lap u/dx^2 <= -(1 + 2 beta). "
             "Default inf: no backward slip, the paper's model.",
         ),
+        *_law_options(),
         JSON,
     ],
 )

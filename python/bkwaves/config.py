@@ -17,9 +17,11 @@ Schema (all sections optional except those marked)::
                  backward slip at phi <= -11; [physical] sets beta = f_s/(f_r - f_s))
     [physical]  mass, k_c, k_p, f_static, f_kinetic, alpha, V, spacing   # these two)
                 or  preset = "bristol_board" with V
+                optional V_f [m/s]: velocity-weakening friction, v_f = V_f sqrt(k_p m)/(f_r - f_s)
 
     [friction]  law = "coulomb" (default; the laws of bk.friction.LAWS) and the law's
                 parameters (dimensionless; gamma and beta here or in [params], not both)
+                e.g. law = "velocity_weakening", v_f = 0.01
 
     [disorder]  (chain only) threshold, mass, loader, coupling: each a number, an array
                 (one per block; coupling one per bond: n - 1 free, n + 1 fixed, n
@@ -263,6 +265,9 @@ def _friction(doc: dict) -> tuple[laws.Law, dict]:
         except ParameterError as e:
             _err(f"friction.{k}", str(e))
         (shared if k in Params.__dataclass_fields__ else own)[k] = float(x)
+    for p in info.params:
+        if p.required and p.name not in t and p.name not in Params.__dataclass_fields__:
+            _err(f"friction.{p.name}", f"missing required key of law {name}")
     return laws.Law(name, tuple(own.items())), shared
 
 
@@ -296,7 +301,7 @@ def _params(doc: dict) -> Params:
         p = bristol_board(V=_value(t, "V", "physical", V.PHYSICAL["V"]))
     else:
         names = tuple(V.PHYSICAL)
-        _keys(t, "physical", (*names, "preset"))
+        _keys(t, "physical", (*names, "preset", "V_f"))
         for k in names:
             if k not in t:
                 _err(
@@ -305,6 +310,10 @@ def _params(doc: dict) -> Params:
                     'preset = "bristol_board" with V',
                 )
         vals = {k: _value(t, k, "physical", V.PHYSICAL[k]) for k in names}
+        if "V_f" in t:
+            if "friction" in doc:
+                _err("physical.V_f", "selects velocity_weakening; remove the [friction] table")
+            vals["V_f"] = t["V_f"]  # checked by Params.from_physical (V_f > 0)
         try:
             p = Params.from_physical(**vals)
         except ParameterError as e:

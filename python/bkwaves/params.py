@@ -17,6 +17,8 @@ from ._validate import PARAMS as _PARAMS
 from ._validate import ParameterError
 from .friction import Law
 
+_number = V.number  # from_physical's argument V shadows the module
+
 __all__ = ["NO_BACKWARD_SLIP", "Params", "PhysicalUnits", "check_beta", "friction_note"]
 
 #: The value of beta that means "no backward slip" (the paper's model, the default).
@@ -232,10 +234,14 @@ class Params:
         alpha: float,
         V: float,
         spacing: float,
+        V_f: float | None = None,
     ) -> Params:
         """Build from SI inputs: block mass [kg], coupling and loader spring constants
         [N/m], static and kinetic friction forces per block [N], viscous coefficient
-        alpha [kg/s], loader speed V [m/s] and block spacing a [m]."""
+        alpha [kg/s], loader speed V [m/s] and block spacing a [m]. ``V_f`` [m/s] (> 0)
+        selects velocity-weakening friction f = f_s + (f_r - f_s)/(1 + V/V_f) + alpha V
+        with v_f = V_f sqrt(k_p m)/(f_r - f_s) (velocities are in units of
+        (f_r - f_s)/sqrt(k_p m)); None: Coulomb friction."""
         u = PhysicalUnits(mass, k_c, k_p, f_static, f_kinetic, alpha, V, spacing)
         df = u.force_scale
         sq = math.sqrt(u.k_p) * math.sqrt(u.mass)
@@ -253,7 +259,11 @@ class Params:
                     f"invalid {key} = {getattr(u, key)!r}: the dimensionless {name} derived "
                     f"from it is {value!r}; allowed values giving {_PARAMS[name].allowed()}"
                 ) from None
-        return cls(**{k: v for k, (v, _) in derived.items()}, units=u)
+        law = None
+        if V_f is not None:
+            _number("V_f", V_f, lo=0.0, lo_open=True)
+            law = Law("velocity_weakening", (("v_f", V_f * (sq / df)),))
+        return cls(**{k: v for k, (v, _) in derived.items()}, units=u, friction_law=law)
 
     @property
     def backward_slip(self) -> bool:

@@ -32,6 +32,24 @@ impl ParamSpec {
         above && below
     }
 
+    /// A value inside the allowed range (a stand-in for a parameter not given yet).
+    pub fn inside(&self) -> f64 {
+        let x = if self.lo.is_finite() && self.hi.is_finite() {
+            0.5 * (self.lo + self.hi)
+        } else if self.lo.is_finite() {
+            self.lo + 1.0
+        } else if self.hi.is_finite() {
+            self.hi - 1.0
+        } else {
+            0.0
+        };
+        if self.contains(self.lo) {
+            self.lo
+        } else {
+            x
+        }
+    }
+
     /// The allowed range in words, e.g. `0 <= gamma < inf` or `0 < v_f <= inf`.
     pub fn allowed(&self) -> String {
         let num = |x: f64| {
@@ -108,7 +126,8 @@ pub fn check_given(table: &[ParamSpec], what: &str, given: &[(&str, f64)]) -> Re
     let mut full: Vec<(&str, f64)> = given.to_vec();
     for p in table {
         if !given.iter().any(|(n, _)| *n == p.name) {
-            full.push((p.name, p.default.unwrap_or(p.lo.max(0.0).min(p.hi))));
+            // a stand-in inside the range (a required v_f > 0 is not 0)
+            full.push((p.name, p.default.unwrap_or_else(|| p.inside())));
         }
     }
     resolve(table, what, &full).map(|_| ())
@@ -173,5 +192,18 @@ mod tests {
         assert!(check_given(TABLE, "law x", &[("beta", 1.0)]).is_ok());
         assert!(check_given(TABLE, "law x", &[("beta", -1.0)]).is_err());
         assert!(check_given(TABLE, "law x", &[("v_f", 1.0)]).is_err());
+        // a required parameter with an open range (v_f > 0) not given yet is no error
+        let v_f = ParamSpec {
+            name: "v_f",
+            lo: 0.0,
+            lo_closed: false,
+            hi: f64::INFINITY,
+            hi_closed: false,
+            default: None,
+            doc: "",
+        };
+        assert!(check_given(&[v_f], "law y", &[]).is_ok());
+        assert!(v_f.contains(v_f.inside()));
+        assert!(check_given(&[v_f], "law y", &[("v_f", 0.0)]).is_err());
     }
 }
