@@ -58,6 +58,7 @@ __all__ = [
     "front_speed",
     "io",
     "load",
+    "noise",
     "plot",
     "presets",
     "run",
@@ -91,7 +92,7 @@ def __dir__():
 
 
 if TYPE_CHECKING:  # what the names are, for type checkers and editors
-    from . import config, disorder, friction, io, plot, presets, stats, theory
+    from . import config, disorder, friction, io, noise, plot, presets, stats, theory
     from .chain import Chain, ChainResult
     from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning
     from .io import load

@@ -1,0 +1,161 @@
+"""Noise-triggered slips (issue 14; the open question of the paper's Sec. VI).
+
+The chain's response to a kick (docs/noise.md): a stuck block at stress u in a uniform
+chain, kicked forward with speed ``kick`` over the ground (``Chain.kick(i, -kick)``), starts
+a pair of counter-propagating fronts exactly when its neighbours reach the slip threshold
+during its first swing. :func:`kick_threshold` is that threshold in closed form,
+:func:`nucleates` and :func:`measured_kick_threshold` measure it in the chain, and
+:func:`nucleation_probability` is the response function: the probability that a kick
+(of fixed size, or exponentially distributed) nucleates a pair at stress u.
+
+>>> import bkwaves as bk
+>>> bk.noise.kick_threshold(0.3, dx=0.1, gamma=0.3)       # doctest: +ELLIPSIS
+0.0787...
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _validate as V
+from .params import Params
+
+__all__ = [
+    "DISTRIBUTIONS",
+    "kick_threshold",
+    "measured_kick_threshold",
+    "nucleates",
+    "nucleation_probability",
+    "release_stress",
+]
+
+#: Kick-size distributions of :func:`nucleation_probability`.
+DISTRIBUTIONS = ("fixed", "exponential")
+
+
+def _check(dx, gamma):
+    dx = V.number("dx", dx, lo=0.0, lo_open=True)
+    gamma = V.number("gamma", gamma, lo=0.0, hi=1.0, hi_open=True)
+    return dx, gamma
+
+
+def _swing(dx, gamma):
+    """The kicked block's oscillator: Omega^2, damped frequency, and the deflection
+    Delta = (1 - u) dx^2 (per unit 1 - u) that trips its neighbours."""
+    om2 = 1.0 + 2.0 / dx**2
+    return om2, math.sqrt(om2 - gamma**2)
+
+
+def release_stress(dx: float, gamma: float) -> float:
+    """The stress u_r above which any forward slip of one block, however small (a release
+    from rest), trips both neighbours: u_r = (2 + dx^2)/(3 + dx^2 + exp(-pi gamma/omega_d)),
+    omega_d = sqrt(1 + 2/dx^2 - gamma^2). u_r -> 1/2 undamped as dx -> 0."""
+    dx, gamma = _check(dx, gamma)
+    _, wd = _swing(dx, gamma)
+    return (2.0 + dx**2) / (3.0 + dx**2 + math.exp(-math.pi * gamma / wd))
+
+
+def _first_swing_max(kick, w_star, om2, wd, gamma):
+    """Largest deflection w = u - u_i of the kicked block before it re-sticks:
+    w'' + 2 gamma w' + Omega^2 (w - w*) = 0, w(0) = 0, w'(0) = kick; the first zero of w'
+    is at omega_d t = x in (0, pi], the root of kick (wd cos x - gamma sin x) + Omega^2 w* sin x."""
+    c = (om2 * w_star - gamma * kick) / wd  # w' = e^{-gamma t} (kick cos + c sin)
+    x = math.atan2(-kick, c) % math.pi  # kick cos x + c sin x = 0
+    if x == 0.0:
+        x = math.pi
+    b = (kick - gamma * w_star) / wd
+    return w_star + math.exp(-gamma * x / wd) * (-w_star * math.cos(x) + b * math.sin(x))
+
+
+def _threshold_one(u, dx, gamma):
+    if u <= 0.0:
+        return math.inf  # nothing ahead is excitable: no pair propagates (docs/noise.md)
+    if u >= 1.0:
+        return 0.0
+    om2, wd = _swing(dx, gamma)
+    w_star = u / om2
+    need = (1.0 - u) * dx**2
+    if _first_swing_max(0.0, w_star, om2, wd, gamma) >= need:
+        return 0.0
+    lo, hi = 0.0, math.sqrt(om2) * need + 1.0  # undamped bound Omega Delta, plus room
+    while _first_swing_max(hi, w_star, om2, wd, gamma) < need:
+        hi *= 2.0
+    for _ in range(200):  # bisection to the last bit (w_max is increasing in kick)
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            break
+        if _first_swing_max(mid, w_star, om2, wd, gamma) >= need:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+def kick_threshold(u, dx: float, gamma: float):
+    """The smallest forward kick (speed over the ground, units (f_r - f_s)/sqrt(k_p m)) of a
+    stuck block at stress u in a uniform chain at rest that trips its neighbours
+    (phi = u + (u - u_i)/dx^2 reaches 1): the kicked block's first swing must reach
+    u - u_i = (1 - u) dx^2. Undamped this is Omega sqrt(Delta (Delta - 2 u/Omega^2)),
+    Omega^2 = 1 + 2/dx^2, Delta = (1 - u) dx^2, i.e. ~ dx sqrt(2 (1 - u)(1 - 2u)) as dx -> 0;
+    0 above :func:`release_stress`; inf for u <= 0. Vectorised in u. The chain nucleates a
+    propagating pair exactly at this kick (measured, docs/noise.md) for u above the
+    propagation-failure stress of the lattice (where fronts die however started)."""
+    dx, gamma = _check(dx, gamma)
+    u = V.array("u", u)
+    out = np.vectorize(lambda x: _threshold_one(float(x), dx, gamma), otypes=[float])(u)
+    return out.item() if out.ndim == 0 else out
+
+
+def nucleates(u: float, kick: float, dx: float, gamma: float, *, blocks: int = 600) -> bool:
+    """Measure in the chain: does a forward kick of size ``kick`` at the centre block of a
+    uniform chain of ``blocks`` blocks at stress u (v = 0, free ends) start a pair of
+    fronts that reach both ends? (Fronts are supersonic, so the run lasts blocks*dx.)"""
+    from .chain import Chain
+
+    u = V.number("u", u, lo=-1.0, hi=1.0, hi_open=True)
+    kick = V.number("kick", kick, lo=0.0, lo_open=True)
+    dx, gamma = _check(dx, gamma)
+    if isinstance(blocks, bool) or not isinstance(blocks, int | np.integer) or blocks < 5:
+        V._fail("blocks", blocks, "an integer blocks >= 5")
+    ch = Chain(blocks, Params(gamma=gamma, v=0.0, dx=dx), u0=u)
+    ch.kick(blocks // 2, -kick)
+    first = ch.run(t_end=blocks * dx).first_slip_times()
+    return bool(np.isfinite(first[0]) and np.isfinite(first[-1]))
+
+
+def measured_kick_threshold(
+    u: float, dx: float, gamma: float, *, blocks: int = 600, rtol: float = 1e-6, kick_max=64.0
+) -> float:
+    """The smallest kick for which :func:`nucleates` is true, by bisection to ``rtol``
+    (relative); inf if even ``kick_max`` does not start a propagating pair."""
+    rtol = V.number("rtol", rtol, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    hi = 1e-3
+    while not nucleates(u, hi, dx, gamma, blocks=blocks):
+        if hi >= kick_max:
+            return math.inf
+        hi = min(2.0 * hi, kick_max)
+    lo = 0.0
+    while hi - lo > rtol * hi:
+        mid = 0.5 * (lo + hi)
+        if nucleates(u, mid, dx, gamma, blocks=blocks):
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+def nucleation_probability(u, kick: float, dx: float, gamma: float, *, distribution="fixed"):
+    """The response function: probability that a kick nucleates a propagating pair at
+    stress u (closed form :func:`kick_threshold` K_c(u)). ``distribution="fixed"``: a kick
+    of size ``kick``, P = 1 if kick >= K_c(u) else 0 (a uniform chain answers
+    deterministically); ``"exponential"``: kick sizes exponential with mean ``kick``,
+    P = exp(-K_c(u)/kick). Vectorised in u. Valid above the lattice's propagation-failure
+    stress (docs/noise.md, measured there)."""
+    if distribution not in DISTRIBUTIONS:
+        V._fail("distribution", distribution, "one of " + ", ".join(DISTRIBUTIONS))
+    kick = V.number("kick", kick, lo=0.0, lo_open=True)
+    kc = np.asarray(kick_threshold(u, dx, gamma), dtype=float)
+    p = (kick >= kc).astype(float) if distribution == "fixed" else np.exp(-kc / kick)
+    return p.item() if p.ndim == 0 else p
