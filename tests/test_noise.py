@@ -98,3 +98,24 @@ def test_nucleation_probability():
 def test_bad_input_names_the_parameter(call, name):
     with pytest.raises(bk.ParameterError, match=rf"invalid {name} ="):
         call()
+
+
+def test_noise_table_laws_and_errors():
+    exp = {"law": "exponential", "rate": 2.0, "phi0": 0.1}
+    np.testing.assert_allclose(
+        bk.noise.rate_density([1.0, 0.8], exp), [2.0, 2.0 * math.exp(-2.0)], rtol=1e-15
+    )
+    power = {"law": "power", "rate": 3.0, "exponent": 2.0}
+    np.testing.assert_allclose(bk.noise.rate_density([-0.5, 0.5, 1.0], power), [0, 0.75, 3.0])
+    assert bk.noise.rate_density(0.2, {"law": "constant", "rate": 0.5}) == 0.5
+    bad = [
+        ({"law": "gauss", "rate": 1.0}, "noise.law"),
+        ({"law": "power", "rate": 1.0}, "noise.exponent"),
+        ({"law": "constant", "rate": 1.0, "phi0": 0.1}, "noise.phi0"),
+        ({"law": "exponential", "rate": -1.0, "phi0": 0.1}, "noise.rate"),
+        ({"law": "exponential", "rate": 1.0, "phi0": 0.0}, "noise.phi0"),
+        ({"law": "constant"}, "noise.rate"),
+    ]
+    for table, key in bad:
+        with pytest.raises(bk.ParameterError, match=rf"invalid {key} ="):
+            bk.noise.check_noise(table)

@@ -1,5 +1,12 @@
 """Noise-triggered slips (issue 14; the open question of the paper's Sec. VI).
 
+Rate laws (:data:`LAWS`, the ``[noise]`` table): spontaneous pair nucleation at a rate
+density Lambda(u) = rate g(u) with g(1) = 1, so ``rate`` is the rate at the slip threshold
+(per unit length and unit time in the free boundary problem): ``"constant"`` g = 1,
+``"exponential"`` g = exp(-(1 - u)/phi0) (an activated law), ``"power"`` g = max(u, 0)^exponent.
+:func:`check_noise` validates a ``[noise]`` table, :func:`rate_density` evaluates Lambda(u)
+(the core's laws, ``crates/bkwaves-core/src/noise.rs``, are the ones the engines use).
+
 The chain's response to a kick (docs/noise.md): a stuck block at stress u in a uniform
 chain, kicked forward with speed ``kick`` over the ground (``Chain.kick(i, -kick)``), starts
 a pair of counter-propagating fronts exactly when its neighbours reach the slip threshold
@@ -24,6 +31,9 @@ from .params import Params
 
 __all__ = [
     "DISTRIBUTIONS",
+    "LAWS",
+    "check_noise",
+    "rate_density",
     "kick_threshold",
     "measured_kick_threshold",
     "nucleates",
@@ -33,6 +43,55 @@ __all__ = [
 
 #: Kick-size distributions of :func:`nucleation_probability`.
 DISTRIBUTIONS = ("fixed", "exponential")
+
+#: The rate laws by name: each law's own parameters with (lower bound, open?, meaning).
+LAWS = {
+    "constant": {},
+    "exponential": {"phi0": (0.0, True, "stress scale of the activation, phi0 > 0")},
+    "power": {"exponent": (0.0, False, "exponent >= 0")},
+}
+
+
+def check_noise(table, where: str = "noise") -> dict:
+    """A validated ``[noise]`` table: ``law`` (one of :data:`LAWS`), ``rate`` >= 0 and the
+    law's own parameters (required; another law's parameters are refused). Errors name
+    the key as written (``noise.phi0``) and its allowed range."""
+    if not isinstance(table, dict):
+        V._fail(where, table, "a table with law, rate and the law's parameters")
+    law = table.get("law")
+    if law not in LAWS:
+        V._fail(f"{where}.law", law, "one of " + ", ".join(repr(k) for k in LAWS))
+    own = LAWS[law]
+    allowed = {"law", "rate", *own}
+    for key in table:
+        if key not in allowed:
+            V._fail(
+                f"{where}.{key}",
+                table[key],
+                f"keys of law {law!r}: " + ", ".join(sorted(allowed)),
+            )
+    if "rate" not in table:
+        V._fail(f"{where}.rate", None, "rate >= 0 (the rate density at u = 1)")
+    out = {"law": law, "rate": V.number(f"{where}.rate", table["rate"], lo=0.0)}
+    for key, (lo, lo_open, meaning) in own.items():
+        if key not in table:
+            V._fail(f"{where}.{key}", None, meaning)
+        out[key] = V.number(f"{where}.{key}", table[key], lo=lo, lo_open=lo_open)
+    return out
+
+
+def rate_density(u, noise: dict):
+    """Lambda(u) of a ``[noise]`` table (numpy-vectorised in u)."""
+    noise = check_noise(noise)
+    u = np.asarray(u, dtype=float)
+    if noise["law"] == "constant":
+        g = np.ones_like(u)
+    elif noise["law"] == "exponential":
+        g = np.exp(-(1.0 - u) / noise["phi0"])
+    else:
+        g = np.where(u > 0, np.maximum(u, 0.0) ** noise["exponent"], 0.0)
+    out = noise["rate"] * g
+    return out.item() if out.ndim == 0 else out
 
 
 def _check(dx, gamma):
