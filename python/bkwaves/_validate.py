@@ -359,6 +359,24 @@ CONFIG = {
         Spec("snapshot_events", "int", lo=1, doc="a snapshot every k events"),
         Spec("units", "choice", choices=("native", "dimensionless")),
     ),
+    "noise": table(
+        Spec(
+            "law",
+            "choice",
+            choices=("constant", "exponential", "power"),
+            doc="free boundary: spontaneous pair nucleation at Lambda(u) = rate g(u), g(1) = 1; "
+            "g = 1, exp(-(1 - u)/phi0) or max(u, 0)^exponent (bk.noise, docs/noise.md)",
+        ),  # fmt: skip
+        Spec(
+            "rate",
+            "real",
+            lo=0.0,
+            unit="1/(x' t') (1/(m s) with [physical])",
+            doc="Lambda at u = 1: pairs per unit length and time",
+        ),  # fmt: skip
+        Spec("phi0", "real", lo=0.0, lo_open=True, doc="exponential law only: stress scale"),
+        Spec("exponent", "real", lo=0.0, doc="power law only: the exponent"),
+    ),
     "triggers": table(
         Spec("time", "real", lo=0.0, unit="t' (s with [physical])", doc="when"),
         Spec("block", "int", lo=0, doc="which block (0-based, < blocks)"),

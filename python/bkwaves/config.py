@@ -28,6 +28,11 @@ Schema (all sections optional except those marked)::
                 periodic) or {distribution = "uniform" | "normal" | "lognormal", mean,
                 spread} drawn with the config's seed (bk.disorder)
 
+    [noise]     (free boundary) spontaneous pair nucleation at Lambda(u) = rate g(u):
+                law = "constant" | "exponential" (phi0) | "power" (exponent), rate
+                (Lambda at u = 1, per unit length and time; 1/(m s) with [physical]);
+                seeded by the config's seed (bk.noise, docs/noise.md)
+
     [domain]    blocks (chain) | length + grid (free boundary), boundary
 
     [initial]   kind = "uniform" (value) | "ramp" (start, end) |
@@ -204,6 +209,7 @@ class RunConfig:
     seed: int | None = None
     title: str = ""
     disorder: tuple = ()
+    noise: dict | None = None
     base_dir: Path | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -360,6 +366,20 @@ def _disorder(doc: dict, model: str) -> tuple:
     return tuple(out)
 
 
+def _noise(doc: dict, model: str, scale: float) -> dict | None:
+    """The [noise] table, dimensionless (rate per unit x' and t'; ``scale`` converts an SI
+    rate, 1/(m s), to it: length_scale * time_scale)."""
+    if "noise" not in doc:
+        return None
+    if model != "free_boundary":
+        _err("noise", "spontaneous nucleation is implemented for the free_boundary model only")
+    from . import noise as _noise_laws
+
+    noise = _noise_laws.check_noise(_table(doc["noise"], "noise"))
+    noise["rate"] *= scale
+    return noise
+
+
 def disorder_arrays(cfg: RunConfig) -> dict:
     """The per-block properties of a chain config: {property: scalar, array or None}
     (drawn ones with the config's seed, each property from its own stream)."""
@@ -453,6 +473,7 @@ TOP_KEYS = (
     "physical",
     "friction",
     "disorder",
+    "noise",
     "domain",
     "initial",
     "triggers",
@@ -597,6 +618,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         seed=seed,
         title=title,
         disorder=_disorder(doc, model),
+        noise=_noise(doc, model, ls * ts),
         base_dir=base_dir,
     )
     # a random config without a seed gets a fresh one now: the drawn properties checked
@@ -687,6 +709,8 @@ def _to_doc(cfg: RunConfig) -> dict:
         doc["params"] = {k: v for k, v in p.to_dict().items() if k not in ("units", "friction")}
     if p.friction_law is not None:
         doc["friction"] = {"law": p.friction_law.name, **dict(p.friction_law.params)}
+    if cfg.noise is not None:
+        doc["noise"] = dict(cfg.noise)
     if cfg.disorder:
         doc["disorder"] = {k: list(x) if isinstance(x, tuple) else x for k, x in cfg.disorder}
     if cfg.model == "chain":

@@ -27,6 +27,7 @@ import numpy as np
 
 from . import _core
 from . import _validate as V
+from . import noise as _noise
 from ._progress import RunProgress
 from .params import Params
 
@@ -45,21 +46,37 @@ def _version() -> str:
     return _core.__version__
 
 
+def _seed(seed, noise):
+    """The noise generator's seed: the user's (an integer >= 0), else one drawn at random
+    when there is noise (recorded), else None."""
+    if seed is None:
+        if noise is None:
+            return None
+        import secrets
+
+        return secrets.randbits(63)
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or not 0 <= seed < 2**64:
+        V._fail("seed", seed, "an integer 0 <= seed < 2**64")
+    return int(seed)
+
+
 @dataclass
 class FreeBoundaryResult:
     """What :meth:`FreeBoundary.run` returns (everything since the engine was built).
 
     events: pandas DataFrame, one row per event (first birth to the disappearance of the
         last shock): ``id, t_start, t_end, duration, x_start, nucleation, curvature, x_min,
-        x_max, extent, moment, slip_integral, swept, stress_drop, n_births, n_shocks,
-        n_annihilations, n_exits, n_deaths, n_creep, complete, first_block, last_block,
-        n_blocks``. ``slip_integral`` = int A dx over the ruptured length (total slip,
-        dx-free); ``moment`` = slip_integral / params.dx, the chain's ``moment`` (sum of block
-        slips) for blocks at x[0] + i dx, like ``nucleation``, ``first_block``,
-        ``last_block``, ``n_blocks``; ``stress_drop`` = slip_integral / swept (mean A).
+        x_max, extent, moment, slip_integral, swept, stress_drop, n_births, n_nucleations,
+        spontaneous, n_shocks, n_annihilations, n_exits, n_deaths, n_creep, complete,
+        first_block, last_block, n_blocks`` (n_births: at u = 1; n_nucleations: pairs
+        started by noise; spontaneous: the event began with one). ``slip_integral`` =
+        int A dx over the ruptured length (total slip, dx-free); ``moment`` =
+        slip_integral / params.dx, the chain's ``moment`` (sum of block slips) for blocks at
+        x[0] + i dx, like ``nucleation``, ``first_block``, ``last_block``, ``n_blocks``;
+        ``stress_drop`` = slip_integral / swept (mean A).
     shocks: pandas DataFrame of shock path points: ``shock, event, t, x, dir, u_plus,
-        u_minus, kind, creep`` (kind: initial, birth, node, annihilation, exit, death,
-        creep_stop; ``creep`` marks resets done with u_+ < u_c under the creep rule).
+        u_minus, kind, creep`` (kind: initial, birth, nucleation, node, annihilation, exit,
+        death, creep_stop; ``creep`` marks resets done with u_+ < u_c under the creep rule).
     snapshots: xarray Dataset ``u(t, x)`` on the grid, with ``n_shocks(t)``; attrs hold
         params, units, version, boundary, creep rule.
     interrupted: True when the run was stopped by Ctrl-C (the result is what was computed).
@@ -88,6 +105,14 @@ class FreeBoundary:
         profile), ``"stop"`` ends it at u_+ = u_c. Either way it is recorded.
     tol: local error per integration step (relative to the grid spacing).
     record_path: record every node crossing in ``result.shocks`` (else births and ends).
+    noise: spontaneous pair nucleation, a ``[noise]`` table as a dict: ``law``
+        (``"constant"``, ``"exponential"`` with ``phi0``, ``"power"`` with ``exponent``) and
+        ``rate``, the rate density Lambda(u = 1) per unit length and time
+        (:mod:`bkwaves.noise`, docs/noise.md). Pairs nucleate where no shock is and
+        u > 0 (u > u_c with ``creep="stop"``); they are rows of ``result.shocks`` with
+        kind ``nucleation`` and counted in ``events.n_nucleations``.
+    seed: the noise generator's seed (an integer >= 0; default: drawn at random and
+        recorded in ``fb.seed`` and the result's attrs).
     """
 
     def __init__(
@@ -101,6 +126,8 @@ class FreeBoundary:
         creep: str = "zero",
         tol: float = 1e-12,
         record_path: bool = True,
+        noise: dict | None = None,
+        seed: int | None = None,
     ):
         if not isinstance(params, Params):
             V._fail("params", params, "a bkwaves.Params instance")
@@ -151,6 +178,8 @@ class FreeBoundary:
         self.creep = creep
         self.tol = float(tol)
         self.record_path = bool(record_path)
+        self.noise = None if noise is None else _noise.check_noise(noise)
+        self.seed = _seed(seed, self.noise)
         self._check_no_creep(u0, np.array(sx, dtype=float))
         self._engine = _core.FreeBoundaryEngine(
             float(x[0]),
@@ -165,10 +194,16 @@ class FreeBoundary:
             float(tol),
             bool(record_path),
         )
+        self._set_noise()
         self._snap_t: list[float] = []
         self._snap_u: list[np.ndarray] = []
         self._snap_n: list[int] = []
         self._take_snapshot()
+
+    def _set_noise(self):
+        if self.noise is not None:
+            params = {k: v for k, v in self.noise.items() if k not in ("law", "rate")}
+            self._engine.set_noise(self.noise["law"], self.noise["rate"], self.seed, **params)
 
     # ------------------------------------------------------------------ checks
     def _check_no_creep(self, u0, shock_x):
@@ -206,6 +241,8 @@ class FreeBoundary:
             "creep": self.creep,
             "tol": self.tol,
             "record_path": self.record_path,
+            "noise": self.noise,
+            "seed": self.seed,
         }
         arrays = {
             "x": self.x,
@@ -227,6 +264,8 @@ class FreeBoundary:
         self.creep = meta["creep"]
         self.tol = float(meta["tol"])
         self.record_path = bool(meta["record_path"])
+        self.noise = meta.get("noise")
+        self.seed = meta.get("seed")
         # an engine of the same configuration; its field is replaced by the checkpoint's
         self._engine = _core.FreeBoundaryEngine(
             float(x[0]),
@@ -241,6 +280,7 @@ class FreeBoundary:
             self.tol,
             self.record_path,
         )
+        self._set_noise()
         restore_engine(self._engine, arrays, source)
         self._snap_t = [float(t) for t in arrays["snap_t"]]
         self._snap_u = [np.array(u) for u in arrays["snap_u"]]
@@ -405,7 +445,12 @@ class FreeBoundary:
             "boundary": self.boundary,
             "creep_rule": self.creep,
             "grid_spacing": self.h,
+            "noise": json.dumps(self.noise),
+            "seed": -1 if self.seed is None else self.seed,
         }
+        counters = self._engine.noise_counters
+        if counters is not None:
+            meta["noise_candidates"], meta["noise_nucleations"] = counters
         ds = xr.Dataset(
             {
                 "u": (("t", "x"), np.array(self._snap_u), {"long_name": "slow field u"}),

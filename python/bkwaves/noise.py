@@ -44,39 +44,32 @@ __all__ = [
 #: Kick-size distributions of :func:`nucleation_probability`.
 DISTRIBUTIONS = ("fixed", "exponential")
 
-#: The rate laws by name: each law's own parameters with (lower bound, open?, meaning).
-LAWS = {
-    "constant": {},
-    "exponential": {"phi0": (0.0, True, "stress scale of the activation, phi0 > 0")},
-    "power": {"exponent": (0.0, False, "exponent >= 0")},
-}
+#: The rate laws by name: each law's own parameters (their ranges: the ``[noise]`` table
+#: of ``bkwaves._validate.CONFIG``).
+LAWS = {"constant": (), "exponential": ("phi0",), "power": ("exponent",)}
 
 
 def check_noise(table, where: str = "noise") -> dict:
     """A validated ``[noise]`` table: ``law`` (one of :data:`LAWS`), ``rate`` >= 0 and the
     law's own parameters (required; another law's parameters are refused). Errors name
     the key as written (``noise.phi0``) and its allowed range."""
+    specs = V.CONFIG["noise"]
     if not isinstance(table, dict):
         V._fail(where, table, "a table with law, rate and the law's parameters")
-    law = table.get("law")
-    if law not in LAWS:
-        V._fail(f"{where}.law", law, "one of " + ", ".join(repr(k) for k in LAWS))
-    own = LAWS[law]
-    allowed = {"law", "rate", *own}
+    law = specs["law"].check(table.get("law"), f"{where}.law")
+    allowed = ("law", "rate", *LAWS[law])
     for key in table:
         if key not in allowed:
             V._fail(
                 f"{where}.{key}",
                 table[key],
-                f"keys of law {law!r}: " + ", ".join(sorted(allowed)),
+                f"keys of law {law!r}: " + ", ".join(allowed),
             )
-    if "rate" not in table:
-        V._fail(f"{where}.rate", None, "rate >= 0 (the rate density at u = 1)")
-    out = {"law": law, "rate": V.number(f"{where}.rate", table["rate"], lo=0.0)}
-    for key, (lo, lo_open, meaning) in own.items():
+    out = {"law": law}
+    for key in allowed[1:]:
         if key not in table:
-            V._fail(f"{where}.{key}", None, meaning)
-        out[key] = V.number(f"{where}.{key}", table[key], lo=lo, lo_open=lo_open)
+            V._fail(f"{where}.{key}", None, specs[key].allowed(key))
+        out[key] = specs[key].check(table[key], f"{where}.{key}")
     return out
 
 

@@ -5,6 +5,7 @@
 //! - [`wave`]: the traveling wave behind the front (App. B);
 //! - [`tip`]: the discrete tip problem (App. A) solved to machine precision;
 //! - [`linalg`]: banded LU and Chebyshev kernels used by the solvers;
+//! - [`noise`]: stress-dependent nucleation rate laws and the seeded generator;
 //! - [`chain`]: the discrete chain simulated event by event, with [`friction`] laws
 //!   and [`boundary`] conditions behind traits.
 
@@ -19,6 +20,7 @@ pub mod error;
 pub mod free_boundary;
 pub mod friction;
 pub mod linalg;
+pub mod noise;
 pub mod params;
 pub mod speed;
 pub mod tip;

@@ -3,6 +3,7 @@
 
 use crate::errors::to_py;
 use bkwaves_core::free_boundary::{Boundary, CreepRule, FreeBoundary, Options, Stop};
+use bkwaves_core::noise::NoiseLaw;
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -75,6 +76,29 @@ impl PyFreeBoundary {
             Stop::Steps => "steps",
             Stop::Events => "events",
         })
+    }
+
+    /// Spontaneous pair nucleation at Lambda(u) = rate g(u) (law "constant",
+    /// "exponential" with phi0, "power" with exponent), seeded; from now on. A zero rate
+    /// is no noise.
+    #[pyo3(signature = (law, rate, seed, phi0=f64::NAN, exponent=f64::NAN))]
+    fn set_noise(
+        &mut self,
+        law: &str,
+        rate: f64,
+        seed: u64,
+        phi0: f64,
+        exponent: f64,
+    ) -> PyResult<()> {
+        let law = NoiseLaw::new(law, rate, phi0, exponent).map_err(to_py)?;
+        self.inner.set_noise(law, seed);
+        Ok(())
+    }
+
+    /// (candidates drawn, pairs nucleated) by the noise so far; None without noise.
+    #[getter]
+    fn noise_counters(&self) -> Option<(u64, u64)> {
+        self.inner.noise_counters()
     }
 
     /// The whole state as bytes (restored bit for bit by `restore`).
@@ -174,6 +198,8 @@ impl PyFreeBoundary {
         col!("swept", |q| q.swept);
         col!("stress_drop", |q| q.stress_drop());
         col!("n_births", |q| q.n_births as i64);
+        col!("n_nucleations", |q| q.n_nucleations as i64);
+        col!("spontaneous", |q| q.spontaneous);
         col!("n_shocks", |q| q.n_shocks as i64);
         col!("n_annihilations", |q| q.n_annihilations as i64);
         col!("n_exits", |q| q.n_exits as i64);

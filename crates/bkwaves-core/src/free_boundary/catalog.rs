@@ -15,6 +15,8 @@ pub enum PathKind {
     Initial,
     /// Birth where u reached 1.
     Birth,
+    /// Spontaneous nucleation of a pair by noise (u < 1).
+    Nucleation,
     /// The shock passed a grid node and reset it.
     Node,
     /// Two shocks met and annihilated.
@@ -33,6 +35,7 @@ impl PathKind {
         match self {
             PathKind::Initial => "initial",
             PathKind::Birth => "birth",
+            PathKind::Nucleation => "nucleation",
             PathKind::Node => "node",
             PathKind::Annihilation => "annihilation",
             PathKind::Exit => "exit",
@@ -77,7 +80,7 @@ pub struct FbEvent {
     /// Place of the first birth.
     pub x_start: f64,
     /// Curvature a of u = 1 - a (x - x0)^2 + v t at the first birth (eq. a); NaN for an
-    /// initial shock.
+    /// initial shock or a spontaneous nucleation.
     pub curvature: f64,
     /// Smallest position reached (unwrapped on a ring).
     pub x_min: f64,
@@ -87,8 +90,12 @@ pub struct FbEvent {
     pub moment: f64,
     /// Total length swept by the shocks.
     pub swept: f64,
-    /// Births (pairs, or single shocks at a free end).
+    /// Births where u reached 1 (pairs, or single shocks at a free end).
     pub n_births: usize,
+    /// Spontaneous nucleations (pairs started by noise).
+    pub n_nucleations: usize,
+    /// The event began with a spontaneous nucleation (else a birth or initial shocks).
+    pub spontaneous: bool,
     /// Shocks created.
     pub n_shocks: usize,
     /// Annihilations.
@@ -115,6 +122,8 @@ impl FbEvent {
             moment: 0.0,
             swept: 0.0,
             n_births: 0,
+            n_nucleations: 0,
+            spontaneous: false,
             n_shocks: 0,
             n_annihilations: 0,
             n_exits: 0,

@@ -28,9 +28,9 @@ use super::{Boundary, CreepRule, FreeBoundary, ShockState};
 use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 
-const MAGIC: &[u8; 8] = b"BKFREEB1";
+const MAGIC: &[u8; 8] = b"BKFREEB2";
 
-const KINDS: [PathKind; 7] = [
+const KINDS: [PathKind; 8] = [
     PathKind::Initial,
     PathKind::Birth,
     PathKind::Node,
@@ -38,6 +38,7 @@ const KINDS: [PathKind; 7] = [
     PathKind::Exit,
     PathKind::Death,
     PathKind::CreepStop,
+    PathKind::Nucleation,
 ];
 
 fn kind_code(k: PathKind) -> u64 {
@@ -68,6 +69,13 @@ impl FreeBoundary {
         });
         w.f(o.tol);
         w.b(o.record_path);
+        match &self.noise {
+            None => w.u(0),
+            Some(nz) => {
+                w.u(1);
+                nz.write_config(w);
+            }
+        }
     }
 
     /// The whole state as bytes (see the module docs).
@@ -143,6 +151,7 @@ impl FreeBoundary {
             }
             for x in [
                 e.n_births,
+                e.n_nucleations,
                 e.n_shocks,
                 e.n_annihilations,
                 e.n_exits,
@@ -151,6 +160,7 @@ impl FreeBoundary {
             ] {
                 w.z(x);
             }
+            w.b(e.spontaneous);
         }
         w.u(self.path.len() as u64);
         for p in &self.path {
@@ -163,6 +173,9 @@ impl FreeBoundary {
             w.f(p.u_minus);
             w.u(kind_code(p.kind));
             w.b(p.creep);
+        }
+        if let Some(nz) = &self.noise {
+            nz.write_state(&mut w);
         }
         w.0
     }
@@ -180,7 +193,8 @@ impl FreeBoundary {
             return Err(bad(
                 8,
                 "a checkpoint of a free boundary run with the same grid (x0, h, nodes), \
-                 boundary, gamma, v, creep rule, tol and record_path",
+                 boundary, gamma, v, creep rule, tol, record_path and noise (law, rate, \
+                 parameters, seed)",
             ));
         }
         let n = self.field.n;
@@ -285,7 +299,7 @@ impl FreeBoundary {
                 a: r.f()?,
             });
         }
-        let n_events = r.len(15 * 8)?;
+        let n_events = r.len(17 * 8)?;
         let mut events = Vec::with_capacity(n_events);
         for _ in 0..n_events {
             let id = r.z()?;
@@ -299,7 +313,8 @@ impl FreeBoundary {
                 r.f()?,
                 r.f()?,
             ];
-            let ints = [r.z()?, r.z()?, r.z()?, r.z()?, r.z()?, r.z()?];
+            let ints = [r.z()?, r.z()?, r.z()?, r.z()?, r.z()?, r.z()?, r.z()?];
+            let spontaneous = r.b()?;
             events.push(FbEvent {
                 id,
                 t_start: fl[0],
@@ -311,11 +326,13 @@ impl FreeBoundary {
                 moment: fl[6],
                 swept: fl[7],
                 n_births: ints[0],
-                n_shocks: ints[1],
-                n_annihilations: ints[2],
-                n_exits: ints[3],
-                n_deaths: ints[4],
-                n_creep: ints[5],
+                n_nucleations: ints[1],
+                spontaneous,
+                n_shocks: ints[2],
+                n_annihilations: ints[3],
+                n_exits: ints[4],
+                n_deaths: ints[5],
+                n_creep: ints[6],
             });
         }
         if open.is_some_and(|e| e >= events.len()) || shocks.iter().any(|s| s.event >= events.len())
@@ -345,6 +362,10 @@ impl FreeBoundary {
                 creep,
             });
         }
+        let mut noise = self.noise.clone();
+        if let Some(nz) = noise.as_mut() {
+            nz.read_state(&mut r)?;
+        }
         if r.i != bytes.len() {
             return Err(bad(r.i, "a checkpoint with nothing after its end"));
         }
@@ -365,6 +386,7 @@ impl FreeBoundary {
         self.open = open;
         self.path = path;
         self.steps = steps;
+        self.noise = noise;
         self.rebuild_schedule();
         Ok(())
     }

@@ -21,6 +21,9 @@
 //! (`schedule`) make an engine event cost O(log N) in the number N of shocks, not O(N)
 //! (docs/free_boundary.md, "Cost").
 //!
+//! Noise ([`nucleation`], optional): pairs nucleated at random points at a rate density
+//! Lambda(u) ([`crate::noise`]), drawn exactly by thinning, as one more kind of event.
+//!
 //! Creep (u_+ < u_c = gamma) is outside the paper's theory (Sec. IV assumes it never
 //! happens). It is never silent: each node reset in creep is flagged in the path and
 //! counted in the event, and [`CreepRule`] decides what happens: `Zero` (default) keeps the
@@ -31,6 +34,7 @@ pub mod births;
 pub mod catalog;
 pub mod checkpoint;
 pub mod field;
+mod nucleation;
 mod schedule;
 pub mod shock;
 
@@ -40,6 +44,7 @@ use crate::wave::u_minus_from_speed;
 use births::{CellMax, MaxTree};
 use catalog::{FbEvent, PathKind, PathPoint};
 use field::{CellPoly, Field};
+use nucleation::NoiseRun;
 use schedule::Schedule;
 use shock::{CellField, TrajEnd, TrajPoint, Trajectory};
 
@@ -231,6 +236,8 @@ pub struct FreeBoundary {
     steps: u64,
     /// The shocks of each cell and the queue of their next events (derived state).
     sched: Schedule,
+    /// Spontaneous nucleation (None: no noise; [`nucleation`]).
+    noise: Option<NoiseRun>,
     /// Test only: find neighbours and next events by scanning every shock (the
     /// reference the schedule is checked against).
     #[cfg(test)]
@@ -246,6 +253,7 @@ enum Next {
     Birth,
     ShockEnd(usize),
     Collision(usize, usize, f64),
+    Noise,
 }
 
 impl FreeBoundary {
@@ -303,6 +311,7 @@ impl FreeBoundary {
             path: Vec::new(),
             steps: 0,
             sched: Schedule::new(nc),
+            noise: None,
             #[cfg(test)]
             scan: false,
             #[cfg(test)]
@@ -844,6 +853,7 @@ impl FreeBoundary {
                 Next::Birth => self.birth()?,
                 Next::ShockEnd(i) => self.shock_end(i)?,
                 Next::Collision(a, b, s) => self.collision(a, b, s),
+                Next::Noise => self.noise_candidate()?,
                 Next::None => unreachable!(),
             }
             self.steps += 1;
@@ -851,6 +861,7 @@ impl FreeBoundary {
             if self.field.v * (self.now - self.field.epoch) > 1.0 {
                 self.rebase();
             }
+            self.noise_sync();
         }
     }
 
@@ -893,6 +904,11 @@ impl FreeBoundary {
                 best_t = te;
                 best = Next::ShockEnd(i);
             }
+        }
+        let tn = self.noise_time();
+        if tn < best_t || (tn == best_t && matches!(best, Next::None)) {
+            best_t = tn.max(self.now);
+            best = Next::Noise;
         }
         (best_t, best)
     }
@@ -1066,16 +1082,41 @@ impl FreeBoundary {
             starts.push((j, cm.s, 1));
             starts.push((j, cm.s, -1));
         }
+        self.create_shocks(j, x, &starts, node, curvature, 1.0, PathKind::Birth)
+    }
+
+    /// New shocks (cell, s, dir) at x in cell j, with u_+ = u_b there: a birth where u
+    /// reached 1 (`PathKind::Birth`; at a node, `node` is reset) or a spontaneous
+    /// nucleation (`PathKind::Nucleation`, [`nucleation`]).
+    #[allow(clippy::too_many_arguments)]
+    fn create_shocks(
+        &mut self,
+        j: usize,
+        x: f64,
+        starts: &[(usize, f64, i8)],
+        node: Option<usize>,
+        curvature: f64,
+        u_b: f64,
+        kind: PathKind,
+    ) -> Result<()> {
+        let h = self.field.h;
+        let spontaneous = kind == PathKind::Nucleation;
         let ev = match self.open {
             Some(e) => e,
             None => {
                 let id = self.events.len();
-                self.events.push(FbEvent::new(id, self.now, x, curvature));
+                let mut e = FbEvent::new(id, self.now, x, curvature);
+                e.spontaneous = spontaneous;
+                self.events.push(e);
                 self.open = Some(id);
                 id
             }
         };
-        self.events[ev].n_births += 1;
+        if spontaneous {
+            self.events[ev].n_nucleations += 1;
+        } else {
+            self.events[ev].n_births += 1;
+        }
         self.events[ev].n_shocks += starts.len();
         let first = self.shocks.len();
         let ids: Vec<usize> = (0..starts.len()).map(|q| self.next_id + q).collect();
@@ -1121,8 +1162,7 @@ impl FreeBoundary {
                 }
             })
             .collect();
-        let u_b = 1.0;
-        let (um_b, _) = self.u_minus(u_b);
+        let (um_b, creep_b) = self.u_minus(u_b);
         if let Some(k) = node {
             let u_plus = self.field.u_node(k, self.now);
             let (um, _) = self.u_minus(u_plus);
@@ -1139,8 +1179,8 @@ impl FreeBoundary {
             self.start_trajectory(i, polys[q], s, dir)?;
             self.shocks[i].last_a = u_b - um_b;
             let xu = self.shocks[i].last_x_unw;
-            self.accumulate(i, xu, u_b - um_b, false);
-            self.record(i, x, u_b, um_b, PathKind::Birth, false);
+            self.accumulate(i, xu, u_b - um_b, creep_b);
+            self.record(i, x, u_b, um_b, kind, creep_b);
         }
         self.refresh_around(node.unwrap_or(j));
         Ok(())
