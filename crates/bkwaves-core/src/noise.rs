@@ -323,9 +323,10 @@ mod tests {
     fn power_law_is_silent_below_zero_then_integrates_from_zero() {
         let l = NoiseLaw::new("power", 2.0, 0.0, 1.0).unwrap();
         assert_eq!(l.lambda(-0.5), 0.0);
-        // from u0 = -0.5 at v = 0.1: zero for 5 time units, then rate u
-        let tau = l.time_to_mass(-0.5, 0.1, 0.1, 1.0); // 2 * (0.1 s)^2/2 = 0.1 -> s = 1
-        assert!((tau - 15.0).abs() < 1e-12, "{tau}");
+        // from u0 = -0.5 at v = 0.1: zero for 5 time units, then Lambda = 2 (0.1 s), whose
+        // integral 0.1 s^2 reaches 0.1 at s = 1
+        let tau = l.time_to_mass(-0.5, 0.1, 0.1, 1.0);
+        assert!((tau - 6.0).abs() < 1e-12, "{tau}");
         assert_eq!(l.time_to_mass(-0.5, 0.0, 1.0, 1.0), f64::INFINITY);
     }
 
