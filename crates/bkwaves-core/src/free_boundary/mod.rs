@@ -905,8 +905,9 @@ impl FreeBoundary {
                 best = Next::ShockEnd(i);
             }
         }
+        // (infinite without noise: never chosen, even when t_stop is infinite too)
         let tn = self.noise_time();
-        if tn < best_t || (tn == best_t && matches!(best, Next::None)) {
+        if tn.is_finite() && (tn < best_t || (tn == best_t && matches!(best, Next::None))) {
             best_t = tn.max(self.now);
             best = Next::Noise;
         }
