@@ -7,7 +7,7 @@ the allowed values. See ``examples/`` for one file per use case.
 Schema (all sections optional except those marked)::
 
     model = "chain" | "free_boundary"          # required
-    seed = 0                                   # random initial states and [disorder]
+    seed = 0                                   # random initial states, [disorder], [noise]
                                                # (none given: a fresh seed is drawn when
                                                # something is random, and recorded)
     title = "..."                              # free text
@@ -218,9 +218,10 @@ class RunConfig:
 
     @property
     def random(self) -> bool:
-        """Whether the run draws random numbers (a random initial state, drawn [disorder])."""
+        """Whether the run draws random numbers (a random initial state, drawn [disorder],
+        [noise])."""
         drawn = any(isinstance(spec, dict) for _, spec in self.disorder)
-        return self.initial.kind == "random" or drawn
+        return self.initial.kind == "random" or drawn or self.noise is not None
 
     def seeded(self) -> RunConfig:
         """This config with a seed: its own, or for a random run without one a fresh seed
