@@ -169,9 +169,9 @@ def test_a_changed_input_is_recomputed_and_other_stores_are_refused(tmp_path, cl
     assert r.computed == 1
 
 
-def test_default_local_cluster_of_processes(tmp_path):
+def test_local_cluster_of_processes(tmp_path):
     doc = {"task": "speed", "axes": {"u_plus": {"values": [0.2, 0.4]}}}
-    r = sweep(doc, tmp_path / "p.zarr", workers=2)
+    r = sweep(doc, tmp_path / "p.zarr", workers=2, processes=True)
     assert r.workers == 2 and r.computed == 2 and r.dashboard
     np.testing.assert_array_equal(r.dataset["c"].values, bk.front_speed(np.array([0.2, 0.4])))
 
@@ -383,7 +383,7 @@ def test_sigterm_keeps_finished_points_and_exits_143(tmp_path):
     the finished points are in the store; the same command computes only the rest."""
     toml = tmp_path / "fronts.toml"
     toml.write_text(
-        'task = "front"\n[base]\ngamma = 0.3\nblocks = 3000\ndx = 0.05\n'
+        'task = "front"\n[base]\ngamma = 0.3\nblocks = 8000\ndx = 0.05\n'
         "[axes.u_plus]\nlinspace = {start = 0.5, stop = 0.8, num = 40}\n"
     )
     out = tmp_path / "fronts.zarr"
@@ -397,7 +397,6 @@ def test_sigterm_keeps_finished_points_and_exits_143(tmp_path):
         str(out),
         "--workers",
         "1",
-        "--threads",
         "--json",
     ]
     cli = subprocess.Popen(

@@ -677,7 +677,7 @@ def sweep(args) -> int | None:
             args.out,
             scheduler=args.scheduler,
             workers=args.workers,
-            processes=not args.threads,
+            processes=args.processes,
             overwrite=args.overwrite,
             retry_failed=args.retry_failed,
             progress=not args.quiet and not args.json_out,
@@ -732,12 +732,14 @@ SWEEP = Command(
             "--workers",
             type=int,
             metavar="N",
-            help="Workers of the local cluster (default: one per core).",
+            help="Workers (threads, or processes with --processes) of the local cluster "
+            "(default: one per core).",
         ),
         opt(
-            "--threads",
+            "--processes",
             flag=True,
-            help="Local cluster of threads in this process instead of worker processes.",
+            help="Local cluster of worker processes instead of threads in this process "
+            "(default: threads; the engines release the GIL, docs/benchmarks.md).",
         ),
         opt("--overwrite", flag=True, help="Replace an existing sweep store at OUT."),
         opt("--retry-failed", flag=True, help="Recompute points that failed before."),

@@ -27,6 +27,7 @@ from .sweeps import (
     SweepResult,
     _client,
     _consolidate,
+    _slots,
     _write_point_files,
     run_point,
 )
@@ -200,7 +201,7 @@ def run_adaptive(spec, out, *, scheduler, workers, processes, overwrite, progres
         if client is None:
             client, own = _client(scheduler, workers, processes)
         dashboard = getattr(client, "dashboard_link", None)
-        nworkers = max(1, len(client.scheduler_info().get("workers", {})))
+        nworkers = max(1, _slots(client))
         pending = {}
         try:
             while not done() or pending:
