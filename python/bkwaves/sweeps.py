@@ -593,16 +593,7 @@ class _Store:
         ds["wall_s"].attrs["units"] = "s"
         for a in spec.axes:
             ds[a.name].attrs["input_key"] = a.key
-        ds.attrs.update(
-            {
-                "bkwaves_sweep": STORE_MARKER,
-                "title": spec.title or f"bkwaves sweep of task {spec.task}",
-                "task": spec.task,
-                "sweep": json.dumps(spec.to_dict(), default=str),
-                "signature": self.signature,
-                "bkwaves_version": __version__,
-            }
-        )
+        ds.attrs.update(store_attrs(spec, STORE_MARKER, self.signature))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             ds.to_zarr(str(self.path), mode="w-", consolidated=True)
@@ -665,6 +656,19 @@ class _Store:
                 value = math.nan if not text else str(value)
             values[idx] = value
         arr[...] = values
+
+
+def store_attrs(spec: SweepSpec, marker: str, signature: str) -> dict:
+    """The attributes every sweep store carries (grid or adaptive)."""
+    kind = "adaptive sweep" if spec.adaptive else "sweep"
+    return {
+        "bkwaves_sweep": marker,
+        "title": spec.title or f"bkwaves {kind} of task {spec.task}",
+        "task": spec.task,
+        "sweep": json.dumps(spec.to_dict(), default=str),
+        "signature": signature,
+        "bkwaves_version": __version__,
+    }
 
 
 def _consolidate(path: Path):

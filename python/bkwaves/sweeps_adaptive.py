@@ -18,7 +18,6 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
 from ._core import ParameterError
 from .sweeps import (
     DONE,
@@ -30,6 +29,7 @@ from .sweeps import (
     _slots,
     _write_point_files,
     run_point,
+    store_attrs,
 )
 
 ADAPTIVE_MARKER = STORE_MARKER + "-adaptive"
@@ -72,17 +72,7 @@ class _AdaptiveStore:
                 shutil.rmtree(self.path)
         if not self.path.exists():
             g = zarr.open_group(str(self.path), mode="w-")
-            g.attrs.update(
-                {
-                    "bkwaves_sweep": ADAPTIVE_MARKER,
-                    "title": spec.title or f"bkwaves adaptive sweep of task {spec.task}",
-                    "task": spec.task,
-                    "sweep": json.dumps(spec.to_dict(), default=str),
-                    "signature": self.signature,
-                    "bkwaves_version": __version__,
-                    "committed": 0,
-                }
-            )
+            g.attrs.update({**store_attrs(spec, ADAPTIVE_MARKER, self.signature), "committed": 0})
             for a in spec.axes:
                 self._create(a.name, 0.0)
             self._create("status", 0)
