@@ -27,6 +27,7 @@ dimensionless stress (0: kinetic level, 1: static threshold).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import shutil
@@ -618,6 +619,29 @@ def _finish(writer, ctl, engine_obj, runner_state, give_all, interrupted):
         writer.close(publish=True, remove=[checkpoint_path(ctl.out)])
 
 
+@contextlib.contextmanager
+def _guard_writes(bar, writer, cfg, where):
+    """Around a run loop: a full disk keeps what was written and raises OutputFull
+    (``where()`` gives the events finished and the time reached); any other failure
+    closes the progress bar and leaves the partial output unpublished."""
+    try:
+        yield
+    except OSError as err:
+        bar.close()
+        if writer is None:
+            raise
+        if err.errno not in NO_SPACE:
+            writer.abandon()
+            raise
+        events, t_now = where()
+        raise _disk_full(err, writer, cfg, events, t_now) from err
+    except BaseException:
+        bar.close()
+        if writer is not None and not writer.closed:
+            writer.close(publish=False)
+        raise
+
+
 def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
     """The one-line report of a full disk (the committed records stay in OUT.partial/)."""
     writer.abandon()
@@ -731,7 +755,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
             writer.append_block(units.t(np.asarray(ts)), u=us, u_t=units.rate(uts), sliding=sliding)
 
     stop = "steps"
-    try:
+    with _guard_writes(bar, writer, cfg, lambda: (eng.events_finished, units.t(chain.t))):
         finished = False
         while not ctl.stop:
             done = eng.events_finished
@@ -747,19 +771,6 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         interrupted = not finished
         bar.close()
         _finish(writer, ctl, chain, None, lambda: give(final=False), interrupted)
-    except OSError as err:
-        bar.close()
-        if writer is None:
-            raise
-        if err.errno not in NO_SPACE:
-            writer.abandon()
-            raise
-        raise _disk_full(err, writer, cfg, eng.events_finished, units.t(chain.t)) from err
-    except BaseException:
-        bar.close()
-        if writer is not None and not writer.closed:
-            writer.close(publish=False)
-        raise
     extra = {
         "blocks": cfg.blocks,
         "counters": eng.counters(),
@@ -864,7 +875,7 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     def runner_state():
         return {"next_target": i_target, "last_every_k": last_every_k}
 
-    try:
+    with _guard_writes(bar, writer, cfg, lambda: (eng.completed_events, units.t(eng.time))):
         finished = i_target == len(targets)
         while not finished and not ctl.stop:
             target = targets[i_target]
@@ -898,19 +909,6 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
             if snapshots == 0 or interrupted or cfg.t_end is None:
                 snapshots += 1
         _finish(writer, ctl, fb, runner_state(), give_all, interrupted)
-    except OSError as err:
-        bar.close()
-        if writer is None:
-            raise
-        if err.errno not in NO_SPACE:
-            writer.abandon()
-            raise
-        raise _disk_full(err, writer, cfg, eng.completed_events, units.t(eng.time)) from err
-    except BaseException:
-        bar.close()
-        if writer is not None and not writer.closed:
-            writer.close(publish=False)
-        raise
     return RunSummary(
         model="free_boundary",
         out=str(out) if out else None,
