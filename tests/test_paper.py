@@ -201,11 +201,42 @@ def test_bristol_gamma_unrounded_and_how_the_paper_gets_its_value(paper):
     assert _rows(d)["crit"]["note"].count("1.25") == 1
 
 
+def test_beyond_the_paper_section(paper):
+    """Every registered "beyond the paper" figure is written, captioned from the run and
+    placed in its own section after the paper's figures."""
+    from bkwaves.paper_beyond import BEYOND_FIGURES
+
+    out, d = paper
+    assert sorted(d["beyond_figures"]) == sorted(BEYOND_FIGURES)
+    md = (out / "report.md").read_text()
+    for name in BEYOND_FIGURES:
+        for ext in ("png", "pdf"):
+            assert (out / f"{name}.{ext}").stat().st_size > 5_000, name
+        section = md.split("## Beyond the paper\n", 1)[1]
+        block = section.split(f"### {name}\n", 1)[1].split("###", 1)[0]
+        assert len(block.split(".png)", 1)[1].strip()) > 80, name
+
+
+def test_beyond_section_renders_only_when_there_are_figures(tmp_path):
+    from bkwaves.paper import Report
+
+    empty = Report()
+    assert "Beyond the paper" not in empty.to_markdown() + empty.to_html()
+    png = tmp_path / "x.png"
+    rep = Report(beyond={"x": [png]}, captions={"x": "a caption from the run"})
+    md, page = rep.to_markdown(), rep.to_html()
+    assert md.index("## Figures") < md.index("## Beyond the paper") < md.index("### x")
+    assert "a caption from the run" in md and "<h2>Beyond the paper</h2>" in page
+    assert page.count("<figcaption>") == 1
+
+
 def test_every_figure_has_a_caption(paper):
     out, _ = paper
     md = (out / "report.md").read_text()
     html = (out / "report.html").read_text()
-    assert html.count("<figcaption>") == len(FIGURES)
+    from bkwaves.paper_beyond import BEYOND_FIGURES
+
+    assert html.count("<figcaption>") == len(FIGURES) + len(BEYOND_FIGURES)
     for name in FIGURES:
         block = md.split(f"### {name}\n", 1)[1].split("###", 1)[0]
         caption = block.split(".png)", 1)[1].strip()

@@ -316,6 +316,7 @@ def paper(args) -> None:
                     "out": str(args.out),
                     "seconds": rep.seconds,
                     "figures": sorted(rep.figures),
+                    "beyond_figures": sorted(rep.beyond),
                     "claims": len(rep.claims),
                     "verdicts": verdicts,
                     "rows": [
@@ -336,7 +337,8 @@ def paper(args) -> None:
         )
         return
     _echo(
-        f"{len(rep.figures)} figures and report.md/report.html in {args.out} ({rep.seconds:.1f} s)"
+        f"{len(rep.figures)} figures, {len(rep.beyond)} beyond the paper, and "
+        f"report.md/report.html in {args.out} ({rep.seconds:.1f} s)"
     )
     _echo(", ".join(f"{n} {k}" for k, n in sorted(verdicts.items())))
 

@@ -113,6 +113,8 @@ class Claim:
 class Report:
     claims: list[Claim] = field(default_factory=list)
     figures: dict[str, list[Path]] = field(default_factory=dict)
+    #: Figures of what the paper leaves open (:mod:`bkwaves.paper_beyond`), same format.
+    beyond: dict[str, list[Path]] = field(default_factory=dict)
     captions: dict[str, str] = field(default_factory=dict)
     findings: list[str] = field(default_factory=list)
     seconds: float = 0.0
@@ -144,13 +146,17 @@ class Report:
             )
         lines += ["", "## What bkwaves found that the paper does not say", ""]
         lines += [f"- {f}" for f in self.findings]
-        lines += ["", "## Figures", ""]
-        for name, paths in self.figures.items():
-            png = [p for p in paths if p.suffix == ".png"]
-            if png:
-                lines.append(
-                    f"### {name}\n\n![{name}]({png[0].name})\n\n{self.captions.get(name, '')}\n"
-                )
+
+        def figures_md(figures: dict[str, list[Path]]) -> list[str]:
+            return [
+                f"### {name}\n\n![{name}]({png[0].name})\n\n{self.captions.get(name, '')}\n"
+                for name, paths in figures.items()
+                if (png := [p for p in paths if p.suffix == ".png"])
+            ]
+
+        lines += ["", "## Figures", ""] + figures_md(self.figures)
+        if self.beyond:
+            lines += ["## Beyond the paper", "", BEYOND_INTRO, ""] + figures_md(self.beyond)
         return "\n".join(lines) + "\n"
 
     def to_html(self) -> str:
@@ -174,13 +180,21 @@ class Report:
         )
         finds = "\n".join(f"<li>{esc(f)}</li>" for f in self.findings)
         legend = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>" for k, v in VERDICTS.items())
-        figs = "\n".join(
-            f"<figure><h3>{esc(n)}</h3><img src='{esc(p.name)}' style='max-width:100%'>"
-            f"<figcaption>{esc(self.captions.get(n, ''))}</figcaption></figure>"
-            for n, ps in self.figures.items()
-            for p in ps
-            if p.suffix == ".png"
-        )
+
+        def figures_html(figures: dict[str, list[Path]]) -> str:
+            return "\n".join(
+                f"<figure><h3>{esc(n)}</h3><img src='{esc(p.name)}' style='max-width:100%'>"
+                f"<figcaption>{esc(self.captions.get(n, ''))}</figcaption></figure>"
+                for n, ps in figures.items()
+                for p in ps
+                if p.suffix == ".png"
+            )
+
+        figs = figures_html(self.figures)
+        if self.beyond:
+            figs += f"<h2>Beyond the paper</h2><p>{esc(BEYOND_INTRO)}</p>" + figures_html(
+                self.beyond
+            )
         return (
             "<!doctype html><html><head><meta charset='utf-8'><title>bkwaves report</title>"
             "<style>body{font-family:sans-serif;max-width:1100px;margin:auto}"
@@ -1781,16 +1795,28 @@ FIGURES: dict[str, Callable] = {
 }
 
 
+#: What the "Beyond the paper" section is (report.md and report.html).
+BEYOND_INTRO = (
+    "What Sec. VI of the paper leaves open or names for comparison (quenched disorder, "
+    "velocity-weakening friction, noise-triggered slips), computed by bkwaves' engines. "
+    "These are bkwaves' results, not claims of the paper."
+)
+
+
 def reproduce(outdir, *, quick: bool = False, progress: bool = True) -> Report:
     """Regenerate the figures and the validation report in ``outdir``."""
+    from .paper_beyond import BEYOND_FIGURES
+
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     _CACHE.clear()
     report = Report(findings=list(FINDINGS))
-    steps = [("figure", n, f) for n, f in FIGURES.items()] + [
-        ("claims", c.__name__, c) for c in CLAIMS
-    ]
+    steps = (
+        [("figure", n, f) for n, f in FIGURES.items()]
+        + [("beyond", n, f) for n, f in BEYOND_FIGURES.items()]
+        + [("claims", c.__name__, c) for c in CLAIMS]
+    )
     bar = None
     if progress:
         from rich.progress import Progress
@@ -1802,6 +1828,8 @@ def reproduce(outdir, *, quick: bool = False, progress: bool = True) -> Report:
         for kind, name, fn in steps:
             if kind == "figure":
                 report.figures[name], report.captions[name] = fn(outdir, quick, name)
+            elif kind == "beyond":
+                report.beyond[name], report.captions[name] = fn(outdir, quick, name)
             else:
                 res = fn(quick)
                 report.claims.extend(res if isinstance(res, list) else [res])
