@@ -33,6 +33,11 @@ Schema (all sections optional except those marked)::
                 (Lambda at u = 1, per unit length and time; 1/(m s) with [physical]);
                 seeded by the config's seed (bk.noise, docs/noise.md)
 
+    [speed]     (free boundary) the front-speed law as a table: u_plus = [...] (strictly
+                increasing in (0, 1)), c = [...] (> 1, strictly increasing), e.g. the
+                renormalised c_eff of a disordered medium; default: c = 1/sqrt(1 - u^2)
+                (bk.free_boundary.speed_table, docs/free_boundary.md)
+
     [domain]    blocks (chain) | length + grid (free boundary), boundary
 
     [initial]   kind = "uniform" (value) | "ramp" (start, end) |
@@ -210,6 +215,7 @@ class RunConfig:
     title: str = ""
     disorder: tuple = ()
     noise: dict | None = None
+    speed: dict | None = None
     base_dir: Path | None = field(default=None, compare=False, repr=False)
 
     @property
@@ -381,6 +387,27 @@ def _noise(doc: dict, model: str, scale: float) -> dict | None:
     return noise
 
 
+def _speed(doc: dict, model: str) -> dict | None:
+    """The [speed] table (free boundary): the front-speed law {u_plus, c}, validated."""
+    if "speed" not in doc:
+        return None
+    if model != "free_boundary":
+        _err("speed", "a front-speed law applies to the free_boundary model only")
+    t = _table(doc["speed"], "speed")
+    _keys(t, "speed", ("u_plus", "c"), ("u_plus", "c"))
+    for k in ("u_plus", "c"):
+        x = t[k]
+        if not (
+            isinstance(x, list)
+            and x
+            and all(isinstance(y, int | float) and not isinstance(y, bool) for y in x)
+        ):
+            _err(f"speed.{k}", f"expected a non-empty array of numbers, got {V._show(x)}")
+    from .free_boundary import speed_table
+
+    return speed_table({"u_plus": t["u_plus"], "c": t["c"]})
+
+
 def disorder_arrays(cfg: RunConfig) -> dict:
     """The per-block properties of a chain config: {property: scalar, array or None}
     (drawn ones with the config's seed, each property from its own stream)."""
@@ -475,6 +502,7 @@ TOP_KEYS = (
     "friction",
     "disorder",
     "noise",
+    "speed",
     "domain",
     "initial",
     "triggers",
@@ -620,6 +648,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         title=title,
         disorder=_disorder(doc, model),
         noise=_noise(doc, model, ls * ts),
+        speed=_speed(doc, model),
         base_dir=base_dir,
     )
     # a random config without a seed gets a fresh one now: the drawn properties checked
@@ -712,6 +741,8 @@ def _to_doc(cfg: RunConfig) -> dict:
         doc["friction"] = {"law": p.friction_law.name, **dict(p.friction_law.params)}
     if cfg.noise is not None:
         doc["noise"] = dict(cfg.noise)
+    if cfg.speed is not None:
+        doc["speed"] = {k: list(v) for k, v in cfg.speed.items()}
     if cfg.disorder:
         doc["disorder"] = {k: list(x) if isinstance(x, tuple) else x for k, x in cfg.disorder}
     if cfg.model == "chain":

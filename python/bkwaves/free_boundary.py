@@ -31,7 +31,7 @@ from . import noise as _noise
 from ._progress import RunProgress
 from .params import Params
 
-__all__ = ["FreeBoundary", "FreeBoundaryResult", "NoCreepWarning"]
+__all__ = ["FreeBoundary", "FreeBoundaryResult", "NoCreepWarning", "speed_table"]
 
 BOUNDARIES = ("free", "periodic")
 CREEP_RULES = ("zero", "stop")
@@ -58,6 +58,75 @@ def _seed(seed, noise):
     if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or not 0 <= seed < 2**64:
         V._fail("seed", seed, "an integer 0 <= seed < 2**64")
     return int(seed)
+
+
+#: Nodes at which a callable speed law is sampled: u_+ = sqrt(k/(n + 1)), k = 1..n
+#: (uniform in X = u_+^2, the variable the table is interpolated in).
+SPEED_SAMPLES = 256
+
+
+def speed_table(speed) -> dict | None:
+    """A front-speed law as the table ``{"u_plus": [...], "c": [...]}`` the engine
+    interpolates (docs/free_boundary.md, "Front-speed law"), or None for the exact law.
+
+    speed: None (c = 1/sqrt(1 - u_+^2)); a dict ``{"u_plus": [...], "c": [...]}`` (the
+    TOML ``[speed]`` table); a pair of arrays ``(u_plus, c)``; a callable c(u_+) (sampled at
+    ``SPEED_SAMPLES`` nodes uniform in u_+^2 over (0, 1)); one
+    :class:`bkwaves.disorder.EnsembleFront` or a list of them (their ``u_plus`` and
+    ``c_mean``: the renormalised c_eff of a disordered medium). The table must have
+    0 < u_plus < 1 strictly increasing and c > 1 strictly increasing; it is closed by
+    c = 1 at u_+ = 0 and c = infinity at u_+ = 1."""
+    from .disorder import EnsembleFront
+
+    if speed is None:
+        return None
+    if isinstance(speed, EnsembleFront):
+        speed = [speed]
+    if isinstance(speed, dict):
+        unknown = sorted(set(speed) - {"u_plus", "c"})
+        if unknown or not {"u_plus", "c"} <= set(speed):
+            V._fail("speed", sorted(speed), 'a table with exactly the keys "u_plus" and "c"')
+        u, c = speed["u_plus"], speed["c"]
+    elif callable(speed):
+        k = np.arange(1, SPEED_SAMPLES + 1)
+        u = np.sqrt(k / (SPEED_SAMPLES + 1.0))
+        try:
+            c = np.asarray(speed(u), dtype=float)
+            if c.shape != u.shape:
+                raise ValueError
+        except (TypeError, ValueError):
+            c = np.array([float(speed(float(q))) for q in u])
+    elif (
+        isinstance(speed, list | tuple)
+        and speed
+        and all(isinstance(e, EnsembleFront) for e in speed)
+    ):
+        order = sorted(speed, key=lambda e: e.u_plus)
+        u = [e.u_plus for e in order]
+        c = [e.c_mean for e in order]
+    elif isinstance(speed, list | tuple) and len(speed) == 2:
+        u, c = speed
+    else:
+        V._fail(
+            "speed",
+            speed,
+            'None, {"u_plus": [...], "c": [...]}, a pair (u_plus, c), a callable c(u_plus) '
+            "or bk.disorder.front_speed_ensemble results",
+        )
+    u = np.atleast_1d(V.array("speed.u_plus", u, lo=0.0, hi=1.0, lo_open=True, hi_open=True))
+    c = np.atleast_1d(V.array("speed.c", c, lo=1.0, lo_open=True))
+    if u.ndim != 1 or c.shape != u.shape:
+        V._fail("speed.c", f"array of shape {c.shape}", f"one speed per node u_plus {u.shape}")
+    for name, a, what in (
+        ("speed.u_plus", u, "strictly increasing nodes"),
+        ("speed.c", c, "c strictly increasing with u_plus (a front is faster in a more "
+                       "stressed medium)"),
+    ):  # fmt: skip
+        bad = np.flatnonzero(np.diff(a) <= 0)
+        if bad.size:
+            i = int(bad[0]) + 1
+            V._fail(f"{name}[{i}]", float(a[i]), what)
+    return {"u_plus": [float(q) for q in u], "c": [float(q) for q in c]}
 
 
 @dataclass
@@ -113,6 +182,11 @@ class FreeBoundary:
         kind ``nucleation`` and counted in ``events.n_nucleations``.
     seed: the noise generator's seed (an integer >= 0; default: drawn at random and
         recorded in ``fb.seed`` and the result's attrs).
+    speed: the front-speed law c(u_+) (default None: the exact 1/sqrt(1 - u_+^2)): a table
+        ``{"u_plus": [...], "c": [...]}``, a pair of arrays, a callable, or the output of
+        :func:`bkwaves.disorder.front_speed_ensemble` (one or a list), e.g. the
+        renormalised c_eff of a disordered medium (:func:`speed_table`). u_- and the
+        critical stress u_c follow the law (docs/free_boundary.md, "Front-speed law").
     """
 
     def __init__(
@@ -128,6 +202,7 @@ class FreeBoundary:
         record_path: bool = True,
         noise: dict | None = None,
         seed: int | None = None,
+        speed=None,
     ):
         if not isinstance(params, Params):
             V._fail("params", params, "a bkwaves.Params instance")
@@ -180,25 +255,49 @@ class FreeBoundary:
         self.record_path = bool(record_path)
         self.noise = None if noise is None else _noise.check_noise(noise)
         self.seed = _seed(seed, self.noise)
-        self._check_no_creep(u0, np.array(sx, dtype=float))
-        self._engine = _core.FreeBoundaryEngine(
-            float(x[0]),
-            self.h,
-            np.ascontiguousarray(u0),
-            float(params.gamma),
-            float(params.v),
-            boundary,
-            creep,
+        self.speed = speed_table(speed)
+        self._engine = self._new_engine(
+            u0,
             np.array(sx, dtype=float) if sx else None,
             np.array(sd, dtype=np.int64) if sd else None,
-            float(tol),
-            bool(record_path),
         )
+        self._check_no_creep(u0, np.array(sx, dtype=float))
         self._set_noise()
         self._snap_t: list[float] = []
         self._snap_u: list[np.ndarray] = []
         self._snap_n: list[int] = []
         self._take_snapshot()
+
+    def _new_engine(self, u0, shock_x=None, shock_dir=None):
+        """The Rust engine of this configuration with initial field u0 and shocks."""
+        table = self.speed or {}
+        return _core.FreeBoundaryEngine(
+            float(self.x[0]),
+            self.h,
+            np.ascontiguousarray(u0, dtype=float),
+            float(self.params.gamma),
+            float(self.params.v),
+            self.boundary,
+            self.creep,
+            shock_x,
+            shock_dir,
+            self.tol,
+            self.record_path,
+            speed_u=np.array(table["u_plus"]) if table else None,
+            speed_c=np.array(table["c"]) if table else None,
+        )
+
+    @property
+    def critical_stress(self) -> float:
+        """u_c of the front-speed law: c(u_c) = 1/sqrt(1 - gamma^2) (gamma for the exact
+        law); waves with u_+ <= u_c creep."""
+        return self._engine.critical_stress
+
+    def front_speed(self, u_plus):
+        """c(u_+) of the engine's front-speed law (vectorised)."""
+        u = np.atleast_1d(V.array("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True))
+        c = np.asarray(self._engine.front_speed(np.ascontiguousarray(u.ravel())))
+        return c.reshape(np.shape(u_plus)) if np.ndim(u_plus) else float(c[0])
 
     def _set_noise(self):
         if self.noise is not None:
@@ -224,7 +323,8 @@ class FreeBoundary:
             warnings.warn(
                 f"the initial state violates the no-creep condition |u_x| < v/c(u_c) = "
                 f"{bound:.4g} (eq. nocreep): |u_x| = {worst:.4g} at x = {mid[i]:.4g}; shocks "
-                f"may reach u_+ < u_c = {g} (creep rule {self.creep!r} applies, recorded "
+                f"may reach u_+ < u_c = {self.critical_stress:.6g} (creep rule "
+                f"{self.creep!r} applies, recorded "
                 f"in the results)",
                 NoCreepWarning,
                 stacklevel=3,
@@ -243,6 +343,7 @@ class FreeBoundary:
             "record_path": self.record_path,
             "noise": self.noise,
             "seed": self.seed,
+            "speed": self.speed,
         }
         arrays = {
             "x": self.x,
@@ -266,20 +367,9 @@ class FreeBoundary:
         self.record_path = bool(meta["record_path"])
         self.noise = meta.get("noise")
         self.seed = meta.get("seed")
+        self.speed = meta.get("speed")
         # an engine of the same configuration; its field is replaced by the checkpoint's
-        self._engine = _core.FreeBoundaryEngine(
-            float(x[0]),
-            self.h,
-            np.zeros_like(x),
-            float(self.params.gamma),
-            float(self.params.v),
-            self.boundary,
-            self.creep,
-            None,
-            None,
-            self.tol,
-            self.record_path,
-        )
+        self._engine = self._new_engine(np.zeros_like(x))
         self._set_noise()
         restore_engine(self._engine, arrays, source)
         self._snap_t = [float(t) for t in arrays["snap_t"]]
@@ -447,6 +537,8 @@ class FreeBoundary:
             "grid_spacing": self.h,
             "noise": json.dumps(self.noise),
             "seed": -1 if self.seed is None else self.seed,
+            # the front-speed law: "exact" (1/sqrt(1 - u^2)) or the table
+            "speed": "exact" if self.speed is None else json.dumps(self.speed),
         }
         counters = self._engine.noise_counters
         if counters is not None:

@@ -809,7 +809,9 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         u0 = initial_state(cfg)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            fb = FreeBoundary(p, x, u0, cfg.boundary, noise=cfg.noise, seed=cfg.seed)
+            fb = FreeBoundary(
+                p, x, u0, cfg.boundary, noise=cfg.noise, seed=cfg.seed, speed=cfg.speed
+            )
         notes = [str(w.message) for w in caught]
         for w in caught:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)

@@ -2,7 +2,7 @@
 //! The Python class `bkwaves.FreeBoundary` drives it in chunks (progress, Ctrl-C).
 
 use crate::errors::to_py;
-use bkwaves_core::free_boundary::{Boundary, CreepRule, FreeBoundary, Options, Stop};
+use bkwaves_core::free_boundary::{Boundary, CreepRule, FreeBoundary, Options, SpeedLaw, Stop};
 use bkwaves_core::noise::NoiseLaw;
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -17,7 +17,8 @@ pub struct PyFreeBoundary {
 impl PyFreeBoundary {
     #[new]
     #[pyo3(signature = (x0, h, u0, gamma, v, boundary="free", creep="zero",
-                        shock_x=None, shock_dir=None, tol=1e-12, record_path=true))]
+                        shock_x=None, shock_dir=None, tol=1e-12, record_path=true,
+                        speed_u=None, speed_c=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         x0: f64,
@@ -31,6 +32,8 @@ impl PyFreeBoundary {
         shock_dir: Option<PyReadonlyArray1<'_, i64>>,
         tol: f64,
         record_path: bool,
+        speed_u: Option<PyReadonlyArray1<'_, f64>>,
+        speed_c: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         let opts = Options {
             gamma,
@@ -54,7 +57,14 @@ impl PyFreeBoundary {
             }
         }
         let u0 = u0.as_array().to_vec();
-        let inner = FreeBoundary::new(x0, h, &u0, opts, &initial).map_err(to_py)?;
+        // a front-speed table (u_+, c), else the exact law
+        let law = match (speed_u, speed_c) {
+            (Some(u), Some(c)) => {
+                SpeedLaw::table(&u.as_array().to_vec(), &c.as_array().to_vec()).map_err(to_py)?
+            }
+            _ => SpeedLaw::Exact,
+        };
+        let inner = FreeBoundary::with_law(x0, h, &u0, opts, &initial, law).map_err(to_py)?;
         Ok(PyFreeBoundary { inner })
     }
 
@@ -110,6 +120,28 @@ impl PyFreeBoundary {
     /// (grid, boundary, gamma, v, creep rule, tol, record_path).
     fn restore(&mut self, data: &[u8]) -> PyResult<()> {
         self.inner.restore(data).map_err(to_py)
+    }
+
+    /// The critical stress u_c of the front-speed law: c(u_c) = 1/sqrt(1 - gamma^2).
+    #[getter]
+    fn critical_stress(&self) -> f64 {
+        self.inner.critical_stress()
+    }
+
+    /// The front speed c(u_+) of the engine's law, for each u_+ (0 < u_+ < 1).
+    fn front_speed<'py>(
+        &self,
+        py: Python<'py>,
+        u_plus: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        let law = self.inner.law();
+        let c = u_plus
+            .as_array()
+            .iter()
+            .map(|&u| law.speed(u))
+            .collect::<Result<Vec<f64>, _>>()
+            .map_err(to_py)?;
+        Ok(c.into_pyarray(py))
     }
 
     #[getter]

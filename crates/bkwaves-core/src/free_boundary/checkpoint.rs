@@ -6,7 +6,7 @@
 //! that point (a checkpoint taken where `advance` returned on its step budget, continued
 //! with the same `t_stop`, is the usual case). The bytes hold a fingerprint of the
 //! configuration (x0, h, number of nodes, boundary, gamma, v, creep rule, tol,
-//! record_path): they are restored into an engine built with the same configuration (its
+//! record_path, noise, front-speed law): they are restored into an engine built with the same configuration (its
 //! initial field and shocks do not matter: they are replaced), and anything else is
 //! refused.
 //!
@@ -24,11 +24,11 @@ use super::births::{CellMax, MaxTree};
 use super::catalog::{FbEvent, PathKind, PathPoint};
 use super::field::{CellPoly, NONE};
 use super::shock::{CellField, TrajEnd, TrajPoint, Trajectory};
-use super::{Boundary, CreepRule, FreeBoundary, ShockState};
+use super::{Boundary, CreepRule, FreeBoundary, ShockState, SpeedLaw};
 use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 
-const MAGIC: &[u8; 8] = b"BKFREEB2";
+const MAGIC: &[u8; 8] = b"BKFREEB3";
 
 const KINDS: [PathKind; 8] = [
     PathKind::Initial,
@@ -76,6 +76,16 @@ impl FreeBoundary {
                 nz.write_config(w);
             }
         }
+        match &self.law {
+            SpeedLaw::Exact => w.u(0),
+            SpeedLaw::Table(t) => {
+                w.u(1);
+                w.fs(&t.u_plus);
+                w.fs(&t.c);
+            }
+        }
+        // (no threshold field: reserved for one)
+        w.u(0);
     }
 
     /// The whole state as bytes (see the module docs).
@@ -193,8 +203,8 @@ impl FreeBoundary {
             return Err(bad(
                 8,
                 "a checkpoint of a free boundary run with the same grid (x0, h, nodes), \
-                 boundary, gamma, v, creep rule, tol, record_path and noise (law, rate, \
-                 parameters, seed)",
+                 boundary, gamma, v, creep rule, tol, record_path, noise (law, rate, \
+                 parameters, seed) and front-speed law (table)",
             ));
         }
         let n = self.field.n;

@@ -37,9 +37,9 @@ pub mod field;
 mod nucleation;
 mod schedule;
 pub mod shock;
+pub mod speed_law;
 
 use crate::error::{check_at_least, Error, Result};
-use crate::speed::front_speed;
 use crate::wave::u_minus_from_speed;
 use births::{CellMax, MaxTree};
 use catalog::{FbEvent, PathKind, PathPoint};
@@ -47,6 +47,7 @@ use field::{CellPoly, Field};
 use nucleation::NoiseRun;
 use schedule::Schedule;
 use shock::{CellField, TrajEnd, TrajPoint, Trajectory};
+pub use speed_law::SpeedLaw;
 
 /// Ends of the domain.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -220,6 +221,10 @@ pub struct ShockView {
 pub struct FreeBoundary {
     opts: Options,
     u_stop: f64,
+    /// Critical stress of the law: pulse above, creep at or below.
+    u_c: f64,
+    /// The front-speed law c(u_+).
+    law: SpeedLaw,
     field: Field,
     reset_stamp: Vec<u64>,
     /// reset_stamp before the last reset (when `prev` was written).
@@ -260,6 +265,22 @@ impl FreeBoundary {
     /// A run on nodes x_k = x0 + k h with initial field u0 (all < 1) and optional initial
     /// shocks (position, direction +-1).
     pub fn new(x0: f64, h: f64, u0: &[f64], opts: Options, initial: &[(f64, i8)]) -> Result<Self> {
+        Self::with_law(x0, h, u0, opts, initial, SpeedLaw::Exact)
+    }
+
+    /// [`Self::new`] with shocks moving at c(u_+) given by `law` (e.g. a table of the
+    /// renormalised speed c_eff of a disordered medium). Everything that depends on c
+    /// follows the law: u_-(u_+) (eq. um with this c), the regime (pulse iff
+    /// c^2 (1 - gamma^2) > 1) and the critical stress u_c where the "stop" rule ends a
+    /// shock (docs/free_boundary.md, "Front-speed law").
+    pub fn with_law(
+        x0: f64,
+        h: f64,
+        u0: &[f64],
+        opts: Options,
+        initial: &[(f64, i8)],
+        law: SpeedLaw,
+    ) -> Result<Self> {
         if !(opts.gamma.is_finite() && (0.0..1.0).contains(&opts.gamma)) {
             return Err(Error::InvalidParameter {
                 name: "gamma",
@@ -290,14 +311,17 @@ impl FreeBoundary {
         }
         let periodic = opts.boundary == Boundary::Periodic;
         let field = Field::new(x0, h, u0, periodic, opts.v);
+        let u_c = law.critical_stress(opts.gamma);
         let u_stop = match opts.creep {
             CreepRule::Zero => 0.0,
-            CreepRule::Stop => opts.gamma,
+            CreepRule::Stop => u_c,
         };
         let nc = field.n_cells();
         let mut fb = FreeBoundary {
             opts,
             u_stop,
+            u_c,
+            law,
             reset_stamp: vec![0; field.n],
             prev_stamp: vec![0; field.n],
             stamp: 0,
@@ -464,13 +488,23 @@ impl FreeBoundary {
         &self.opts
     }
 
+    /// The front-speed law.
+    pub fn law(&self) -> &SpeedLaw {
+        &self.law
+    }
+
+    /// The critical stress u_c of the law: c(u_c) = 1/sqrt(1 - gamma^2).
+    pub fn critical_stress(&self) -> f64 {
+        self.u_c
+    }
+
     // ------------------------------------------------------------------ physics
     /// u_- for a given u_+, and whether the creep rule was applied.
     fn u_minus(&self, u_plus: f64) -> (f64, bool) {
         let g = self.opts.gamma;
         let u = u_plus.min(1.0 - 1e-16);
-        if u > g {
-            if let Ok(c) = front_speed(u) {
+        if u > self.u_c {
+            if let Ok(c) = self.law.speed(u) {
                 if let Some(um) = u_minus_from_speed(u, c, g) {
                     return (um, false);
                 }
@@ -764,7 +798,7 @@ impl FreeBoundary {
         sh.cf = cf;
         sh.pos.clear();
         self.sched.touch(sh.cell);
-        shock::integrate(&cf, s, dir, now, u_stop, tol, &mut sh.traj)
+        shock::integrate(&cf, &self.law, s, dir, now, u_stop, tol, &mut sh.traj)
     }
 
     fn record(&mut self, i: usize, x: f64, u_plus: f64, u_minus: f64, kind: PathKind, creep: bool) {
