@@ -4,6 +4,7 @@
 //! - [`speed`]: the front speed c(u_+) and the critical stress u_c(gamma);
 //! - [`wave`]: the traveling wave behind the front (App. B);
 //! - [`tip`]: the discrete tip problem (App. A) solved to machine precision;
+//! - [`tip_march`]: the tip marched in time through blocks with their own thresholds;
 //! - [`linalg`]: banded LU and Chebyshev kernels used by the solvers;
 //! - [`noise`]: stress-dependent nucleation rate laws and the seeded generator;
 //! - [`chain`]: the discrete chain simulated event by event, with [`friction`] laws
@@ -24,6 +25,7 @@ pub mod noise;
 pub mod params;
 pub mod speed;
 pub mod tip;
+pub mod tip_march;
 pub mod wave;
 
 pub use error::{Error, Result};

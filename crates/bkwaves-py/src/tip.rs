@@ -2,6 +2,8 @@
 
 use crate::errors::to_py;
 use bkwaves_core::tip::{self, TipOptions, TipSolution};
+use bkwaves_core::tip_march::{march, MarchOptions};
+use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -72,7 +74,41 @@ fn tip_solve_u_plus<'py>(
     to_dict(py, &s)
 }
 
+/// March a front through blocks with thresholds `threshold` (bkwaves_core::tip_march):
+/// the first slip time of every block and the march's counters.
+#[pyfunction]
+#[pyo3(signature = (u_plus, threshold, dx, gamma, behind=64, step=0.5, order=20))]
+#[allow(clippy::too_many_arguments)]
+fn tip_march<'py>(
+    py: Python<'py>,
+    u_plus: f64,
+    threshold: PyReadonlyArray1<'py, f64>,
+    dx: f64,
+    gamma: f64,
+    behind: usize,
+    step: f64,
+    order: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let th = threshold.as_slice()?.to_vec();
+    let o = MarchOptions {
+        dx,
+        gamma,
+        behind,
+        step,
+        order,
+    };
+    let r = py.detach(|| march(u_plus, &th, &o)).map_err(to_py)?;
+    let d = PyDict::new(py);
+    d.set_item("slip_times", r.slip_times.into_pyarray(py))?;
+    d.set_item("stopped", r.stopped)?;
+    d.set_item("steps", r.steps)?;
+    d.set_item("events", r.events)?;
+    d.set_item("max_window", r.max_window)?;
+    Ok(d)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(tip_march, m)?)?;
     m.add_function(wrap_pyfunction!(tip_solve_speed, m)?)?;
     m.add_function(wrap_pyfunction!(tip_solve_u_plus, m)?)?;
     Ok(())
