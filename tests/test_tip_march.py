@@ -89,3 +89,15 @@ def test_bad_inputs_name_the_parameter():
         tip_march(1.5, np.ones(10))
     with pytest.raises(bk.ParameterError, match="method"):
         front_speed_ensemble(0.6, 0.0, 0.1, method="exact")
+
+
+def test_marched_speed_of_a_narrow_pulse_is_the_chains():
+    # at u_+ = 0.3, dx = 0.1 blocks re-stick inside the tip region: bk.front_speed refuses
+    with pytest.raises(bk.ParameterError, match="u_plus"):
+        bk.front_speed(0.3, dx=DX)
+    c = bk.disorder.marched_speed(0.3, dx=DX)
+    tc = _chain_slips(0.3, 0.0, np.ones(400), 0.025)
+    assert abs(DX * 199 / (tc[399] - tc[200]) / c - 1.0) < 1e-9
+    # and it is not the linear tip problem's (every block sliding for ever): 8e-7 off
+    linear = bk._core.tip_solve_u_plus(0.3, 16, 40.0, DX, 0.0, False)["c"]
+    assert abs(c - linear) > 1e-7

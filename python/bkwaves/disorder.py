@@ -31,6 +31,7 @@ __all__ = [
     "draw",
     "front_speed_ensemble",
     "local_theories",
+    "marched_speed",
     "property_seed",
     "thresholds",
     "TipMarch",
@@ -104,13 +105,37 @@ def _noise_quadrature(distribution: str):
 
 def local_speed(u_plus: float, gamma: float, dx: float):
     """theta -> c(u_+/theta; dx, gamma), the uniform chain's front speed at threshold
-    theta (a uniform threshold s is the uniform chain at u_+/s exactly: docs/disorder.md)."""
+    theta (a uniform threshold s is the uniform chain at u_+/s exactly: docs/disorder.md):
+    ``bk.front_speed`` where the tip problem is the chain's, else the uniform chain's
+    front marched by :func:`tip_march` (narrow pulses, whose blocks re-stick within the
+    tip region)."""
     from .waves import front_speed
 
+    def one(u):
+        try:
+            return float(front_speed(u, dx=dx, gamma=gamma))
+        except ParameterError:
+            return marched_speed(u, gamma=gamma, dx=dx)
+
     def c(theta):
-        return front_speed(u_plus / np.asarray(theta, dtype=float), dx=dx, gamma=gamma)
+        u = u_plus / np.asarray(theta, dtype=float)
+        try:
+            return front_speed(u, dx=dx, gamma=gamma)
+        except ParameterError:
+            return np.vectorize(one, otypes=[float])(u)
 
     return c
+
+
+def marched_speed(u_plus: float, *, gamma: float = 0.0, dx: float = 0.1) -> float:
+    """The uniform chain's steady front speed from :func:`tip_march` (400 blocks, c from
+    blocks 200 to 399: the trigger's transient has decayed to round-off there for
+    c >= 1.05). Unlike ``bk.front_speed`` it holds where blocks re-stick close behind the
+    tip (narrow pulses)."""
+    m = tip_march(u_plus, np.ones(400), gamma=gamma, dx=dx)
+    if m.stopped:
+        V._fail("u_plus", u_plus, "a stress whose front crosses 400 blocks (it stopped)")
+    return m.speed(200)
 
 
 @dataclass
@@ -433,9 +458,10 @@ def _first_slips(u_plus, gamma, dx, theta, kick: float = -2.0) -> np.ndarray:
 def defect_response(
     u_plus: float, gamma: float, *, dx: float = 0.1, delta: float = 0.05, blocks: int = 1500
 ) -> DefectResponse:
-    """a, b and k of :class:`DefectResponse` from five chains (defect 0, +-delta,
-    +-delta/2 at the settled start of ``bk.chain.front``'s window, the delay read at its
-    far end), b Richardson-extrapolated to delta -> 0 (its error is O(delta^2))."""
+    """a, b and k of :class:`DefectResponse` from five marched fronts (:func:`tip_march`:
+    defect 0, +-delta, +-delta/2 at the settled start of ``bk.chain.front``'s window, the
+    delay read at its far end), b Richardson-extrapolated to delta -> 0 (its error is
+    O(delta^2))."""
     from .chain import _app_b, _plan
 
     u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
@@ -455,9 +481,9 @@ def defect_response(
     def delay(d):
         theta = np.ones(n)
         theta[j] = 1.0 + d
-        return _first_slips(u_plus, gamma, dx, theta)[far]
+        return tip_march(u_plus, theta, gamma=gamma, dx=dx).slip_times[far]
 
-    ts0 = _first_slips(u_plus, gamma, dx, np.ones(n))
+    ts0 = tip_march(u_plus, np.ones(n), gamma=gamma, dx=dx).slip_times
     t0 = ts0[far]
     dp, dm, hp, hm = (delay(s * delta) - t0 for s in (1.0, -1.0, 0.5, -0.5))
     a = (4.0 * (hp - hm) / delta - (dp - dm) / (2.0 * delta)) / 3.0
