@@ -506,3 +506,16 @@ def test_cli_front_bad_input(args, name):
     r = cli("front", *args, "--json")
     assert r.returncode == 2
     assert name in r.stderr and "Traceback" not in r.stderr
+
+
+def test_catalog_rows_say_what_started_them():
+    """kind: a trigger's event, then events of blocks reaching their threshold."""
+    p = bk.Params(gamma=0.3, v=1e-3, dx=0.1)
+    ch = bk.Chain(40, p, u0=0.5)
+    ch.kick(5, -1.0, t=1.0)
+    r = ch.run(max_events=3, t_end=1e4)
+    assert list(r.catalog["kind"]) == ["trigger", "threshold", "threshold"]
+    first = r.slips[r.slips["event"] == 0]
+    assert first["kind"].iloc[0] == "trigger" and set(first["kind"].iloc[1:]) == {"threshold"}
+    ch = bk.Chain(10, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.2, u_t0=[-0.5] + [0.0] * 9)
+    assert ch.run(t_end=50.0).catalog["kind"].tolist() == ["initial"]

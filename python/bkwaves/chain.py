@@ -50,6 +50,9 @@ BOUNDARIES = tuple(b["name"] for b in _core.boundaries())
 INTEGRATORS = tuple(m["name"] for m in _core.integrators())
 #: Trigger kinds by name (the core's registry).
 TRIGGERS = tuple(k["name"] for k in _core.triggers())
+#: What starts a slip (the ``kind`` of slips and catalog rows): a block at its threshold,
+#: the initial state, then the event sources of the core's registry.
+SLIP_CAUSES = tuple(k["name"] for k in _core.slip_causes())
 #: Default time step as a fraction of dx (front speeds converged to ~1e-8 at fixed dx).
 DEFAULT_STEP = _core.defaults()["step"]
 #: Per-block properties a chain can carry (docs/chain.md): ``coupling`` has one value per
@@ -115,9 +118,10 @@ class ChainResult:
 
     catalog: one row per event (first slip to last re-stick): t_start, t_end, duration,
     nucleation block, first/last block slipped, n_blocks, n_slips, moment (total slip),
-    stress_drop; ``catalog.attrs["units"]``.
+    stress_drop, kind (what started its first slip: ``SLIP_CAUSES``, e.g. "threshold",
+    "trigger"); ``catalog.attrs["units"]``.
     slips: every slip interval of every block (the slip-front trajectories): event,
-    block, x, direction, t_start, t_end, u_start, u_end, slip.
+    block, x, direction, t_start, t_end, u_start, u_end, slip, kind.
     snapshots: xarray Dataset with u(t, x) and u_t(t, x) and attrs (params, units,
     version, seed).
     energy: initial and final energy, the flows and the balance residual.

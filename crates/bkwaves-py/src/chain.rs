@@ -9,6 +9,7 @@ use bkwaves_core::chain::dynamic::{build, ChainSpec, DynChain};
 use bkwaves_core::chain::front::{measure_front, FrontOptions};
 use bkwaves_core::chain::integrator::Method;
 use bkwaves_core::chain::medium::Properties;
+use bkwaves_core::chain::sources::causes;
 use bkwaves_core::chain::{ChainConfig, Stop, Trigger, TriggerKind};
 use bkwaves_core::friction::{FrictionSpec, DEFAULT_LAW, LAWS};
 use bkwaves_core::params::ParamSpec;
@@ -143,6 +144,20 @@ fn triggers<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let d = PyDict::new(py);
         d.set_item("name", *name)?;
         d.set_item("doc", *doc)?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
+
+/// The event sources and slip causes: a list of {name, doc} (the `kind` of slips and
+/// events: "threshold", "initial", then the sources of the core's registry).
+#[pyfunction]
+fn slip_causes<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for (name, doc) in causes() {
+        let d = PyDict::new(py);
+        d.set_item("name", name)?;
+        d.set_item("doc", doc)?;
         out.append(d)?;
     }
     Ok(out)
@@ -409,6 +424,7 @@ impl ChainEngine {
         d.set_item("n_slips", int1(py, i(&|r| r.n_slips)))?;
         d.set_item("moment", vec1(py, f(&|r| r.moment)))?;
         d.set_item("stress_drop", vec1(py, f(&|r| r.stress_drop)))?;
+        d.set_item("kind", e.iter().map(|r| r.kind.name()).collect::<Vec<_>>())?;
         Ok(d)
     }
 
@@ -442,6 +458,7 @@ impl ChainEngine {
         d.set_item("u_start", vec1(py, s.iter().map(|r| r.u_start).collect()))?;
         d.set_item("u_end", vec1(py, s.iter().map(|r| r.u_end).collect()))?;
         d.set_item("slip", vec1(py, s.iter().map(|r| r.slip).collect()))?;
+        d.set_item("kind", s.iter().map(|r| r.kind.name()).collect::<Vec<_>>())?;
         Ok(d)
     }
 
@@ -516,6 +533,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(boundaries, m)?)?;
     m.add_function(wrap_pyfunction!(integrators, m)?)?;
     m.add_function(wrap_pyfunction!(triggers, m)?)?;
+    m.add_function(wrap_pyfunction!(slip_causes, m)?)?;
     m.add_function(wrap_pyfunction!(defaults, m)?)?;
     Ok(())
 }

@@ -3,10 +3,14 @@
 //! An event runs from the first slip after a quiet time (no block sliding) to the last
 //! re-stick. Each slip interval of a block (slip to stick) is one [`SlipRecord`]; the
 //! sequence of their start times is the slip-front trajectory, their end times the
-//! healing front. Blocks are numbered 0..n in outputs.
+//! healing front. Blocks are numbered 0..n in outputs. Each slip and each event carries
+//! its cause ([`Cause`]: a block at its threshold, the initial state, or an event source
+//! such as a trigger or the noise); an event's is that of its first slip.
+
+use super::sources::Cause;
 
 /// One slip interval of one block.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SlipRecord {
     /// Event it belongs to.
     pub event: usize,
@@ -25,10 +29,12 @@ pub struct SlipRecord {
     /// Distance slid over the ground, in units of u: integral of (v - u_t) dt
     /// = v (t_end - t_start) - (u_end - u_start); negative for backward slip.
     pub slip: f64,
+    /// What started it.
+    pub kind: Cause,
 }
 
 /// One event (first slip to last re-stick).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct EventRecord {
     /// Event number (0, 1, ...).
     pub id: usize,
@@ -50,6 +56,8 @@ pub struct EventRecord {
     pub moment: f64,
     /// Mean over the slipped blocks of u at their first slip minus u at the end.
     pub stress_drop: f64,
+    /// What started it (the cause of its first slip).
+    pub kind: Cause,
 }
 
 /// Builder of the catalog while a run goes on.
@@ -89,8 +97,8 @@ impl Catalog {
         self.events.len() - usize::from(self.open)
     }
 
-    /// Block `i` (0-based) slipped at time t with displacement u.
-    pub fn slip(&mut self, i: usize, t: f64, u: f64, dir: i8) {
+    /// Block `i` (0-based) slipped at time t with displacement u, started by `kind`.
+    pub fn slip(&mut self, i: usize, t: f64, u: f64, dir: i8, kind: Cause) {
         if !self.open {
             self.open = true;
             self.events.push(EventRecord {
@@ -104,6 +112,7 @@ impl Catalog {
                 n_slips: 0,
                 moment: 0.0,
                 stress_drop: f64::NAN,
+                kind,
             });
         }
         let id = self.events.len() - 1;
@@ -127,6 +136,7 @@ impl Catalog {
             u_start: u,
             u_end: f64::NAN,
             slip: f64::NAN,
+            kind,
         });
     }
 
@@ -172,10 +182,10 @@ mod tests {
     #[test]
     fn an_event_collects_its_slips() {
         let mut c = Catalog::new(4);
-        c.slip(2, 1.0, 0.5, 1);
-        c.slip(3, 1.5, 0.5, 1);
+        c.slip(2, 1.0, 0.5, 1, Cause::Threshold);
+        c.slip(3, 1.5, 0.5, 1, Cause::Initial);
         c.stick(2, 2.0, -0.1, 0.0);
-        c.slip(2, 2.5, -0.1, 1);
+        c.slip(2, 2.5, -0.1, 1, Cause::Source(0));
         c.stick(2, 3.0, -0.2, 0.0);
         c.stick(3, 3.5, -0.3, 0.0);
         assert!(c.event_open());
@@ -187,5 +197,7 @@ mod tests {
         assert!((e.moment - (0.6 + 0.1 + 0.8)).abs() < 1e-15);
         assert!((e.stress_drop - 0.75).abs() < 1e-15);
         assert_eq!(c.slips.len(), 3);
+        assert_eq!(e.kind, Cause::Threshold);
+        assert_eq!(c.slips[2].kind.name(), "trigger");
     }
 }

@@ -5,18 +5,197 @@
 //! step or event budget (a `t_end` inside an event caps a step, which an uninterrupted
 //! run would not do). The bytes hold a fingerprint of the configuration (blocks, dx, v,
 //! step, boundary, friction law and its parameter table's values, the per-block
-//! properties, integrator): they are restored into
-//! a chain built with the same configuration, and anything else is refused.
+//! properties, integrator, the event sources' configurations): they are restored into a
+//! chain built with the same configuration, and anything else is refused.
+//!
+//! Every field is named once: [`chain_state!`] lists the chain's fields, each record type
+//! lists its own ([`record!`]), and the same list is written by [`Chain::checkpoint`] and
+//! read by [`Chain::restore`] through [`Field`]. The slip queue and the event sources
+//! write and read themselves (each source its own state, random generator included).
 
 use super::catalog::{EventRecord, SlipRecord};
 use super::events::SlipQueue;
 use super::medium::Medium;
-use super::{Chain, Trigger, TriggerKind};
+use super::sources::Cause;
+use super::Chain;
 use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 use crate::friction::Friction;
 
-const MAGIC: &[u8; 8] = b"BKCHAIN3";
+const MAGIC: &[u8; 8] = b"BKCHAIN4";
+
+/// A value of the state, written and read by one code path.
+pub(crate) trait Field {
+    fn put(&self, w: &mut W);
+    fn get(&mut self, r: &mut R) -> Result<()>;
+}
+
+impl Field for f64 {
+    fn put(&self, w: &mut W) {
+        w.f(*self);
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        *self = r.f()?;
+        Ok(())
+    }
+}
+
+impl Field for u64 {
+    fn put(&self, w: &mut W) {
+        w.u(*self);
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        *self = r.u()?;
+        Ok(())
+    }
+}
+
+impl Field for usize {
+    fn put(&self, w: &mut W) {
+        w.z(*self);
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        *self = r.z()?;
+        Ok(())
+    }
+}
+
+impl Field for bool {
+    fn put(&self, w: &mut W) {
+        w.b(*self);
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        *self = r.b()?;
+        Ok(())
+    }
+}
+
+impl Field for i8 {
+    fn put(&self, w: &mut W) {
+        w.i(*self);
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        *self = r.dir()?;
+        Ok(())
+    }
+}
+
+impl Field for Cause {
+    fn put(&self, w: &mut W) {
+        w.u(self.code());
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        *self = Cause::from_code(r.u()?).ok_or_else(|| bad(r.i, "a known slip cause"))?;
+        Ok(())
+    }
+}
+
+/// A sequence: its length, then its items (each at least one 8-byte word).
+impl<T: Field + Default> Field for Vec<T> {
+    fn put(&self, w: &mut W) {
+        w.u(self.len() as u64);
+        for x in self {
+            x.put(w);
+        }
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        let k = r.len(8)?;
+        self.clear();
+        for _ in 0..k {
+            let mut x = T::default();
+            x.get(r)?;
+            self.push(x);
+        }
+        Ok(())
+    }
+}
+
+/// A record type's fields, in checkpoint order.
+macro_rules! record {
+    ($t:ty { $($f:ident),* $(,)? }) => {
+        impl Field for $t {
+            fn put(&self, w: &mut W) {
+                $(self.$f.put(w);)*
+            }
+            fn get(&mut self, r: &mut R) -> Result<()> {
+                $(self.$f.get(r)?;)*
+                Ok(())
+            }
+        }
+    };
+}
+
+record!(EventRecord {
+    id,
+    nucleation,
+    first_block,
+    last_block,
+    n_blocks,
+    n_slips,
+    t_start,
+    t_end,
+    moment,
+    stress_drop,
+    kind
+});
+record!(SlipRecord {
+    event,
+    block,
+    dir,
+    t_start,
+    t_end,
+    u_start,
+    u_end,
+    slip,
+    kind
+});
+
+/// The chain's state fields, in checkpoint order, as references (`&` to write, `&mut` to
+/// read): the one list of what a checkpoint holds besides the queue and the sources.
+macro_rules! chain_state {
+    ($c:ident, $dyn:ty, $($r:tt)+) => {{
+        let fields: Vec<$dyn> = vec![
+            $($r)+ $c.t,
+            $($r)+ $c.stuck_sum,
+            $($r)+ $c.n_stuck,
+            $($r)+ $c.stuck_loader,
+            $($r)+ $c.need_check,
+            $($r)+ $c.full_check,
+            $($r)+ $c.a_valid,
+            $($r)+ $c.s_start.u,
+            $($r)+ $c.s_start.dry,
+            $($r)+ $c.s_start.visc,
+            $($r)+ $c.a_start,
+            $($r)+ $c.st.u,
+            $($r)+ $c.st.w,
+            $($r)+ $c.st.tref,
+            $($r)+ $c.st.dir,
+            $($r)+ $c.st.onset,
+            $($r)+ $c.snap_times,
+            $($r)+ $c.snap_every,
+            $($r)+ $c.ledger.load,
+            $($r)+ $c.ledger.dry,
+            $($r)+ $c.ledger.viscous,
+            $($r)+ $c.ledger.projection,
+            $($r)+ $c.ledger.injected,
+            $($r)+ $c.counters.steps,
+            $($r)+ $c.counters.block_steps,
+            $($r)+ $c.counters.switches,
+            $($r)+ $c.counters.jumps,
+            $($r)+ $c.catalog.events,
+            $($r)+ $c.catalog.slips,
+            $($r)+ $c.catalog.open_slip,
+            $($r)+ $c.catalog.last_event,
+            $($r)+ $c.catalog.u_first,
+            $($r)+ $c.catalog.blocks_now,
+            $($r)+ $c.catalog.open,
+            $($r)+ $c.snapshots.t,
+            $($r)+ $c.snapshots.u,
+            $($r)+ $c.snapshots.u_t,
+        ];
+        fields
+    }};
+}
 
 impl<F: Friction, M: Medium> Chain<F, M> {
     fn fingerprint(&self, w: &mut W) {
@@ -34,97 +213,27 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
         w.fs(&self.blk.med.fingerprint());
         w.s(self.rk.name());
+        w.u(self.sources.len() as u64);
+        for s in &self.sources {
+            s.fingerprint(w);
+        }
     }
 
     /// The whole state as bytes (see the module docs).
     pub fn checkpoint(&self) -> Vec<u8> {
         let mut w = W(MAGIC.to_vec());
         self.fingerprint(&mut w);
-        w.f(self.t);
-        w.f(self.stuck_sum);
-        w.u(self.n_stuck as u64);
-        w.f(self.stuck_loader);
-        w.b(self.need_check);
-        w.b(self.full_check);
-        w.b(self.a_valid);
-        for x in [self.s_start.u, self.s_start.dry, self.s_start.visc] {
-            w.f(x);
+        for f in chain_state!(self, &dyn Field, &) {
+            f.put(&mut w);
         }
-        w.fs(&self.a_start);
-        w.fs(&self.st.u);
-        w.fs(&self.st.w);
-        w.fs(&self.st.tref);
-        w.fs(&self.st.dir);
-        w.fs(&self.st.onset);
         let q = self.queue.entries();
         w.u(q.len() as u64);
         for (t, p) in q {
             w.f(t);
             w.u(p as u64);
         }
-        w.u(self.triggers.len() as u64);
-        for tr in &self.triggers {
-            w.f(tr.t);
-            w.u(tr.block as u64);
-            match tr.kind {
-                TriggerKind::Release { dir } => {
-                    w.u(0);
-                    w.f(f64::from(dir));
-                }
-                TriggerKind::Kick { du_t } => {
-                    w.u(1);
-                    w.f(du_t);
-                }
-            }
-        }
-        w.fs(&self.snap_times);
-        w.u(self.snap_every as u64);
-        let l = self.ledger;
-        for x in [l.load, l.dry, l.viscous, l.projection, l.injected] {
-            w.f(x);
-        }
-        let c = self.counters;
-        for x in [c.steps, c.block_steps, c.switches, c.jumps] {
-            w.u(x);
-        }
-        let cat = &self.catalog;
-        w.u(cat.events.len() as u64);
-        for e in &cat.events {
-            for x in [
-                e.id,
-                e.nucleation,
-                e.first_block,
-                e.last_block,
-                e.n_blocks,
-                e.n_slips,
-            ] {
-                w.u(x as u64);
-            }
-            for x in [e.t_start, e.t_end, e.moment, e.stress_drop] {
-                w.f(x);
-            }
-        }
-        w.u(cat.slips.len() as u64);
-        for r in &cat.slips {
-            w.u(r.event as u64);
-            w.u(r.block as u64);
-            w.f(f64::from(r.dir));
-            for x in [r.t_start, r.t_end, r.u_start, r.u_end, r.slip] {
-                w.f(x);
-            }
-        }
-        w.zs(&cat.open_slip);
-        w.zs(&cat.last_event);
-        w.fs(&cat.u_first);
-        w.zs(&cat.blocks_now);
-        w.b(cat.open);
-        let sn = &self.snapshots;
-        w.fs(&sn.t);
-        for rows in [&sn.u, &sn.u_t] {
-            w.u(rows.len() as u64);
-            for r in rows {
-                w.fs(r);
-            }
+        for s in &self.sources {
+            s.save(&mut w);
         }
         w.0
     }
@@ -142,154 +251,55 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             return Err(bad(
                 8,
                 "a checkpoint of a chain with the same blocks, dx, v, step, boundary, \
-                 friction law and parameters, per-block properties and integrator",
+                 friction law and parameters, per-block properties, integrator and event \
+                 sources",
             ));
         }
-        let n2 = self.st.n + 2;
-        let mut next = Chain {
-            cfg: self.cfg,
-            blk: self.blk.clone(),
-            boundary_name: self.boundary_name,
-            st: self.st.clone(),
-            rk: self.rk.clone(),
-            queue: SlipQueue::new(n2),
-            t: r.f()?,
-            h: self.h,
-            a_start: Vec::new(),
-            a_end: vec![0.0; n2],
-            s_start: Default::default(),
-            s_end: Default::default(),
-            a_valid: false,
-            u0: vec![0.0; n2],
-            w0: vec![0.0; n2],
-            stuck_sum: r.f()?,
-            n_stuck: r.z()?,
-            stuck_loader: r.f()?,
-            triggers: Vec::new(),
-            snap_times: Vec::new(),
-            snap_every: 0,
-            catalog: Default::default(),
-            ledger: Default::default(),
-            snapshots: Default::default(),
-            counters: Default::default(),
-            need_check: false,
-            full_check: false,
-            // run limits are not state: the restored chain keeps its own
-            event_slip_limit: self.event_slip_limit,
-            event_duration_limit: self.event_duration_limit,
-            chunk_work: self.chunk_work,
-        };
-        next.need_check = r.b()?;
-        next.full_check = r.b()?;
-        next.a_valid = r.b()?;
-        next.s_start.u = r.f()?;
-        next.s_start.dry = r.f()?;
-        next.s_start.visc = r.f()?;
-        let arrays = [r.fs()?, r.fs()?, r.fs()?, r.fs()?, r.fs()?, r.fs()?];
-        if arrays.iter().any(|a| a.len() != n2) {
+        let (n, n2) = (self.st.n, self.st.n + 2);
+        let mut next = self.clone();
+        for f in chain_state!(next, &mut dyn Field, &mut) {
+            f.get(&mut r)?;
+        }
+        let st = &next.st;
+        if [&next.a_start, &st.u, &st.w, &st.tref, &st.dir, &st.onset]
+            .iter()
+            .any(|a| a.len() != n2)
+        {
             return Err(bad(r.i, "arrays of n + 2 values"));
         }
-        let [a_start, u, w, tref, dir, onset] = arrays;
-        next.a_start = a_start;
-        next.st.u = u;
-        next.st.w = w;
-        next.st.tref = tref;
-        next.st.dir = dir;
-        next.st.onset = onset;
-        next.st.runs.clear();
-        next.st.n_active = 0;
-        for p in 1..=next.st.n {
-            if next.st.dir[p] != 0.0 {
-                next.st.add_to_runs(p);
-            }
+        let cat = &next.catalog;
+        if cat.open_slip.len() != n || cat.last_event.len() != n || cat.u_first.len() != n {
+            return Err(bad(r.i, "catalog arrays of n values"));
         }
-        for _ in 0..r.len(8)? {
+        next.queue = SlipQueue::new(n2);
+        for _ in 0..r.len(16)? {
             let (t, p) = (r.f()?, r.z()?);
-            if p == 0 || p > next.st.n {
+            if p == 0 || p > n {
                 return Err(bad(r.i, "queue entries of real blocks"));
             }
             next.queue.push(p, t);
         }
-        for _ in 0..r.len(8)? {
-            let (t, block, kind, value) = (r.f()?, r.z()?, r.u()?, r.f()?);
-            let kind = if kind == 0 {
-                TriggerKind::Release {
-                    dir: if value < 0.0 { -1 } else { 1 },
-                }
-            } else {
-                TriggerKind::Kick { du_t: value }
-            };
-            if block >= next.st.n {
-                return Err(bad(r.i, "triggers of real blocks"));
-            }
-            next.triggers.push(Trigger { t, block, kind });
+        for s in next.sources.iter_mut() {
+            s.load(&mut r)?;
         }
-        next.snap_times = r.fs()?;
-        next.snap_every = r.z()?;
-        let l = &mut next.ledger;
-        l.load = r.f()?;
-        l.dry = r.f()?;
-        l.viscous = r.f()?;
-        l.projection = r.f()?;
-        l.injected = r.f()?;
-        let c = &mut next.counters;
-        c.steps = r.u()?;
-        c.block_steps = r.u()?;
-        c.switches = r.u()?;
-        c.jumps = r.u()?;
-        let cat = &mut next.catalog;
-        for _ in 0..r.len(8)? {
-            let ints = [r.z()?, r.z()?, r.z()?, r.z()?, r.z()?, r.z()?];
-            let fl = [r.f()?, r.f()?, r.f()?, r.f()?];
-            cat.events.push(EventRecord {
-                id: ints[0],
-                nucleation: ints[1],
-                first_block: ints[2],
-                last_block: ints[3],
-                n_blocks: ints[4],
-                n_slips: ints[5],
-                t_start: fl[0],
-                t_end: fl[1],
-                moment: fl[2],
-                stress_drop: fl[3],
-            });
+        if next.triggers().blocks().any(|b| b >= n) {
+            return Err(bad(r.i, "triggers of real blocks"));
         }
-        for _ in 0..r.len(8)? {
-            let (event, block, dir) = (r.z()?, r.z()?, r.f()?);
-            let fl = [r.f()?, r.f()?, r.f()?, r.f()?, r.f()?];
-            cat.slips.push(SlipRecord {
-                event,
-                block,
-                dir: dir as i8,
-                t_start: fl[0],
-                t_end: fl[1],
-                u_start: fl[2],
-                u_end: fl[3],
-                slip: fl[4],
-            });
-        }
-        cat.open_slip = r.zs()?;
-        cat.last_event = r.zs()?;
-        cat.u_first = r.fs()?;
-        cat.blocks_now = r.zs()?;
-        cat.open = r.b()?;
-        let n = next.st.n;
-        if cat.open_slip.len() != n || cat.last_event.len() != n || cat.u_first.len() != n {
-            return Err(bad(r.i, "catalog arrays of n values"));
-        }
-        next.snapshots.t = r.fs()?;
-        let mut rows = [Vec::new(), Vec::new()];
-        for rr in rows.iter_mut() {
-            for _ in 0..r.len(8)? {
-                rr.push(r.fs()?);
-            }
-        }
-        let [su, sw] = rows;
-        next.snapshots.u = su;
-        next.snapshots.u_t = sw;
         if r.i != bytes.len() {
             return Err(bad(r.i, "a checkpoint with nothing after its end"));
         }
+        next.st.runs.clear();
+        next.st.n_active = 0;
+        for p in 1..=n {
+            if next.st.dir[p] != 0.0 {
+                next.st.add_to_runs(p);
+            }
+        }
+        // scratch of the integrator: as a freshly built chain has it
+        next.a_end = vec![0.0; n2];
+        next.u0 = vec![0.0; n2];
+        next.w0 = vec![0.0; n2];
+        next.s_end = Default::default();
         *self = next;
         Ok(())
     }

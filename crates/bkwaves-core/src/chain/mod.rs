@@ -28,6 +28,7 @@ pub mod events;
 pub mod front;
 pub mod integrator;
 pub mod medium;
+pub mod sources;
 pub mod state;
 
 use crate::boundary::Boundary;
@@ -38,6 +39,7 @@ use energy::Ledger;
 use events::{Hermite, SlipQueue};
 use integrator::{Method, StageSums, Stepper};
 use medium::{Blocks, Medium, Uniform};
+use sources::{Cause, Source, View};
 use state::State;
 
 /// Numerical and loading settings of a chain.
@@ -190,7 +192,11 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     stuck_sum: f64,
     n_stuck: usize,
     stuck_loader: f64,
-    triggers: Vec<Trigger>,
+    /// Largest loader stiffness (phi of a stuck block among stuck ones rises at most at
+    /// this times v).
+    max_loader: f64,
+    /// Event sources (`sources::SOURCES`): the triggers first.
+    sources: Vec<Box<dyn Source>>,
     snap_times: Vec<f64>,
     snap_every: usize,
     /// Event catalog and slip records.
@@ -312,6 +318,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 st.w[i + 1] = x;
             }
         }
+        let max_loader = (1..=n).map(|p| medium.loader(p)).fold(0.0, f64::max);
         let mut ch = Chain {
             cfg,
             blk: Blocks {
@@ -333,7 +340,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             stuck_sum: 0.0,
             n_stuck: n,
             stuck_loader: 0.0,
-            triggers: Vec::new(),
+            max_loader,
+            sources: vec![Box::new(sources::triggers::Triggers::default())],
             snap_times: Vec::new(),
             snap_every: 0,
             catalog: Catalog::new(n),
@@ -355,7 +363,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             let w = ch.st.w[p];
             if w != ch.cfg.v {
                 let dir = if w < ch.cfg.v { 1 } else { -1 };
-                ch.start_sliding(p, dir);
+                ch.start_sliding(p, dir, Cause::Initial);
             }
         }
         for p in 1..=n {
@@ -481,9 +489,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 });
             }
         }
-        self.triggers.push(tr);
-        // keep sorted by decreasing time (pop from the end)
-        self.triggers.sort_by(|a, b| b.t.total_cmp(&a.t));
+        self.triggers().push(tr);
         Ok(())
     }
 
@@ -500,7 +506,14 @@ impl<F: Friction, M: Medium> Chain<F, M> {
 
     // ----- mode changes ------------------------------------------------------------
 
-    fn start_sliding(&mut self, p: usize, dir: i8) {
+    /// The scheduled triggers (always the first source).
+    fn triggers(&mut self) -> &mut sources::triggers::Triggers {
+        self.sources[0]
+            .as_triggers()
+            .expect("the first source is the triggers")
+    }
+
+    fn start_sliding(&mut self, p: usize, dir: i8, cause: Cause) {
         let t = self.t;
         let u = self.st.stuck_u(p, t);
         let kp = self.blk.med.loader(p);
@@ -511,7 +524,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.st.dir[p] = dir as f64;
         self.st.onset[p] = self.blk.med.threshold(p);
         self.st.add_to_runs(p);
-        self.catalog.slip(p - 1, t, u, dir);
+        self.catalog.slip(p - 1, t, u, dir, cause);
         self.counters.switches += 1;
         self.a_valid = false;
     }
@@ -520,7 +533,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     /// it slides with the law's onset threshold (see `Friction::onset_threshold`).
     fn slip_at_threshold(&mut self, p: usize, dir: i8) {
         let phi = self.blk.phi(&self.st, p, self.t);
-        self.start_sliding(p, dir);
+        self.start_sliding(p, dir, Cause::Threshold);
         self.st.onset[p] =
             self.blk
                 .fr
@@ -568,7 +581,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 // reversal: close the slip record and open one in the new direction
                 let u = self.st.u[p];
                 self.catalog.stick(p - 1, self.t, u, self.cfg.v);
-                self.catalog.slip(p - 1, self.t, u, dir as i8);
+                self.catalog
+                    .slip(p - 1, self.t, u, dir as i8, Cause::Threshold);
                 self.counters.switches += 1;
                 // a slip at the other threshold
                 self.st.onset[p] = self
@@ -858,13 +872,13 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
     }
 
-    fn apply_trigger(&mut self, tr: Trigger) {
+    fn apply_trigger(&mut self, tr: Trigger, cause: Cause) {
         let p = tr.block + 1;
         let v = self.cfg.v;
         match tr.kind {
             TriggerKind::Release { dir } => {
                 if !self.st.sliding(p) {
-                    self.start_sliding(p, if dir >= 0 { 1 } else { -1 });
+                    self.start_sliding(p, if dir >= 0 { 1 } else { -1 }, cause);
                 }
             }
             TriggerKind::Kick { du_t } => {
@@ -877,7 +891,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     if w_new == v {
                         return;
                     }
-                    self.start_sliding(p, if w_new < v { 1 } else { -1 });
+                    self.start_sliding(p, if w_new < v { 1 } else { -1 }, cause);
                 }
                 self.st.w[p] = w_new;
                 self.a_valid = false;
@@ -940,13 +954,18 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             if self.catalog.finished() >= target_events {
                 return Ok(Stop::Events);
             }
-            if let Some(&tr) = self.triggers.last() {
-                if tr.t <= self.t {
-                    self.triggers.pop();
-                    self.apply_trigger(tr);
+            // the sources: one due now acts (in registry order); else the earliest time
+            let (due, t_source) = self.next_source();
+            if let Some(k) = due {
+                let mut srcs = std::mem::take(&mut self.sources);
+                let fired = srcs[k].fire(self);
+                let kind = srcs[k].kind();
+                self.sources = srcs;
+                if let Some(tr) = fired {
+                    self.apply_trigger(tr, Cause::Source(kind));
                     self.need_check = true;
-                    continue;
                 }
+                continue;
             }
             let tq = self.queue.peek().map_or(f64::INFINITY, |(t, _)| t);
             if tq <= self.t {
@@ -968,8 +987,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     return Ok(Stop::LongEvent);
                 }
             }
-            let ttr = self.triggers.last().map_or(f64::INFINITY, |tr| tr.t);
-            let t_next = tq.min(ttr).min(t_end);
+            let t_next = tq.min(t_source).min(t_end);
             if self.st.n_active == 0 {
                 // quiet: everything drifts exactly; jump
                 let dt = t_next - self.t;
@@ -987,6 +1005,23 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             steps += 1;
             self.integrate_step(t_next)?;
         }
+    }
+
+    /// The first source due now (if any), else the earliest time a source acts.
+    fn next_source(&mut self) -> (Option<usize>, f64) {
+        let mut srcs = std::mem::take(&mut self.sources);
+        let mut earliest = f64::INFINITY;
+        let mut due = None;
+        for (k, s) in srcs.iter_mut().enumerate() {
+            let ts = s.next_time(self);
+            if ts <= self.t {
+                due = Some(k);
+                break;
+            }
+            earliest = earliest.min(ts);
+        }
+        self.sources = srcs;
+        (due, earliest)
     }
 
     fn quiet_or_dense_tail(&mut self) {
@@ -1099,3 +1134,28 @@ mod tests;
 mod tests_blocks;
 #[cfg(test)]
 mod tests_laws;
+
+impl<F: Friction, M: Medium> View for Chain<F, M> {
+    fn time(&self) -> f64 {
+        self.t
+    }
+    fn n(&self) -> usize {
+        self.st.n
+    }
+    fn n_sliding(&self) -> usize {
+        self.st.n_active
+    }
+    fn sliding(&self, p: usize) -> bool {
+        self.st.sliding(p)
+    }
+    fn stress(&self, p: usize) -> f64 {
+        // phi + (1 - upper): phi itself, to the bit, for the threshold 1
+        self.blk.phi(&self.st, p, self.t) + (1.0 - self.blk.upper(p))
+    }
+    fn max_loading_rate(&self) -> f64 {
+        self.max_loader * self.cfg.v
+    }
+    fn switches(&self) -> u64 {
+        self.counters.switches
+    }
+}
