@@ -23,10 +23,15 @@ Schema (all sections optional except those marked)::
                 parameters (dimensionless; gamma and beta here or in [params], not both)
                 e.g. law = "velocity_weakening", v_f = 0.01
 
-    [disorder]  (chain only) threshold, mass, loader, coupling: each a number, an array
+    [disorder]  chain: threshold, mass, loader, coupling: each a number, an array
                 (one per block; coupling one per bond: n - 1 free, n + 1 fixed, n
                 periodic) or {distribution = "uniform" | "normal" | "lognormal", mean,
                 spread} drawn with the config's seed (bk.disorder)
+                free boundary: threshold only, the static threshold field s(x) on the
+                grid: a number, an array (one per grid node), {distribution, mean,
+                spread} drawn per node, or a smooth random field {mean, amplitude,
+                correlation_length} (like initial kind "random"; lengths in metres
+                with [physical]); docs/free_boundary.md, "Threshold field"
 
     [noise]     (free boundary) spontaneous pair nucleation at Lambda(u) = rate g(u):
                 law = "constant" | "exponential" (phi0) | "power" (exponent), rate
@@ -344,14 +349,26 @@ def _disorder(doc: dict, model: str) -> tuple:
     floats or a dict {distribution, mean, spread}."""
     if "disorder" not in doc:
         return ()
-    if model != "chain":
-        _err("disorder", "per-block properties apply to the chain model only")
     t = _table(doc["disorder"], "disorder")
-    _keys(t, "disorder", PROPERTIES)
+    _keys(t, "disorder", PROPERTIES if model == "chain" else ("threshold",))
     out = []
     for k, x in t.items():
         q = f"disorder.{k}"
-        if isinstance(x, dict):
+        if isinstance(x, dict) and model != "chain" and "correlation_length" in x:
+            _keys(x, q, ("mean", "amplitude", "correlation_length"), ("amplitude",))
+            spec = {
+                "mean": _num(x, "mean", q, 1.0, lo=0.0, lo_open=True),
+                "amplitude": _num(x, "amplitude", q, lo=0.0),
+                "correlation_length": _num(x, "correlation_length", q, lo=0.0, lo_open=True),
+            }
+            if spec["amplitude"] >= spec["mean"]:
+                _err(
+                    f"{q}.amplitude",
+                    f"invalid amplitude = {spec['amplitude']}: allowed 0 <= amplitude < mean "
+                    f"= {spec['mean']} (a positive threshold)",
+                )
+            out.append((k, spec))
+        elif isinstance(x, dict):
             _keys(x, q, ("distribution", "mean", "spread"), ("distribution", "spread"))
             spec = {
                 "distribution": _choice(x, "distribution", q, tuple(DISTRIBUTIONS)),
@@ -406,6 +423,46 @@ def _speed(doc: dict, model: str) -> dict | None:
     from .free_boundary import speed_table
 
     return speed_table({"u_plus": t["u_plus"], "c": t["c"]})
+
+
+def _scaled_disorder(disorder: tuple, ls: float) -> tuple:
+    """[disorder] with the correlation lengths of smooth fields in the paper's units."""
+    return tuple(
+        (k, {**x, "correlation_length": x["correlation_length"] / ls})
+        if isinstance(x, dict) and "correlation_length" in x
+        else (k, x)
+        for k, x in disorder
+    )
+
+
+def threshold_field(cfg: RunConfig, x: np.ndarray | None = None) -> np.ndarray | None:
+    """The static threshold at the grid nodes of a free boundary config (None: uniform 1),
+    from [disorder] threshold (drawn ones with the config's seed, the threshold's stream)."""
+    spec = dict(cfg.disorder).get("threshold")
+    if cfg.model != "free_boundary" or spec is None:
+        return None
+    x = cfg.x() if x is None else x
+    n = len(x)
+    if isinstance(spec, dict) and "correlation_length" in spec:
+        rng = np.random.default_rng(property_seed(cfg.seed, "threshold"))
+        smooth = _smooth_random(x, spec["correlation_length"], rng, cfg.boundary == "periodic")
+        return spec["mean"] + spec["amplitude"] * smooth
+    if isinstance(spec, dict):
+        try:
+            return draw(
+                spec["distribution"],
+                n,
+                mean=spec["mean"],
+                spread=spec["spread"],
+                seed=property_seed(cfg.seed, "threshold"),
+            )
+        except ParameterError as e:
+            _err("disorder.threshold", str(e))
+    if isinstance(spec, tuple):
+        if len(spec) != n:
+            _err("disorder.threshold", f"{len(spec)} values; expected {n} (one per grid node)")
+        return np.array(spec)
+    return np.full(n, float(spec))
 
 
 def disorder_arrays(cfg: RunConfig) -> dict:
@@ -646,7 +703,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         output_units=_cfg(o, "units", "output", "native"),
         seed=seed,
         title=title,
-        disorder=_disorder(doc, model),
+        disorder=_scaled_disorder(_disorder(doc, model), ls),
         noise=_noise(doc, model, ls * ts),
         speed=_speed(doc, model),
         base_dir=base_dir,
@@ -654,7 +711,10 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     # a random config without a seed gets a fresh one now: the drawn properties checked
     # here are the ones the run uses, and cfg.to_dict() records the seed
     cfg = cfg.seeded()
-    for k, a in disorder_arrays(cfg).items() if cfg.disorder else ():
+    if cfg.noise is not None and dict(cfg.disorder).get("threshold") is not None:
+        _err("noise", "not implemented with a threshold field ([disorder] threshold)")
+    arrays = disorder_arrays(cfg) if cfg.model == "chain" else {"threshold": threshold_field(cfg)}
+    for k, a in arrays.items() if cfg.disorder else ():
         if a is not None:
             a = np.atleast_1d(np.asarray(a, dtype=float))
             bad = np.flatnonzero(~(np.isfinite(a) & (a > 0)))
@@ -877,11 +937,19 @@ def initial_state(cfg: RunConfig) -> np.ndarray:
     }[s.kind]
     if not np.all(np.isfinite(u)) or np.max(np.abs(u)) > U_LIMIT:
         _err(key, f"the initial state has values outside |u| <= {U_LIMIT:g} (or not finite)")
-    if cfg.model == "free_boundary" and np.max(u) >= 1.0:
+    thr = threshold_field(cfg, x) if cfg.model == "free_boundary" else None
+    if cfg.model == "free_boundary" and thr is None and np.max(u) >= 1.0:
         i = int(np.argmax(u))
         _err(
             key,
             f"the initial state reaches u = {u[i]:.6g} >= 1 at x = {x[i]:.6g}: the free "
             "boundary model needs u < 1 (the static threshold) everywhere",
+        )
+    if thr is not None and np.any(u >= thr):
+        i = int(np.argmax(u - thr))
+        _err(
+            key,
+            f"the initial state reaches u = {u[i]:.6g} >= the threshold {thr[i]:.6g} at "
+            f"x = {x[i]:.6g}: the free boundary model needs u < threshold everywhere",
         )
     return u

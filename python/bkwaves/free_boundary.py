@@ -31,7 +31,7 @@ from . import noise as _noise
 from ._progress import RunProgress
 from .params import Params
 
-__all__ = ["FreeBoundary", "FreeBoundaryResult", "NoCreepWarning", "speed_table"]
+__all__ = ["FreeBoundary", "FreeBoundaryResult", "NoCreepWarning", "speed_table", "threshold_field"]
 
 BOUNDARIES = ("free", "periodic")
 CREEP_RULES = ("zero", "stop")
@@ -129,6 +129,28 @@ def speed_table(speed) -> dict | None:
     return {"u_plus": [float(q) for q in u], "c": [float(q) for q in c]}
 
 
+def threshold_field(threshold, x) -> np.ndarray | None:
+    """The static threshold s at the grid nodes ``x``, or None for the uniform threshold 1.
+
+    threshold: None or 1 (uniform, the default); a number s > 0 (uniform s: the model at
+    u/s, v/s scaled by s); an array of one value per node; or a callable s(x) evaluated at
+    the nodes. Block x slips when u - u_xx >= s(x); the free boundary problem assumes s
+    varies on scales much longer than dx and the pulse width (docs/free_boundary.md,
+    "Threshold field")."""
+    if threshold is None:
+        return None
+    if callable(threshold):
+        s = threshold(np.asarray(x, dtype=float))
+    elif V._is_real(threshold):
+        s = np.full(np.shape(x), float(threshold))
+    else:
+        s = threshold
+    s = V.array("threshold", s, lo=0.0, lo_open=True)
+    if s.shape != np.shape(x):
+        V._fail("threshold", f"array of shape {s.shape}", f"one value per grid node {np.shape(x)}")
+    return None if np.all(s == 1.0) else s
+
+
 @dataclass
 class FreeBoundaryResult:
     """What :meth:`FreeBoundary.run` returns (everything since the engine was built).
@@ -187,6 +209,12 @@ class FreeBoundary:
         :func:`bkwaves.disorder.front_speed_ensemble` (one or a list), e.g. the
         renormalised c_eff of a disordered medium (:func:`speed_table`). u_- and the
         critical stress u_c follow the law (docs/free_boundary.md, "Front-speed law").
+    threshold: the static threshold field s(x) (default None: 1 everywhere): a number, an
+        array on the grid or a callable s(x) (:func:`threshold_field`). Block x slips when
+        u - u_xx >= s(x); for s varying on scales much longer than dx and the pulse width,
+        shocks move at c(u_+/s), leave u_- = -u_+ E(c) (eq. um with that c), creep where
+        u_+ <= s u_c, and pairs are born where u reaches s (docs/free_boundary.md,
+        "Threshold field"). u0 must stay below s. Not with noise.
     """
 
     def __init__(
@@ -203,6 +231,7 @@ class FreeBoundary:
         noise: dict | None = None,
         seed: int | None = None,
         speed=None,
+        threshold=None,
     ):
         if not isinstance(params, Params):
             V._fail("params", params, "a bkwaves.Params instance")
@@ -229,7 +258,9 @@ class FreeBoundary:
         h = (x[-1] - x[0]) / (x.size - 1)
         if not (h > 0 and np.all(np.abs(dxs - h) <= 1e-9 * h)):
             V._fail("x", "non-uniform grid", "uniformly spaced, increasing nodes")
-        u0 = V.array("u0", u0, lo=-1e6, hi=1.0, hi_open=True)
+        threshold = threshold_field(threshold, x)
+        # (below the threshold field, checked below, when there is one)
+        u0 = V.array("u0", u0, lo=-1e6, hi=1.0 if threshold is None else None, hi_open=True)
         if u0.shape != x.shape:
             V._fail("u0", f"array of shape {u0.shape}", f"the shape of x, {x.shape}")
         if shocks is not None and (
@@ -256,6 +287,17 @@ class FreeBoundary:
         self.noise = None if noise is None else _noise.check_noise(noise)
         self.seed = _seed(seed, self.noise)
         self.speed = speed_table(speed)
+        self.threshold = threshold
+        if self.threshold is not None:
+            over = np.flatnonzero(u0 >= self.threshold)
+            if over.size:
+                i = int(over[0])
+                V._fail(
+                    "u0",
+                    float(u0[i]),
+                    f"u0 < threshold everywhere (at x = {x[i]:.6g} the threshold is "
+                    f"{self.threshold[i]:.6g}: a slip at t = 0)",
+                )
         self._engine = self._new_engine(
             u0,
             np.array(sx, dtype=float) if sx else None,
@@ -285,6 +327,7 @@ class FreeBoundary:
             self.record_path,
             speed_u=np.array(table["u_plus"]) if table else None,
             speed_c=np.array(table["c"]) if table else None,
+            threshold=None if self.threshold is None else np.ascontiguousarray(self.threshold),
         )
 
     @property
@@ -306,12 +349,15 @@ class FreeBoundary:
 
     # ------------------------------------------------------------------ checks
     def _check_no_creep(self, u0, shock_x):
-        """Warn when |u0_x| >= v / c(u_c) somewhere (eq. nocreep), away from given shocks."""
+        """Warn when |u0_x| >= v / c(u_c) somewhere (eq. nocreep; |(u0 - u_c s)_x| with a
+        threshold field s), away from given shocks."""
         v, g = self.params.v, self.params.gamma
         if v <= 0 or g <= 0:
             return
         bound = v * math.sqrt(1.0 - g * g)  # v / c(u_c), c(u_c) = 1/sqrt(1 - gamma^2)
-        slope = np.abs(np.diff(u0)) / self.h
+        # with a threshold field the creep boundary is u = s u_c: |(u - u_c s)_x| counts
+        g = u0 if self.threshold is None else u0 - self.critical_stress * self.threshold
+        slope = np.abs(np.diff(g)) / self.h
         mid = 0.5 * (self.x[:-1] + self.x[1:])
         if shock_x.size:
             near = np.min(np.abs(mid[:, None] - shock_x[None, :]), axis=1) < self.h
@@ -351,6 +397,8 @@ class FreeBoundary:
             "snap_t": np.asarray(self._snap_t, dtype=float),
             "snap_u": np.asarray(self._snap_u, dtype=float).reshape(-1, self.x.size),
             "snap_n": np.asarray(self._snap_n, dtype=np.int64),
+            # (empty: the uniform threshold 1)
+            "threshold": np.zeros(0) if self.threshold is None else self.threshold,
         }
         return meta, arrays
 
@@ -368,8 +416,12 @@ class FreeBoundary:
         self.noise = meta.get("noise")
         self.seed = meta.get("seed")
         self.speed = meta.get("speed")
+        th = arrays.get("threshold")
+        self.threshold = None if th is None or th.size == 0 else np.array(th, dtype=float)
         # an engine of the same configuration; its field is replaced by the checkpoint's
-        self._engine = self._new_engine(np.zeros_like(x))
+        self._engine = self._new_engine(
+            np.zeros_like(x) if self.threshold is None else 0.5 * self.threshold
+        )
         self._set_noise()
         restore_engine(self._engine, arrays, source)
         self._snap_t = [float(t) for t in arrays["snap_t"]]
@@ -539,15 +591,20 @@ class FreeBoundary:
             "seed": -1 if self.seed is None else self.seed,
             # the front-speed law: "exact" (1/sqrt(1 - u^2)) or the table
             "speed": "exact" if self.speed is None else json.dumps(self.speed),
+            # the static threshold: "uniform 1", else the variable threshold(x)
+            "threshold": "uniform 1" if self.threshold is None else "field: variable threshold",
         }
         counters = self._engine.noise_counters
         if counters is not None:
             meta["noise_candidates"], meta["noise_nucleations"] = counters
+        data = {
+            "u": (("t", "x"), np.array(self._snap_u), {"long_name": "slow field u"}),
+            "n_shocks": (("t",), np.array(self._snap_n), {"long_name": "live shocks"}),
+        }
+        if self.threshold is not None:
+            data["threshold"] = (("x",), self.threshold, {"long_name": "static threshold s"})
         ds = xr.Dataset(
-            {
-                "u": (("t", "x"), np.array(self._snap_u), {"long_name": "slow field u"}),
-                "n_shocks": (("t",), np.array(self._snap_n), {"long_name": "live shocks"}),
-            },
+            data,
             coords={
                 "t": ("t", np.array(self._snap_t), {"long_name": "time", "units": "1"}),
                 "x": ("x", self.x, {"long_name": "position", "units": "1"}),

@@ -40,7 +40,7 @@ import numpy as np
 
 from . import __version__
 from ._progress import ProgressBar
-from .config import RunConfig, disorder_arrays, initial_state
+from .config import RunConfig, disorder_arrays, initial_state, threshold_field
 from .io import NO_SPACE, RunWriter, human_bytes, partial_path
 
 __all__ = [
@@ -810,7 +810,14 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             fb = FreeBoundary(
-                p, x, u0, cfg.boundary, noise=cfg.noise, seed=cfg.seed, speed=cfg.speed
+                p,
+                x,
+                u0,
+                cfg.boundary,
+                noise=cfg.noise,
+                seed=cfg.seed,
+                speed=cfg.speed,
+                threshold=threshold_field(cfg, x),
             )
         notes = [str(w.message) for w in caught]
         for w in caught:

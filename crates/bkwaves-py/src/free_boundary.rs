@@ -18,7 +18,7 @@ impl PyFreeBoundary {
     #[new]
     #[pyo3(signature = (x0, h, u0, gamma, v, boundary="free", creep="zero",
                         shock_x=None, shock_dir=None, tol=1e-12, record_path=true,
-                        speed_u=None, speed_c=None))]
+                        speed_u=None, speed_c=None, threshold=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         x0: f64,
@@ -34,6 +34,7 @@ impl PyFreeBoundary {
         record_path: bool,
         speed_u: Option<PyReadonlyArray1<'_, f64>>,
         speed_c: Option<PyReadonlyArray1<'_, f64>>,
+        threshold: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         let opts = Options {
             gamma,
@@ -64,7 +65,10 @@ impl PyFreeBoundary {
             }
             _ => SpeedLaw::Exact,
         };
-        let inner = FreeBoundary::with_law(x0, h, &u0, opts, &initial, law).map_err(to_py)?;
+        let threshold = threshold.map(|t| t.as_array().to_vec());
+        let inner =
+            FreeBoundary::with_medium(x0, h, &u0, opts, &initial, law, threshold.as_deref())
+                .map_err(to_py)?;
         Ok(PyFreeBoundary { inner })
     }
 
@@ -101,7 +105,7 @@ impl PyFreeBoundary {
         exponent: f64,
     ) -> PyResult<()> {
         let law = NoiseLaw::new(law, rate, phi0, exponent).map_err(to_py)?;
-        self.inner.set_noise(law, seed);
+        self.inner.set_noise(law, seed).map_err(to_py)?;
         Ok(())
     }
 

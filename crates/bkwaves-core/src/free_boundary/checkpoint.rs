@@ -6,7 +6,7 @@
 //! that point (a checkpoint taken where `advance` returned on its step budget, continued
 //! with the same `t_stop`, is the usual case). The bytes hold a fingerprint of the
 //! configuration (x0, h, number of nodes, boundary, gamma, v, creep rule, tol,
-//! record_path, noise, front-speed law): they are restored into an engine built with the same configuration (its
+//! record_path, noise, front-speed law, threshold field): they are restored into an engine built with the same configuration (its
 //! initial field and shocks do not matter: they are replaced), and anything else is
 //! refused.
 //!
@@ -84,8 +84,13 @@ impl FreeBoundary {
                 w.fs(&t.c);
             }
         }
-        // (no threshold field: reserved for one)
-        w.u(0);
+        match &self.threshold {
+            None => w.u(0),
+            Some(th) => {
+                w.u(1);
+                w.fs(th);
+            }
+        }
     }
 
     /// The whole state as bytes (see the module docs).
@@ -204,7 +209,7 @@ impl FreeBoundary {
                 8,
                 "a checkpoint of a free boundary run with the same grid (x0, h, nodes), \
                  boundary, gamma, v, creep rule, tol, record_path, noise (law, rate, \
-                 parameters, seed) and front-speed law (table)",
+                 parameters, seed), front-speed law (table) and threshold field",
             ));
         }
         let n = self.field.n;
@@ -285,6 +290,8 @@ impl FreeBoundary {
                 },
                 cf: CellField {
                     poly: CellPoly { c, points },
+                    // (derived from the threshold field: set below)
+                    thr: None,
                     h,
                     v,
                     epoch,
@@ -388,6 +395,9 @@ impl FreeBoundary {
         self.prev_stamp = prev_stamp;
         self.stamp = stamp;
         self.shocks = shocks;
+        for i in 0..self.shocks.len() {
+            self.shocks[i].cf.thr = self.thr_poly(self.shocks[i].cell);
+        }
         self.next_id = next_id;
         self.now = now;
         self.cellmax = cellmax;

@@ -225,6 +225,8 @@ pub struct FreeBoundary {
     u_c: f64,
     /// The front-speed law c(u_+).
     law: SpeedLaw,
+    /// The static threshold s at the nodes (None: s = 1 everywhere).
+    threshold: Option<Vec<f64>>,
     field: Field,
     reset_stamp: Vec<u64>,
     /// reset_stamp before the last reset (when `prev` was written).
@@ -281,6 +283,24 @@ impl FreeBoundary {
         initial: &[(f64, i8)],
         law: SpeedLaw,
     ) -> Result<Self> {
+        Self::with_medium(x0, h, u0, opts, initial, law, None)
+    }
+
+    /// [`Self::with_law`] in a medium whose static threshold varies slowly: block x slips
+    /// when u - u_xx >= s(x) (s at the nodes, > 0; None: s = 1). Varying on scales much
+    /// longer than dx and the pulse width, the medium is locally the uniform one scaled by
+    /// s (docs/disorder.md (a)): a shock moves at c(u_+/s), leaves u_- = -u_+ E(c) (eq. um
+    /// with that c), creeps where u_+/s <= u_c; pairs are born where u reaches s
+    /// (docs/free_boundary.md, "Threshold field").
+    pub fn with_medium(
+        x0: f64,
+        h: f64,
+        u0: &[f64],
+        opts: Options,
+        initial: &[(f64, i8)],
+        law: SpeedLaw,
+        threshold: Option<&[f64]>,
+    ) -> Result<Self> {
         if !(opts.gamma.is_finite() && (0.0..1.0).contains(&opts.gamma)) {
             return Err(Error::InvalidParameter {
                 name: "gamma",
@@ -300,8 +320,34 @@ impl FreeBoundary {
                 allowed: "at least 5 grid nodes",
             });
         }
+        if let Some(th) = threshold {
+            if th.len() != u0.len() {
+                return Err(Error::InvalidParameter {
+                    name: "threshold",
+                    value: th.len() as f64,
+                    allowed: "one threshold per grid node",
+                });
+            }
+            for (&s, &u) in th.iter().zip(u0) {
+                if !(s.is_finite() && s > 0.0) {
+                    return Err(Error::InvalidParameter {
+                        name: "threshold",
+                        value: s,
+                        allowed: "finite threshold > 0 at every node",
+                    });
+                }
+                if !(u.is_finite() && u < s) {
+                    return Err(Error::InvalidParameter {
+                        name: "u0",
+                        value: u,
+                        allowed: "finite u0 < threshold everywhere (u = threshold starts a \
+                                  slip at t = 0)",
+                    });
+                }
+            }
+        }
         for &u in u0 {
-            if !(u.is_finite() && u < 1.0) {
+            if !(u.is_finite() && (threshold.is_some() || u < 1.0)) {
                 return Err(Error::InvalidParameter {
                     name: "u0",
                     value: u,
@@ -322,6 +368,7 @@ impl FreeBoundary {
             u_stop,
             u_c,
             law,
+            threshold: threshold.map(<[f64]>::to_vec),
             reset_stamp: vec![0; field.n],
             prev_stamp: vec![0; field.n],
             stamp: 0,
@@ -398,6 +445,7 @@ impl FreeBoundary {
                 traj,
                 cf: CellField {
                     poly: CellPoly::through(0, &[0.0]),
+                    thr: None,
                     h,
                     v: opts.v,
                     epoch: 0.0,
@@ -417,7 +465,7 @@ impl FreeBoundary {
             let (s, dir) = (fb.shocks[i].traj.s_start, fb.shocks[i].dir);
             fb.start_trajectory(i, poly, s, dir)?;
             let up = fb.shocks[i].cf.u(s, 0.0);
-            let (um, creep) = fb.u_minus(up);
+            let (um, creep) = fb.u_minus(up, fb.thr_at(fb.shocks[i].cell, s));
             fb.shocks[i].last_a = up - um;
             let x = fb.field.node_x(fb.shocks[i].cell) + s * h;
             fb.record(i, x, up, um, PathKind::Initial, creep);
@@ -499,12 +547,18 @@ impl FreeBoundary {
     }
 
     // ------------------------------------------------------------------ physics
-    /// u_- for a given u_+, and whether the creep rule was applied.
-    fn u_minus(&self, u_plus: f64) -> (f64, bool) {
+    /// u_- for a given u_+ where the threshold is `thr`, and whether the creep rule was
+    /// applied: the front there moves at c(u_+/thr) and leaves -u_+ E(c) (eq. um).
+    fn u_minus(&self, u_plus: f64, thr: f64) -> (f64, bool) {
         let g = self.opts.gamma;
-        let u = u_plus.min(1.0 - 1e-16);
-        if u > self.u_c {
-            if let Ok(c) = self.law.speed(u) {
+        let (u, r) = if self.threshold.is_some() {
+            (u_plus.min(thr), (u_plus / thr).min(1.0 - 1e-16))
+        } else {
+            let u = u_plus.min(1.0 - 1e-16);
+            (u, u)
+        };
+        if r > self.u_c {
+            if let Ok(c) = self.law.speed(r) {
                 if let Some(um) = u_minus_from_speed(u, c, g) {
                     return (um, false);
                 }
@@ -512,6 +566,36 @@ impl FreeBoundary {
         }
         // creep (u_+ <= u_c): both rules leave u_- = 0 where a reset happens at all
         (0.0, true)
+    }
+
+    /// The threshold's interpolant in cell j (the most centred cubic through the nodes;
+    /// it is smooth and never reset), or None for the uniform threshold 1.
+    fn thr_poly(&self, j: usize) -> Option<CellPoly> {
+        let th = self.threshold.as_ref()?;
+        let mut vals = [f64::NAN; 8];
+        let mut ok = [false; 8];
+        for (idx, o) in (-3i64..=4).enumerate() {
+            if let Some(k) = self.field.node_at(j, o) {
+                vals[idx] = th[k];
+                ok[idx] = true;
+            }
+        }
+        choose_window(&vals, &ok, &[0, 1])
+    }
+
+    /// The threshold at cell coordinate s of cell j (1 without a threshold field).
+    fn thr_at(&self, j: usize, s: f64) -> f64 {
+        self.thr_poly(j).map_or(1.0, |p| p.eval(s))
+    }
+
+    /// The threshold at node k (1 without a threshold field).
+    fn thr_node(&self, k: usize) -> f64 {
+        self.threshold.as_ref().map_or(1.0, |th| th[k])
+    }
+
+    /// The threshold field at the nodes (None: s = 1).
+    pub fn threshold(&self) -> Option<&[f64]> {
+        self.threshold.as_deref()
     }
 
     // ------------------------------------------------------------------ geometry
@@ -737,7 +821,16 @@ impl FreeBoundary {
 
     fn refresh_cell(&mut self, j: usize) {
         let cm = match self.gather_for_cell(j, self.shocks.len()) {
-            Some(p) => {
+            Some(mut p) => {
+                // with a threshold field, births are where u - s reaches 0: the maximum
+                // of b - s + 1 (reaching 1 like b does without one)
+                if let Some(t) = self.thr_poly(j) {
+                    p.c[0] += 1.0 - t.c[0];
+                    for q in 1..4 {
+                        p.c[q] -= t.c[q];
+                    }
+                    p.points = p.points.max(t.points);
+                }
                 let (value, s) = p.max_on_unit();
                 let h = self.field.h;
                 // A maximum at a node next to a cell a shock is crossing is the edge of the
@@ -789,6 +882,7 @@ impl FreeBoundary {
     fn start_trajectory(&mut self, i: usize, poly: CellPoly, s: f64, dir: i8) -> Result<()> {
         let cf = CellField {
             poly,
+            thr: self.thr_poly(self.shocks[i].cell),
             h: self.field.h,
             v: self.field.v,
             epoch: self.field.epoch,
@@ -1110,18 +1204,28 @@ impl FreeBoundary {
                 let kp = self.field.node_at(k, 1);
                 if let (Some(km), Some(kp)) = (km, kp) {
                     let f = &self.field;
-                    curvature = -(f.b[km] - 2.0 * f.b[k] + f.b[kp]) / (2.0 * h * h);
+                    let g = |q: usize| f.b[q] - self.thr_node(q);
+                    curvature = if self.threshold.is_some() {
+                        -(g(km) - 2.0 * g(k) + g(kp)) / (2.0 * h * h)
+                    } else {
+                        -(f.b[km] - 2.0 * f.b[k] + f.b[kp]) / (2.0 * h * h)
+                    };
                 }
             }
         } else {
             starts.push((j, cm.s, 1));
             starts.push((j, cm.s, -1));
         }
-        self.create_shocks(j, x, &starts, node, curvature, 1.0, PathKind::Birth)
+        // u reached the threshold there (1 without a threshold field)
+        let u_b = match node {
+            Some(k) => self.thr_node(k),
+            None => self.thr_at(j, cm.s),
+        };
+        self.create_shocks(j, x, &starts, node, curvature, u_b, PathKind::Birth)
     }
 
     /// New shocks (cell, s, dir) at x in cell j, with u_+ = u_b there: a birth where u
-    /// reached 1 (`PathKind::Birth`; at a node, `node` is reset) or a spontaneous
+    /// reached the threshold (`PathKind::Birth`; at a node, `node` is reset) or a spontaneous
     /// nucleation (`PathKind::Nucleation`, [`nucleation`]).
     #[allow(clippy::too_many_arguments)]
     fn create_shocks(
@@ -1172,6 +1276,7 @@ impl FreeBoundary {
                 traj,
                 cf: CellField {
                     poly: CellPoly::through(0, &[1.0]),
+                    thr: None,
                     h,
                     v: self.field.v,
                     epoch: self.field.epoch,
@@ -1197,10 +1302,13 @@ impl FreeBoundary {
                 }
             })
             .collect();
-        let (um_b, creep_b) = self.u_minus(u_b);
+        // (a birth is where u reached the threshold: u_b is the threshold there; noise,
+        // which is refused with a threshold field, nucleates at threshold 1)
+        let thr_b = if kind == PathKind::Birth { u_b } else { 1.0 };
+        let (um_b, creep_b) = self.u_minus(u_b, thr_b);
         if let Some(k) = node {
             let u_plus = self.field.u_node(k, self.now);
-            let (um, _) = self.u_minus(u_plus);
+            let (um, _) = self.u_minus(u_plus, self.thr_node(k));
             let f = &mut self.field;
             f.prev[k] = f.b[k];
             f.b[k] = um - f.v * (self.now - f.epoch);
@@ -1237,7 +1345,7 @@ impl FreeBoundary {
             let s = self.shocks[i].traj.s_at(y, h);
             let x = self.field.node_x(cell) + s * h;
             let xu = self.shocks[i].xl_unw + s * h;
-            let up = self.u_stop;
+            let up = self.u_stop * self.thr_at(cell, s);
             let kind = if self.opts.creep == CreepRule::Stop && self.opts.gamma > 0.0 {
                 PathKind::CreepStop
             } else {
@@ -1260,7 +1368,7 @@ impl FreeBoundary {
         let u_plus = self.field.u_node(k, self.now);
         let x_unw = self.shocks[i].xl_unw + if dir > 0 { h } else { 0.0 };
         let xk = self.field.node_x(k);
-        if u_plus <= self.u_stop {
+        if u_plus <= self.u_stop * self.thr_node(k) {
             let kind = if self.opts.creep == CreepRule::Stop && self.opts.gamma > 0.0 {
                 PathKind::CreepStop
             } else {
@@ -1274,7 +1382,7 @@ impl FreeBoundary {
             self.refresh_around(k);
             return Ok(());
         }
-        let (um, creep) = self.u_minus(u_plus);
+        let (um, creep) = self.u_minus(u_plus, self.thr_node(k));
         {
             let id = self.shocks[i].id;
             let f = &mut self.field;
@@ -1328,11 +1436,12 @@ impl FreeBoundary {
         let x = self.field.node_x(cell) + s * h;
         // u_+ at the meeting point from both interpolants (they may differ where the cell
         // is crowded with shocks); u <= 1 wherever blocks are stuck
+        let thr = self.thr_at(cell, s);
         let up =
-            (0.5 * (self.shocks[a].cf.u(s, self.now) + self.shocks[b].cf.u(s, self.now))).min(1.0);
+            (0.5 * (self.shocks[a].cf.u(s, self.now) + self.shocks[b].cf.u(s, self.now))).min(thr);
         // (u_+ <= 0 can only be a rounding-level overshoot of a death threshold here)
         let (um, creep) = if up > 0.0 {
-            self.u_minus(up)
+            self.u_minus(up, thr)
         } else {
             (up, false)
         };

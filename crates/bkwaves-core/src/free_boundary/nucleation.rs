@@ -71,11 +71,20 @@ impl NoiseRun {
 
 impl FreeBoundary {
     /// Turn on spontaneous nucleation with `law`, its generator seeded by `seed`, from
-    /// now on. A zero rate leaves the engine exactly as without noise.
-    pub fn set_noise(&mut self, law: NoiseLaw, seed: u64) {
+    /// now on. A zero rate leaves the engine exactly as without noise. Refused with a
+    /// threshold field (the rate law Lambda(u) is written for the threshold 1).
+    pub fn set_noise(&mut self, law: NoiseLaw, seed: u64) -> Result<()> {
         if law.rate == 0.0 {
             self.noise = None;
-            return;
+            return Ok(());
+        }
+        if self.threshold.is_some() {
+            return Err(crate::error::Error::InvalidParameter {
+                name: "noise",
+                value: law.rate,
+                allowed: "no noise with a threshold field (not implemented: the rate law \
+                          Lambda(u) is written for the uniform threshold 1)",
+            });
         }
         let mut rng = Rng::new(seed);
         let e_left = rng.exponential();
@@ -90,6 +99,7 @@ impl FreeBoundary {
             nucleations: 0,
         });
         self.noise_sync();
+        Ok(())
     }
 
     /// (candidates drawn, pairs nucleated) so far; None without noise.

@@ -56,11 +56,15 @@ pub struct Trajectory {
     pub end: TrajEnd,
 }
 
-/// The field ahead of the shock in its cell: u_+ = poly(s) + v (t - epoch).
+/// The field ahead of the shock in its cell: u_+ = poly(s) + v (t - epoch), and the
+/// static threshold there (None: 1).
 #[derive(Debug, Clone, Copy)]
 pub struct CellField {
     /// Interpolant of b in the cell coordinate.
     pub poly: CellPoly,
+    /// Interpolant of the threshold s(x) (None: uniform threshold 1). The shock moves at
+    /// c(u_+/s) and stops where u_+/s reaches the stopping ratio.
+    pub thr: Option<CellPoly>,
     /// Grid spacing.
     pub h: f64,
     /// Loading rate.
@@ -111,7 +115,8 @@ const E6: f64 = 11.0 / 84.0 - 187.0 / 2100.0;
 const E7: f64 = -1.0 / 40.0;
 
 /// Integrate a shock from cell coordinate `s_start` at time `t0` in direction `dir`
-/// to the far node of the cell, or until u_+ <= `u_stop`. `tol` is the local error
+/// to the far node of the cell, or until u_+/s <= `u_stop` (s the threshold, 1 without
+/// a threshold field). `tol` is the local error
 /// allowed per step in t, relative to the cell width h. `law` gives dt/dy = 1/c(u_+).
 #[allow(clippy::too_many_arguments)]
 pub fn integrate(
@@ -136,7 +141,15 @@ pub fn integrate(
     out.dir = dir;
     out.pts.clear();
     let base = field.v * (t0 - field.epoch);
-    let ufun = |y: f64, tau: f64| field.poly.eval(s_start + sd * y / h) + base + field.v * tau;
+    // u_+/s: the engine's variable (u_+ itself without a threshold field)
+    let ufun = |y: f64, tau: f64| {
+        let s = s_start + sd * y / h;
+        let u = field.poly.eval(s) + base + field.v * tau;
+        match &field.thr {
+            None => u,
+            Some(p) => u / p.eval(s),
+        }
+    };
     let rhs = |y: f64, tau: f64| law.slowness(ufun(y, tau));
     let u0 = ufun(0.0, 0.0);
     out.pts.push(TrajPoint {
@@ -190,7 +203,12 @@ pub fn integrate(
                 let (p0, p1) = (out.pts[n - 2], out.pts[n - 1]);
                 let g = |yy: f64| {
                     let t = hermite(&p0, &p1, yy);
-                    field.poly.eval(s_start + sd * yy / h) + field.v * (t - field.epoch) - u_stop
+                    let s = s_start + sd * yy / h;
+                    let u = field.poly.eval(s) + field.v * (t - field.epoch);
+                    match &field.thr {
+                        None => u - u_stop,
+                        Some(p) => u / p.eval(s) - u_stop,
+                    }
                 };
                 let (mut lo, mut hi) = (p0.y, p1.y);
                 for _ in 0..100 {
@@ -384,6 +402,7 @@ mod tests {
     fn flat(b: f64, v: f64, h: f64) -> CellField {
         CellField {
             poly: CellPoly::through(0, &[b]),
+            thr: None,
             h,
             v,
             epoch: 0.0,
@@ -425,6 +444,7 @@ mod tests {
         // B decreasing linearly, v = 0: u_+ = 0.5 - 0.4 s, reaches 0.2 at s = 0.75.
         let f = CellField {
             poly: CellPoly::through(0, &[0.5, 0.1]),
+            thr: None,
             h: 1.0,
             v: 0.0,
             epoch: 0.0,
@@ -455,6 +475,7 @@ mod tests {
         let (a, v, h) = (0.02, 0.01, 1.0);
         let f = CellField {
             poly: CellPoly::through(0, &[1.0, 1.0 - a * h * h, 1.0 - 4.0 * a * h * h]),
+            thr: None,
             h,
             v,
             epoch: 0.0,

@@ -631,3 +631,59 @@ fn a_meeting_is_found_however_close_the_engine_is_to_it() {
     }
     assert_eq!(missed, 0, "meetings missed");
 }
+
+/// A uniform threshold s is the model at u/s, v/s scaled by s (docs/disorder.md (a)):
+/// same times and places, u_+ and u_- times s. And births where u reaches a varying s.
+#[test]
+fn a_uniform_threshold_field_is_the_rescaled_model() {
+    let (s0, gamma, v, h, n) = (1.4, 0.3, 1e-2, 0.5, 401);
+    let u0: Vec<f64> = (0..n)
+        .map(|k| {
+            let x = k as f64 * h;
+            0.6 + 0.3 * (-((x - 70.0) / 30.0).powi(2)).exp()
+                + 0.25 * (-((x - 150.0) / 25.0).powi(2)).exp()
+        })
+        .collect();
+    let scaled: Vec<f64> = u0.iter().map(|u| u * s0).collect();
+    let th = vec![s0; n];
+    let o = opts(gamma, v, Boundary::Free);
+    let mut a =
+        FreeBoundary::with_medium(0.0, h, &scaled, o, &[], SpeedLaw::Exact, Some(&th)).unwrap();
+    let mut b = FreeBoundary::new(0.0, h, &u0, opts(gamma, v / s0, Boundary::Free), &[]).unwrap();
+    a.advance(f64::INFINITY, u64::MAX, 3).unwrap();
+    b.advance(f64::INFINITY, u64::MAX, 3).unwrap();
+    assert_eq!(a.path().len(), b.path().len());
+    for (p, q) in a.path().iter().zip(b.path()) {
+        assert_eq!(p.kind, q.kind);
+        assert!((p.t - q.t).abs() < 1e-9 * (1.0 + q.t), "{p:?} {q:?}");
+        assert!((p.u_plus - s0 * q.u_plus).abs() < 1e-10, "{p:?} {q:?}");
+        if q.u_minus.is_finite() {
+            assert!((p.u_minus - s0 * q.u_minus).abs() < 1e-10, "{p:?} {q:?}");
+        }
+    }
+    // a threshold 1 + 0.01 (x - 33)^2 over uniform u = 0.9: the pair is born at x = 33
+    // when u = 1, t = 10
+    let th: Vec<f64> = (0..n)
+        .map(|k| 1.0 + 0.01 * (k as f64 * h - 33.0).powi(2))
+        .collect();
+    let mut c =
+        FreeBoundary::with_medium(0.0, h, &vec![0.9; n], o, &[], SpeedLaw::Exact, Some(&th))
+            .unwrap();
+    c.advance(f64::INFINITY, 1, usize::MAX).unwrap();
+    let e = &c.events()[0];
+    assert!(
+        (e.t_start - 10.0).abs() < 1e-12 && (e.x_start - 33.0).abs() < 1e-9,
+        "{e:?}"
+    );
+    // bad fields name the parameter
+    for (t, u, name) in [
+        (vec![0.0; n], 0.5, "threshold"),
+        (vec![1.0; n - 1], 0.5, "threshold"),
+        (vec![0.5; n], 0.6, "u0"),
+    ] {
+        match FreeBoundary::with_medium(0.0, h, &vec![u; n], o, &[], SpeedLaw::Exact, Some(&t)) {
+            Err(Error::InvalidParameter { name: got, .. }) => assert_eq!(got, name),
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+}
