@@ -135,3 +135,27 @@ def test_seed_is_recorded_only_when_given_or_drawn(tmp_path):
     assert stored.seed == seed
     again = bk.run(stored, snapshots=True)
     np.testing.assert_array_equal(again.snapshots["u"].values[0], ds["u"].values[0])
+
+
+@pytest.mark.parametrize("example", ["chain_loading.toml", "free_boundary_random.toml"])
+def test_a_run_that_ends_mid_event_marks_that_event_incomplete(example, tmp_path):
+    """The event still running at t_end is written (cut at t_end) but marked complete =
+    False, and neither the event count nor the event statistics count it."""
+    cfg = load_config(Path(__file__).parents[1] / "examples" / example)
+    first = bk.run(dataclasses.replace(cfg, max_events=3, t_end=None, snapshot_events=None))
+    ev = first.events
+    assert len(ev) == 3 and ev["complete"].all()
+    t_cut = 0.5 * (ev["t_start"].iloc[2] + ev["t_end"].iloc[2])
+    cut_cfg = dataclasses.replace(cfg, max_events=None, t_end=float(t_cut), snapshot_events=None)
+    for res in (bk.run(cut_cfg), bk.run(cut_cfg, tmp_path / "cut.nc")):
+        assert res.summary["events"] == 2 == res.summary["n_events"]
+        assert list(res.events["complete"]) == [True, True, False]
+        pd.testing.assert_frame_equal(
+            res.events.iloc[:2].reset_index(drop=True),
+            ev.iloc[:2].reset_index(drop=True),
+            check_dtype=False,
+        )
+    ds, _ = bk.load(tmp_path / "cut.nc")
+    if cut_cfg.snapshot_every is None:
+        # no snapshot was asked for: the output still holds the state at the end
+        assert ds.sizes["t"] == 1 and ds.t.values[-1] == t_cut

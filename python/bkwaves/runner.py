@@ -456,8 +456,9 @@ B_VALUE_MIN_EVENTS = 50  # fewer events: no b-value (its error would be ~b/sqrt(
 
 
 def _event_statistics(events) -> dict:
-    """Scalars of an event catalog: count, the largest event, the mean recurrence interval
-    and, with at least B_VALUE_MIN_EVENTS events of positive moment, the b-value of their
+    """Scalars of the complete events of a catalog (an event still running when the run
+    stopped is left out: its slip is cut): count, the largest event, the mean recurrence
+    interval and, with at least B_VALUE_MIN_EVENTS events of positive moment, the b-value of their
     moment magnitudes (Aki's maximum likelihood above the smallest) with its error."""
     from .stats import b_value, magnitudes
 
@@ -468,6 +469,8 @@ def _event_statistics(events) -> dict:
         "b_value": math.nan,
         "b_value_err": math.nan,
     }
+    if events is not None and "complete" in events:
+        events = events[events["complete"].to_numpy(dtype=bool)]  # an event cut by the end
     if events is None or len(events) == 0:
         return out
     out["n_events"] = float(len(events))
@@ -669,6 +672,14 @@ def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
     )
 
 
+def _complete(first: int, rows: int, finished: int) -> np.ndarray:
+    """The ``complete`` column of catalog rows ``first .. first + rows``: the engines finish
+    events in order, so the rows before ``finished`` are complete; the one after (at most
+    one, written only at the end of a run) is the event still running when the run
+    stopped, cut at that time."""
+    return np.arange(first, first + rows) < finished
+
+
 def _frame(cols: dict, stop: int | None = None):
     import pandas as pd
 
@@ -734,6 +745,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         cat = _frame(eng.catalog(k), None if n is None else max(n - k, 0))
         if len(cat) or not final:  # (at the end: the table even when it is empty)
             cat["duration"] = cat["t_end"] - cat["t_start"]
+            cat["complete"] = _complete(k, len(cat), eng.events_finished)
             cat, cu, cs = units.convert_table(
                 cat, times=("t_start", "t_end", "duration"), slips=("moment",)
             )
@@ -770,7 +782,21 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
                 ctl.save(chain, writer)
         interrupted = not finished
         bar.close()
-        _finish(writer, ctl, chain, None, lambda: give(final=False), interrupted)
+
+        def give_all():
+            give(final=False)
+            if writer is not None and writer.records == 0:
+                # no snapshot was asked for: the state at the end, as the free boundary
+                # run writes it (an output always holds a state; a resumed run drops it)
+                uts = np.asarray(chain.u_t)
+                writer.append_block(
+                    units.t(np.array([chain.t])),
+                    u=np.asarray(chain.u)[None, :],
+                    u_t=units.rate(uts)[None, :],
+                    sliding=np.sign(p.v - uts).astype(np.int8)[None, :],
+                )
+
+        _finish(writer, ctl, chain, None, give_all, interrupted)
     extra = {
         "blocks": cfg.blocks,
         "counters": eng.counters(),
@@ -844,6 +870,7 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         ev = _frame(eng.events(k), None if n is None else max(n - k, 0))
         if len(ev) or not final:  # (at the end: the table even when it is empty)
             ev.insert(3, "duration", ev["t_end"] - ev["t_start"])
+            ev["complete"] = _complete(k, len(ev), eng.completed_events)
             ev, eu, es = units.convert_table(
                 ev,
                 times=("t_start", "t_end", "duration"),
