@@ -101,3 +101,24 @@ def test_marched_speed_of_a_narrow_pulse_is_the_chains():
     # and it is not the linear tip problem's (every block sliding for ever): 8e-7 off
     linear = bk._core.tip_solve_u_plus(0.3, 16, 40.0, DX, 0.0, False)["c"]
     assert abs(c - linear) > 1e-7
+
+
+def test_linear_response_to_one_defect_overshoots_and_gives_back():
+    # d T_i/d theta_j (T_i = t_i - t_{i-1}): the defect's own interval takes more than
+    # twice the whole delay a, the next one gives back part of it, the rest decays;
+    # the kernel is sharper than a local one, not a smoothing of the threshold field
+    n, j, d = 600, 300, 1e-4
+    runs = []
+    for s in (1.0, -1.0):
+        th = np.ones(n)
+        th[j] += s * d
+        runs.append(np.diff(tip_march(0.6, th, dx=DX).slip_times))
+    kernel = (runs[0] - runs[1]) / (2 * d)
+    a = kernel.sum()
+    c = bk.front_speed(0.6, dx=DX)
+    # the sum rule: a uniform shift of every threshold is the uniform chain at u_+/theta
+    dc = (bk.front_speed(0.6 / (1 + 1e-4), dx=DX) - bk.front_speed(0.6 / (1 - 1e-4), dx=DX)) / 2e-4
+    assert a == pytest.approx(-DX * dc / c**2, rel=1e-5)
+    assert np.all(kernel[: j - 1] == 0.0)  # nothing before the defect: supersonic
+    assert kernel[j - 1] > 2.0 * a and kernel[j] < -0.5 * a
+    assert np.sum(kernel**2) / a**2 > 4.0  # the local theory's kernel has 1

@@ -257,8 +257,10 @@ def tip_march(
 
 #: How :func:`front_speed_ensemble` measures a realisation.
 METHODS = {
-    "tip": "the tip marched through the thresholds (tip_march): cost linear in blocks",
-    "chain": "the whole chain simulated (bk.Chain): cost grows like blocks^2 behind a creep front",
+    "tip": "the tip marched through the thresholds (tip_march): exact to round-off, cost "
+    "per block independent of dx and of the distance, the window runs to the last block",
+    "chain": "the whole chain simulated (bk.Chain): RK4 step error ~1e-8 in the slip "
+    "intervals, the window kept clear of the far end's reflection",
 }
 
 

@@ -278,18 +278,41 @@ impl<'a> Marcher<'a> {
                 self.coef[w + j] = self.p[j];
             }
         }
+        // only the range of sliding blocks has nonzero coefficients of order >= 1
+        let (Some(first), Some(last)) = (
+            self.sliding.iter().position(|&x| x),
+            self.sliding.iter().rposition(|&x| x),
+        ) else {
+            return;
+        };
+        let mask: Vec<f64> = self
+            .sliding
+            .iter()
+            .map(|&x| f64::from(u8::from(x)))
+            .collect();
+        let (inner_lo, inner_hi) = (first.max(1), (last + 1).min(w - 1));
         // (k+1)(k+2) c_{k+2} = Lap(c_k)/dx^2 - c_k - 2 gamma (k+1) c_{k+1}
         for k in 0..kmax - 1 {
-            for j in 0..w {
-                if !self.sliding[j] {
-                    continue;
+            let g2 = 2.0 * self.gamma * (k + 1) as f64;
+            let den = 1.0 / ((k + 1) * (k + 2)) as f64;
+            {
+                let (head, tail) = self.coef.split_at_mut((k + 2) * w);
+                let rk = &head[k * w..(k + 1) * w];
+                let rk1 = &head[(k + 1) * w..(k + 2) * w];
+                let out = &mut tail[..w];
+                for j in inner_lo..inner_hi {
+                    let lap = rk[j - 1] + rk[j + 1] - 2.0 * rk[j];
+                    out[j] = mask[j] * ((lap * self.inv_dx2 - rk[j] - g2 * rk1[j]) * den);
                 }
-                let ck = self.coef[k * w + j];
-                let lap = self.neighbour(k, j, false) + self.neighbour(k, j, true) - 2.0 * ck;
-                let rhs = lap * self.inv_dx2
-                    - ck
-                    - 2.0 * self.gamma * (k + 1) as f64 * self.coef[(k + 1) * w + j];
-                self.coef[(k + 2) * w + j] = rhs / ((k + 1) * (k + 2)) as f64;
+            }
+            // the window's ends: their neighbours are the ghosts
+            for j in [0, w - 1] {
+                if self.sliding[j] {
+                    let ck = self.coef[k * w + j];
+                    let lap = self.neighbour(k, j, false) + self.neighbour(k, j, true) - 2.0 * ck;
+                    let rhs = lap * self.inv_dx2 - ck - g2 * self.coef[(k + 1) * w + j];
+                    self.coef[(k + 2) * w + j] = rhs * den;
+                }
             }
         }
     }
@@ -380,6 +403,14 @@ impl<'a> Marcher<'a> {
                 let onset_down = p0 == 0.0 && self.coef[2 * w + j] < 0.0;
                 if p0 > 0.0 || (p0 == 0.0 && !onset_down) {
                     return Some((0.0, Event::Stick(j)));
+                }
+                // u' <= p0 + sum_k k |c_k| limit^(k-1) on [0, limit]: no crossing if < 0
+                let mut bound = 0.0;
+                for k in (2..=self.order).rev() {
+                    bound = bound * limit + k as f64 * self.coef[k * w + j].abs();
+                }
+                if p0 + bound * limit < 0.0 {
+                    continue;
                 }
                 if let Some(tau) = self.first_crossing(|x| self.velocity(j, x), limit) {
                     if best.is_none_or(|b| tau < b.0) {
