@@ -68,6 +68,7 @@ __all__ = [
     "theory",
     "tip_solve",
     "traveling_wave",
+    "velocity_weakening",
 ]
 
 
@@ -92,7 +93,18 @@ def __dir__():
 
 
 if TYPE_CHECKING:  # what the names are, for type checkers and editors
-    from . import config, disorder, friction, io, noise, plot, presets, stats, theory
+    from . import (
+        config,
+        disorder,
+        friction,
+        io,
+        noise,
+        plot,
+        presets,
+        stats,
+        theory,
+        velocity_weakening,
+    )
     from .chain import Chain, ChainResult
     from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning
     from .io import load

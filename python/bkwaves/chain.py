@@ -630,6 +630,11 @@ class FrontMeasurement:
     fastest lattice wave); the window is settled when x_a >= SETTLE_MARGIN x_s. app_b:
     the continuum traveling wave (App. B: regime, c, w, u_minus) for comparison; the
     chain differs by O(dx) (w), O(gamma dx) (u_-) and O(dx^2) at gamma = 0 (c).
+    front: whether a steady front exists: "steady" (the window's slip intervals agree
+    with dx/c to STEADY_TOL; ``unsteadiness`` is their largest relative deviation),
+    "unsteady" (they do not: the front speeds up or slows down), or "dies" (the front
+    stopped before the far end, as velocity-weakening fronts do at large v_f; regime
+    "none", c NaN, ``reason`` says where).
     """
 
     u_plus: float
@@ -652,6 +657,7 @@ class FrontMeasurement:
     reason: str = ""
     passes: int = 1
     app_b: dict | None = None
+    front: str = "steady"
 
     def to_dict(self) -> dict:
         d = {
@@ -662,12 +668,13 @@ class FrontMeasurement:
             beta=self.beta,
             backward_slips=self.backward_slips,
             steadiness=self.steadiness,
-            window=list(self.window),
+            window=list(self.window) if all(map(math.isfinite, self.window)) else None,
             settling_length=self.settling_length,
             settled=self.settled,
             reason=self.reason,
             passes=self.passes,
             app_b=self.app_b,
+            front=self.front,
         )
         return d
 
@@ -687,6 +694,44 @@ CREEP_BLOCKS = 1600
 #: this many sliding-block updates (~5 s) and at most MAX_PASSES runs are made.
 WORK_LIMIT = 5e8
 MAX_PASSES = 3
+
+
+#: The front experiment's trigger: block 0 kicked forward to this speed over the ground
+#: (the core's; a release alone does not start a front at coarse dx).
+FRONT_KICK = _core.defaults()["front_kick"]
+
+
+def run_front(
+    u_plus: float, n: int, params: Params, *, step: float = DEFAULT_STEP, t_end=None, snapshots=()
+):
+    """The front experiment run step by step in Python: n blocks at uniform u_+ (free
+    ends, v = 0), block 0 kicked forward at t = 0, run until the tip reaches the far end
+    or nothing slides any more (the front died), at most 4 crossings at unit speed, or
+    until ``t_end``. Returns (chain, first slip time of every block (NaN: never slipped),
+    (t, u_t[k, i]) at the times ``snapshots`` reached)."""
+    ch = Chain(n, params, "free", u0=u_plus, step=step)
+    ch.kick(0, -FRONT_KICK)
+    dx = params.dx
+    t_max = 4.0 * n * dx if t_end is None else float(t_end)
+    first = np.full(n, np.nan)
+    # the engine directly (Chain.run builds pandas and xarray outputs at every piece)
+    eng = ch._engine
+    eng.set_run_limits(default_max_event_slips(n), default_max_event_duration(n, dx), CHUNK_WORK)
+    eng.add_snapshots(np.sort(np.asarray(snapshots, dtype=float)), 0)
+    while (t_end is not None or not np.isfinite(first[-1])) and ch.t < t_max:
+        t_stop = min(ch.t + 0.05 * n * dx, t_max)
+        stop = "steps"
+        while stop == "steps":
+            stop = eng.advance(t_stop, 2**62, 20_000)
+        slips = eng.slips()
+        blocks, starts = np.asarray(slips["block"]), np.asarray(slips["t_start"])
+        order = np.argsort(starts)[::-1]  # each block's earliest start is written last
+        first = np.full(n, np.nan)
+        first[blocks[order]] = starts[order]
+        if stop == "long_event" or not np.any(ch.u_t != params.v):
+            break
+    t, _, u_t = eng.snapshots(0)
+    return ch, first, (t, u_t)
 
 
 def lattice_wave_speed(dx: float) -> float:
@@ -833,15 +878,21 @@ def front(
     while True:
         passes += 1
         n, a, b = plan
-        r = _core.front_measure(
-            u_plus,
-            dx,
-            n,
-            step=step,
-            law=law.name,
-            friction=values,
-            window=((a + 0.5) / n, (b + 0.5) / n),
-        )
+        try:
+            r = _core.front_measure(
+                u_plus,
+                dx,
+                n,
+                step=step,
+                law=law.name,
+                friction=values,
+                window=((a + 0.5) / n, (b + 0.5) / n),
+            )
+        except _core.ConvergenceError:
+            died = _died(u_plus, gamma, dx, n, beta, law, step, tw, t0, passes)
+            if died is None:
+                raise
+            return died
         a, b = r["window"]
         c = float(r["c"])
         dur = (r["stick_times"] - r["slip_times"])[a:b]
@@ -973,7 +1024,46 @@ def front(
         settled=settled,
         reason=reason,
         passes=passes,
-        app_b=None
-        if tw is None
-        else {"regime": tw.regime, "c": tw.c, "w": tw.w, "u_minus": tw.u_minus},
+        app_b=_app_b_dict(tw),
+        front="steady" if float(r["unsteadiness"]) <= STEADY_TOL else "unsteady",
+    )
+
+
+def _app_b_dict(tw):
+    return (
+        None if tw is None else {"regime": tw.regime, "c": tw.c, "w": tw.w, "u_minus": tw.u_minus}
+    )
+
+
+def _died(u_plus, gamma, dx, n, beta, law, step, tw, t0, passes):
+    """The measurement of a front that stops before the far end (the core's measurement
+    raised): the same experiment run in Python to see where it stopped; None if it did
+    cross (the error was something else)."""
+    p = Params(gamma=gamma, v=0.0, dx=dx, beta=beta, friction_law=law)
+    ch, first, _ = run_front(u_plus, n, p, step=step)
+    if np.isfinite(first[-1]):
+        return None
+    slipped = np.nonzero(np.isfinite(first))[0]
+    k = int(slipped.max()) if slipped.size else 0
+    return FrontMeasurement(
+        u_plus=u_plus,
+        gamma=gamma,
+        dx=dx,
+        blocks=n,
+        c=math.nan,
+        regime="none",
+        u_minus=None,
+        w=None,
+        wall_s=_time.perf_counter() - t0,
+        unsteadiness=math.nan,
+        slips=int(len(ch._engine.slips()["block"])),
+        backward_slips=int(np.sum(np.asarray(ch._engine.slips()["direction"]) < 0)),
+        beta=beta,
+        reason=(
+            f"no steady front: the front died, its last slip at block {k} (x = {k * dx:.4g}) "
+            f"of {n}; nothing slides after t = {ch.t:.4g}"
+        ),
+        passes=passes,
+        app_b=_app_b_dict(tw),
+        front="dies",
     )

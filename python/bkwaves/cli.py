@@ -598,16 +598,24 @@ def front(args) -> None:
     _echo(f"beta    = {m.beta:g}   ({slip}; {m.backward_slips} backward slips)")
     _echo(f"blocks  = {m.blocks}   ({m.passes} run{'s' if m.passes > 1 else ''})")
     _echo(f"c       = {m.c:.12g}   (measured; continuum 1/sqrt(1 - u_plus^2))")
+    if m.front == "dies":
+        _echo("front   = dies   (no steady front)")
+    else:
+        _echo(
+            f"front   = {m.front}   (slip intervals agree with dx/c to {m.unsteadiness:.2g} "
+            "over the window)"
+        )
     _echo(f"regime  = {m.regime}")
     if m.regime == "pulse":
         _echo(f"w       = {m.w:.6g}   (pulse width)")
         _echo(f"u_minus = {m.u_minus:.6g}   (stress behind)")
     steady = "-" if m.steadiness is None else f"{m.steadiness:.2g}"
     xs = "-" if m.settling_length is None else f"{m.settling_length:.4g}"
-    _echo(
-        f"steady  = {steady}   (spread of sliding times and re-stick u over the window x = "
-        f"{m.window[0]:.4g}-{m.window[1]:.4g}; settling length x_s = {xs})"
-    )
+    if m.front != "dies":
+        _echo(
+            f"steady  = {steady}   (spread of sliding times and re-stick u over the window "
+            f"x = {m.window[0]:.4g}-{m.window[1]:.4g}; settling length x_s = {xs})"
+        )
     _echo(f"why     : {m.reason}")
     if m.app_b is not None:
         b = m.app_b
@@ -628,10 +636,12 @@ FRONT = Command(
     """One front in a direct simulation of the discrete chain at v = 0.
 
     Uniform u_+ on a free chain, block 0 kicked forward; c from the slip times
-    of a window of blocks, w and u_- from their re-sticking. Regime: pulse (a
-    steady healing front: sliding times and re-stick stresses agree to 1e-3),
-    creep (none), or undecided (the reason is printed); "steady" prints the
-    spread.
+    of a window of blocks, w and u_- from their re-sticking. Front: steady (the
+    window's slip intervals agree with dx/c to 1e-3), unsteady, or dies (it
+    stopped before the far end, as velocity-weakening fronts do at large v_f:
+    then regime none and c NaN). Regime: pulse (a steady healing front: sliding
+    times and re-stick stresses agree to 1e-3), creep (none), or undecided (the
+    reason is printed); "steady" prints the spread.
 
     Default chain length: the trigger's transient can reach the healing front
     at x only if x < x_s = w v/(c - v) (v: the fastest lattice wave, < 1), so

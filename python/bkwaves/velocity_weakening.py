@@ -1,0 +1,217 @@
+"""Fronts with velocity-weakening friction: the crossover of the paper's eq. (crit).
+
+The law (``velocity_weakening``, docs/chain.md): while a block slides forward at speed
+s over the ground, R(s) = 1/(1 + s/v_f) + 2 gamma s. The paper (Sec. VI) argues that it
+acts like the Coulomb law when v_f << dx (eq. crit: V_f << (f_r - f_s)/sqrt(k_c m), i.e.
+v_f/dx << 1 in the dimensionless units), and that for v_f >> dx fronts run near the
+sound speed, a few lattice spacings wide. :func:`front` measures one front of the
+``bkwaves front`` experiment (uniform u_+ at v = 0 on a free chain, block 0 kicked
+forward) with this law: its speed, whether it is steady, dies or keeps changing, the
+width of the slipping zone and of the weakening zone in lattice spacings.
+:func:`crossover` sweeps v_f/dx. The derivations and the tables: docs/velocity_weakening.md.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from . import _validate as V
+from .chain import DEFAULT_STEP, STEADY_TOL, run_front
+from .friction import law
+from .params import Params
+
+__all__ = [
+    "VWFront",
+    "coulomb_gap_bound",
+    "crossover",
+    "front",
+    "min_friction",
+    "v_f_existence",
+]
+
+
+def min_friction(gamma: float, v_f: float) -> float:
+    """The lowest friction a sliding block can feel, min over s >= 0 of
+    R(s) = 1/(1 + s/v_f) + 2 gamma s: 2 sqrt(2 gamma v_f) - 2 gamma v_f at
+    s* = sqrt(v_f/(2 gamma)) - v_f when 2 gamma v_f < 1, else R(0) = 1 (no weakening)."""
+    y = 2.0 * gamma * v_f
+    return 2.0 * math.sqrt(y) - y if y < 1.0 else 1.0
+
+
+def v_f_existence(u_plus: float, gamma: float) -> float:
+    """The largest v_f at which a block behind the front can slide against less friction
+    than the stress u_+ ahead, min R < u_+ (:func:`min_friction`): v_f* =
+    (1 - sqrt(1 - u_+))^2/(2 gamma), independent of dx (inf at gamma = 0). Above it no
+    front can run (docs/velocity_weakening.md compares it with the chain)."""
+    if gamma == 0.0:
+        return math.inf
+    return (1.0 - math.sqrt(1.0 - u_plus)) ** 2 / (2.0 * gamma)
+
+
+def coulomb_gap_bound(c_coulomb: float, ratio: float) -> float:
+    """The derived size of c_Coulomb/c - 1 at v_f/dx = ratio << 1: 2 c_C r ln(1/r).
+
+    A Coulomb block starts with unit acceleration (R drops from 1 to 0 at the slip); a
+    velocity-weakening one from R(0) = 1, i.e. from zero acceleration. Pushed by its
+    sliding neighbour (phi - 1 ~ t/(c dx)) and with R ~ 1 - s/v_f it grows as
+    s = v_f^2 (e^{t/v_f} - 1 - t/v_f)/(c dx): it reaches s = v_f after a delay
+    v_f ln(c/r) (phase 1). Then R ~ v_f/s leaves a momentum deficit growing as
+    v_f ln(s/v_f), worth at most a further delay v_f ln(1/(c r)) by the time the next
+    block slips (s ~ dx/c; phase 2). Each slip interval dx/c grows by the delay, so
+    c_C/c - 1 = c_C delay/dx <= 2 c_C r ln(1/r) + O(r) (phase 1 alone: c_C r ln(1/r)).
+    docs/velocity_weakening.md compares it with the chain."""
+    return 2.0 * c_coulomb * ratio * math.log(1.0 / ratio)
+
+
+@dataclass(frozen=True)
+class VWFront:
+    """One front with velocity-weakening friction (:func:`front`).
+
+    status: "steady" (the front crossed the chain and the slip intervals of the window,
+    the third quarter of the chain, agree with dx/c to STEADY_TOL), "unsteady" (crossed,
+    intervals spread more: ``trend`` says whether it speeds up or slows down), "dies"
+    (the front stopped at x = ``reached``). c: dx (b - a)/(t_b - t_a) over the window
+    (NaN if it died). unsteadiness: largest |interval c/dx - 1| in the window. trend:
+    c over the window's second half over c over its first half, minus 1. zone: the
+    slipping zone in lattice spacings, c x (mean time a window block slides)/dx (None if
+    the window blocks still slide when the tip reaches the far end); u_minus: their mean
+    u when that slip ends (the stress behind the pulse). weakening: the weakening zone
+    in lattice spacings, c/dx times the time a block takes from its slip to s = v_f
+    (friction halfway down; the first window block, from a second run with dense
+    snapshots). peak: its largest speed in the WEAKENING_SPAN slip intervals after its
+    slip, in units of v_f.
+    """
+
+    u_plus: float
+    gamma: float
+    dx: float
+    v_f: float
+    blocks: int
+    status: str
+    c: float
+    unsteadiness: float | None
+    trend: float | None
+    zone: float | None
+    u_minus: float | None
+    weakening: float | None
+    peak: float | None
+    reached: float
+    wall_s: float
+
+    @property
+    def ratio(self) -> float:
+        """v_f/dx, the variable of eq. (crit)."""
+        return self.v_f / self.dx
+
+    def to_dict(self) -> dict:
+        return asdict(self) | {"ratio": self.ratio}
+
+
+def front(
+    u_plus: float,
+    gamma: float,
+    dx: float,
+    v_f: float,
+    *,
+    length: float = 20.0,
+    step: float = DEFAULT_STEP,
+    weakening: bool = True,
+) -> VWFront:
+    """Measure one front with velocity-weakening friction on a chain ``length`` long
+    (in x; ceil(length/dx) blocks; window: the third quarter). Double ``length`` to check
+    that the front has settled (docs/velocity_weakening.md does, for its tables).
+    weakening=False skips the second run that measures the weakening zone."""
+    import time
+
+    u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    gamma = V.number("gamma", gamma, lo=0.0)
+    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    v_f = V.number("v_f", v_f, lo=0.0, lo_open=True)
+    length = V.number("length", length, lo=16 * dx, hi=1e5)
+    n = int(math.ceil(length / dx))
+    t0 = time.perf_counter()
+    p = Params(gamma=gamma, v=0.0, dx=dx, friction_law=law("velocity_weakening", v_f=v_f))
+    ch, first, _ = run_front(u_plus, n, p, step=step)
+    a, b = n // 2, (3 * n) // 4
+    wall = time.perf_counter() - t0
+    slipped = np.nonzero(np.isfinite(first))[0]
+    reached = float(slipped.max() * dx) if slipped.size else 0.0
+    common = dict(u_plus=u_plus, gamma=gamma, dx=dx, v_f=v_f, blocks=n, reached=reached)
+    if not np.isfinite(first[-1]):
+        return VWFront(
+            **common,
+            status="dies",
+            c=math.nan,
+            unsteadiness=None,
+            trend=None,
+            zone=None,
+            u_minus=None,
+            weakening=None,
+            peak=None,
+            wall_s=wall,
+        )
+    c = dx * (b - a) / (first[b] - first[a])
+    intervals = np.diff(first[a : b + 1])
+    unsteadiness = float(np.max(np.abs(intervals * c / dx - 1.0)))
+    m = (a + b) // 2
+    trend = float((first[m] - first[a]) / (m - a) / ((first[b] - first[m]) / (b - m)) - 1.0)
+    status = "steady" if unsteadiness <= STEADY_TOL else "unsteady"
+    # the slipping zone from the first slip intervals of the window blocks
+    slips = ch._engine.slips()
+    blocks = np.asarray(slips["block"])
+    t_start, t_end = np.asarray(slips["t_start"]), np.asarray(slips["t_end"])
+    dur, u_end = np.full(n, np.nan), np.full(n, np.nan)
+    for i in range(a, b):
+        k = np.nonzero((blocks == i) & (t_start == first[i]))[0]
+        if k.size:
+            dur[i] = t_end[k[0]] - t_start[k[0]]
+            u_end[i] = slips["u_end"][k[0]]
+    healed = bool(np.all(np.isfinite(dur[a:b])))
+    zone = float(c * np.mean(dur[a:b]) / dx) if healed else None
+    u_minus = float(np.mean(u_end[a:b])) if healed else None
+    weak = peak = None
+    if weakening:
+        weak, peak = _weakening(u_plus, n, p, step, a, first[a], c, v_f)
+    return VWFront(
+        **common,
+        status=status,
+        c=float(c),
+        unsteadiness=unsteadiness,
+        trend=trend,
+        zone=zone,
+        u_minus=u_minus,
+        weakening=weak,
+        peak=peak,
+        wall_s=wall,
+    )
+
+
+#: The weakening zone is looked for within this many slip intervals dx/c of the onset,
+#: sampled at WEAKENING_SAMPLES per interval.
+WEAKENING_SPAN = 8
+WEAKENING_SAMPLES = 64
+
+
+def _weakening(u_plus, n, p, step, k, t_k, c, v_f):
+    """(weakening zone, peak speed/v_f) of block k, which slips at t_k: the same run
+    again with dense snapshots after t_k (the front is steady, so every block has the
+    same history). The zone is c (t(s = v_f) - t_k)/dx, with t(s = v_f) interpolated
+    linearly between samples dx/(c WEAKENING_SAMPLES) apart; None if s stays below v_f."""
+    tau = p.dx / c
+    times = t_k + tau * np.arange(WEAKENING_SPAN * WEAKENING_SAMPLES + 1) / WEAKENING_SAMPLES
+    _, _, (t, u_t) = run_front(u_plus, n, p, step=step, t_end=times[-1], snapshots=times)
+    s = -u_t[:, k]
+    above = np.nonzero(s >= v_f)[0]
+    if not above.size:
+        return None, float(np.max(s) / v_f)
+    j = int(above[0])
+    t_vf = t[j] if j == 0 else t[j - 1] + (t[j] - t[j - 1]) * (v_f - s[j - 1]) / (s[j] - s[j - 1])
+    return float((t_vf - t_k) / tau), float(np.max(s) / v_f)
+
+
+def crossover(u_plus, gamma, dx, ratios, *, length: float = 20.0) -> list[VWFront]:
+    """:func:`front` at v_f = ratio dx for each ratio (v_f/dx)."""
+    return [front(u_plus, gamma, dx, r * dx, length=length) for r in ratios]

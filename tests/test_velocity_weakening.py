@@ -1,0 +1,133 @@
+"""Fronts with velocity-weakening friction against v_f/dx: the crossover of the paper's
+eq. (crit) (bkwaves.velocity_weakening, docs/velocity_weakening.md). The cases here were
+not used to tune anything: u_+ = 0.5 and 0.7 are not in the docs' tables."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import pytest
+
+import bkwaves as bk
+from bkwaves import velocity_weakening as vw
+
+
+def cli(*args):
+    return subprocess.run(
+        [sys.executable, "-m", "bkwaves.cli", *args], capture_output=True, text=True, timeout=120
+    )
+
+
+def gap(u, gamma, dx, ratio, **kw):
+    """c_Coulomb/c - 1 at v_f = ratio dx (Coulomb: the finite-dx tip problem)."""
+    f = vw.front(u, gamma, dx, ratio * dx, length=10.0, weakening=False, **kw)
+    assert f.status == "steady", f
+    return float(bk.front_speed(u, dx=dx, gamma=gamma)) / f.c - 1.0
+
+
+def test_small_v_f_over_dx_tends_to_the_coulomb_finite_dx_speed():
+    # eq. (crit): v_f << dx is the Coulomb chain at the same dx. The gap is positive
+    # (friction above Coulomb's at every speed) and within the derived 2 c_C r ln(1/r)
+    u, gamma, dx = 0.5, 0.3, 0.1
+    c_c = float(bk.front_speed(u, dx=dx, gamma=gamma))
+    gaps = {r: gap(u, gamma, dx, r) for r in (0.03, 0.01, 0.003)}
+    for r, g in gaps.items():
+        assert 0.0 < g < vw.coulomb_gap_bound(c_c, r), (r, g)
+    # the gap vanishes like r ln(1/r) (ratio 0.38 from r = 0.01 to 0.003), far faster
+    # than sqrt(r) (0.55); the ratio approaches r ln(1/r)'s from above as r -> 0
+    steps = [(0.03, 0.01), (0.01, 0.003)]
+    ratios = [gaps[b] / gaps[a] for a, b in steps]
+    expect = [b * math.log(1 / b) / (a * math.log(1 / a)) for a, b in steps]
+    assert ratios[1] < ratios[0] and expect[1] < ratios[1] < math.sqrt(0.3)
+    assert gaps[0.003] < 0.02
+
+
+def test_the_crossover_variable_is_v_f_over_dx():
+    # the tip scaling: in units of the tip the law depends on v_f/dx (and u_+) only, so
+    # c/c_Coulomb at fixed v_f/dx is the same at every dx up to O(gamma dx); at fixed
+    # v_f it is not
+    u, gamma = 0.7, 0.3
+
+    def ratio_to_coulomb(dx, v_f):
+        f = vw.front(u, gamma, dx, v_f, length=10.0, weakening=False)
+        return f.c / float(bk.front_speed(u, dx=dx, gamma=gamma))
+
+    same_r = [ratio_to_coulomb(dx, 0.1 * dx) for dx in (0.1, 0.05)]
+    same_v_f = [ratio_to_coulomb(dx, 0.005) for dx in (0.1, 0.025)]
+    assert abs(same_r[0] - same_r[1]) < 0.1 * 0.3 * 0.1  # O(gamma dx), coefficient 0.1
+    assert abs(same_v_f[0] - same_v_f[1]) > 0.03
+
+
+def test_v_f_above_dx_gives_sound_speed_fronts_a_few_lattice_spacings_wide():
+    # the paper (Sec. VI): for v_f >> dx the front runs near the sound speed and its
+    # slipping zone is a few lattice spacings, whatever u_+ (gamma = 0, as in its argument)
+    dx = 0.05
+    fronts = {r: vw.front(0.5, 0.0, dx, r * dx, length=20.0) for r in (0.01, 0.3, 3.0)}
+    cs = [fronts[r].c for r in (0.01, 0.3, 3.0)]
+    assert cs[0] > cs[1] > cs[2]  # monotone in v_f
+    assert abs(cs[2] - 1.0) < 0.02 < float(bk.front_speed(0.5, dx=dx)) - 1.0
+    zones = [fronts[r].zone for r in (0.01, 0.3, 3.0)]
+    assert zones[0] > zones[1] > zones[2] and zones[2] < 15
+    assert zones[0] > 0.8 * bk.traveling_wave(0.5, 0.0).w / dx  # the Coulomb pulse
+    # the tip stays sharp: friction is halfway down within ~1 slip interval
+    assert all(f.weakening < 2.0 for f in fronts.values())
+
+
+@pytest.mark.parametrize("dx", [0.1, 0.05])
+def test_no_front_above_the_v_f_where_friction_cannot_drop_below_u_plus(dx):
+    # min over s of R(s) = 1/(1 + s/v_f) + 2 gamma s is below u_+ only for
+    # v_f < v_f* = (1 - sqrt(1 - u_+))^2/(2 gamma), whatever dx
+    u, gamma = 0.5, 0.3
+    star = vw.v_f_existence(u, gamma)
+    assert vw.min_friction(gamma, star) == pytest.approx(u, rel=1e-12)
+    assert vw.front(u, gamma, dx, 1.25 * star, length=40.0, weakening=False).status == "dies"
+    assert vw.front(u, gamma, dx, 0.5 * star, length=40.0, weakening=False).status == "steady"
+
+
+def test_min_friction():
+    assert vw.min_friction(0.0, 5.0) == 0.0
+    assert vw.min_friction(0.5, 2.0) == 1.0  # 2 gamma v_f >= 1: R rises from R(0) = 1
+    g, v_f = 0.3, 0.1
+    s = [i * 1e-4 for i in range(20000)]
+    assert vw.min_friction(g, v_f) == pytest.approx(
+        min(1 / (1 + x / v_f) + 2 * g * x for x in s), abs=1e-7
+    )
+    assert vw.v_f_existence(0.5, 0.0) == math.inf
+
+
+def test_cli_front_reports_whether_a_steady_front_exists():
+    base = ["front", "--u-plus", "0.6", "--gamma", "0.3", "--dx", "0.1"]
+    vw_law = ["--law", "velocity_weakening", "--v-f"]
+    r = cli(*base, *vw_law, "1.0", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["front"] == "dies" and d["regime"] == "none" and d["c"] is None
+    assert "died" in d["reason"] and d["window"] is None
+    out = cli(*base, *vw_law, "1.0").stdout
+    assert "front   = dies   (no steady front)" in out and "why     : no steady front" in out
+    d = json.loads(cli(*base, *vw_law, "0.01", "--json").stdout)
+    assert d["front"] == "steady" and d["regime"] == "pulse"
+    assert "front   = steady" in cli(*base).stdout  # Coulomb
+    m = bk.chain.front(0.6, 0.3, 0.1, friction=bk.friction.law("velocity_weakening", v_f=1.0))
+    assert m.front == "dies" and math.isnan(m.c) and m.regime == "none"
+
+
+def test_fixed_v_f_as_dx_goes_to_zero_sound_speed_whatever_u_plus():
+    # the paper's continuum limit for v_f >> dx: fronts at the sound speed, whatever the
+    # stress ahead (Coulomb: c = 1.40 and 2.29 at u_+ = 0.7, 0.9). What it does not say:
+    # the slipping zone is not a few lattice spacings for ever; in lattice spacings it
+    # grows (~ dx^-1/2 measured), its width in x shrinks
+    gamma, v_f = 0.3, 0.1  # v_f far below v_f* (0.2, 0.8): away from where fronts die
+    for u in (0.7, 0.9):
+        f = [vw.front(u, gamma, dx, v_f, length=20.0, weakening=False) for dx in (0.05, 0.025)]
+        assert all(x.status == "steady" for x in f), f
+        excess = [abs(x.c - 1.0) for x in f]
+        coulomb = float(bk.front_speed(u, dx=0.025, gamma=gamma)) - 1.0
+        # closer to the sound speed on the finer lattice; there within 5 % of the
+        # Coulomb chain's excess speed c - 1
+        assert excess[1] < excess[0] + 1e-3 and excess[1] < 0.05 * coulomb, (excess, coulomb)
+        growth = f[1].zone / f[0].zone  # in lattice spacings, dx halved
+        assert 1.2 < growth < 1.8, growth
