@@ -13,9 +13,9 @@ measured cost per step times the steps needed (running it would take days).
 
 Workloads (the issue's): (a) one wave across N = 1e4 blocks, dx = 0.01, gamma = 0.3,
 u_+ = 0.6; (b) loading cycles, N = 2000, dx = 0.05, gamma = 0.3, v = 1e-4, a smooth random
-initial stress, 50 events (cost per event). Also: the engine's rate of sliding-block
-updates against a bare compiled RK4 stencil loop over the same number of blocks
-(crates/bkwaves-core/examples/bench_stencil.rs).
+initial stress, 50 events (cost per event). The engine's rate of sliding-block updates
+against the real limit (a bare RK4 stencil loop in Rust and in C) is measured by
+benchmarks/chain_limit (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -23,7 +23,6 @@ from __future__ import annotations
 import argparse
 import json
 import statistics
-import subprocess
 import time
 from pathlib import Path
 
@@ -180,36 +179,6 @@ def main():
     a0["ratio_matched"] = a0["baseline_matched_s"] / a0["engine_s"]
     print("workload a", a0, flush=True)
 
-    # --- bare RK4 stencil loop over the same number of sliding blocks -----------------
-    a1 = res["a"]["beta=1"]
-    n_sliding = max(1, round(a1["block_steps"] / max(1, _steps_of(r, dx))))
-    exe = ROOT / "target/release/examples/bench_stencil"
-    if not exe.exists():
-        subprocess.run(
-            ["cargo", "build", "-q", "--release", "--example", "bench_stencil"],
-            cwd=ROOT,
-            check=True,
-        )
-    rates = []
-    for _ in range(args.repeat):
-        out = subprocess.run(
-            [str(exe), str(n_sliding), str(int(2e7 // n_sliding))],
-            capture_output=True,
-            text=True,
-            check=True,
-        )
-        rates.append(json.loads(out.stdout)["block_updates_per_s"])
-    res["stencil"] = {
-        "n": n_sliding,
-        "bare_rk4_block_updates_per_s": statistics.median(rates),
-        "engine_block_updates_per_s": a1["engine_block_updates_per_s"],
-    }
-    res["stencil"]["ratio"] = (
-        res["stencil"]["engine_block_updates_per_s"]
-        / res["stencil"]["bare_rk4_block_updates_per_s"]
-    )
-    print("stencil", res["stencil"], flush=True)
-
     # --- workload (b): loading cycles, cost per event ---------------------------------
     nb, dxb, vb, events = 2000, 0.05, 1e-4, 50
     p = bk.Params(gamma=gamma, v=vb, dx=dxb, beta=0.0)  # as measured in docs/benchmarks.md
@@ -240,11 +209,6 @@ def main():
     out = ROOT / "benchmarks/bench_chain.json"
     out.write_text(json.dumps(res, indent=1))
     print(f"wrote {out}")
-
-
-def _steps_of(r, dx):
-    # the engine's integration steps for workload (a): time to cross / (0.05 dx)
-    return float(np.nanmax(r["slip_times"])) / (0.05 * dx)
 
 
 if __name__ == "__main__":

@@ -299,7 +299,6 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         next.a_end = vec![0.0; n2];
         next.u0 = vec![0.0; n2];
         next.w0 = vec![0.0; n2];
-        next.s_end = Default::default();
         *self = next;
         Ok(())
     }

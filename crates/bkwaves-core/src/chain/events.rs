@@ -23,6 +23,11 @@ pub struct Hermite {
     pub m1: f64,
 }
 
+/// A bound on the derivative basis functions of the cubic Hermite interpolant on [0, 1]
+/// (|h10|, |h11| <= 4/27 < 0.1482): a cubic with g0, g1 < 0 stays below
+/// max(g0, g1) + 0.1482 h (|m0| + |m1|), so where that is negative it has no root.
+pub const EXTREMUM_BOUND: f64 = 0.1482;
+
 impl Hermite {
     /// Value at s = (t - t0)/h in [0, 1].
     #[inline]
@@ -68,7 +73,7 @@ impl Hermite {
     /// last bit) at which the interpolant is >= 0.
     pub fn first_crossing(&self, h: f64) -> Option<f64> {
         // cheap rejection: |h10|, |h11| <= 4/27 on [0, 1]
-        let bound = self.g0.max(self.g1) + 0.1482 * h * (self.m0.abs() + self.m1.abs());
+        let bound = self.g0.max(self.g1) + EXTREMUM_BOUND * h * (self.m0.abs() + self.m1.abs());
         if bound < 0.0 {
             return None;
         }
@@ -128,6 +133,92 @@ impl Hermite {
             return Some(hi);
         }
         None
+    }
+}
+
+/// The sliding blocks of a run that may come to rest in a step of length h: those whose
+/// u_t - v (times their direction) may reach 0 on the Hermite cubic by the cheap bound
+/// of [`Hermite::first_crossing`] (the same bound, so no root is missed). Appends their
+/// offsets in the run to `out`. Blocks are tested eight at a time without a branch (the
+/// compiler vectorises the test), a group with no candidate costs no branch per block.
+#[allow(clippy::too_many_arguments)]
+pub fn rest_candidates(
+    dir: &[f64],
+    w0: &[f64],
+    w1: &[f64],
+    a0: &[f64],
+    a1: &[f64],
+    v: f64,
+    h: f64,
+    out: &mut Vec<usize>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if crate::chain::integrator::rk4::has_avx2() {
+        // SAFETY: AVX2 was detected on this CPU.
+        unsafe { rest_candidates_avx2(dir, w0, w1, a0, a1, v, h, out) };
+        return;
+    }
+    rest_candidates_body(dir, w0, w1, a0, a1, v, h, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn rest_candidates_avx2(
+    dir: &[f64],
+    w0: &[f64],
+    w1: &[f64],
+    a0: &[f64],
+    a1: &[f64],
+    v: f64,
+    h: f64,
+    out: &mut Vec<usize>,
+) {
+    rest_candidates_body(dir, w0, w1, a0, a1, v, h, out)
+}
+
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn rest_candidates_body(
+    dir: &[f64],
+    w0: &[f64],
+    w1: &[f64],
+    a0: &[f64],
+    a1: &[f64],
+    v: f64,
+    h: f64,
+    out: &mut Vec<usize>,
+) {
+    const G: usize = 8;
+    let hb = EXTREMUM_BOUND * h;
+    let bound = |d: f64, w0: f64, w1: f64, m0: f64, m1: f64| {
+        (d * (w0 - v)).max(d * (w1 - v)) + hb * (m0.abs() + m1.abs())
+    };
+    // a bound that is not negative (NaN included) leaves the block to the root search
+    let candidate = |b: f64| b >= 0.0 || b.is_nan();
+    let n = dir.len();
+    let m = n / G * G;
+    let groups = dir[..m]
+        .chunks_exact(G)
+        .zip(w0[..m].chunks_exact(G))
+        .zip(w1[..m].chunks_exact(G))
+        .zip(a0[..m].chunks_exact(G).zip(a1[..m].chunks_exact(G)))
+        .enumerate();
+    for (g, (((d, w0), w1), (m0, m1))) in groups {
+        let mut b = [0.0; G];
+        for l in 0..G {
+            b[l] = bound(d[l], w0[l], w1[l], m0[l], m1[l]);
+        }
+        // one test per group: its largest bound (max ignores NaN: tested apart)
+        let top = b.iter().fold(f64::NEG_INFINITY, |x, &y| x.max(y));
+        if candidate(top) || b.iter().any(|x| x.is_nan()) {
+            out.extend((0..G).filter(|&l| candidate(b[l])).map(|l| g * G + l));
+        }
+    }
+    for i in m..n {
+        if candidate(bound(dir[i], w0[i], w1[i], a0[i], a1[i])) {
+            out.push(i);
+        }
     }
 }
 
@@ -270,6 +361,52 @@ mod tests {
             m1: 0.0,
         };
         assert_eq!(g.first_crossing(1.0), None);
+    }
+
+    #[test]
+    fn the_rest_pre_test_keeps_every_block_the_root_search_would_find() {
+        // pseudo-random Hermite data of u_t - v for 203 blocks (groups of 8 and a tail),
+        // some far from rest, some crossing, some NaN: rest_candidates must keep every
+        // block whose first_crossing is Some (and may keep more)
+        let mut x = 0x9e3779b97f4a7c15u64;
+        let mut rnd = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let n = 203;
+        let (v, h) = (0.1, 0.01);
+        let mut cols: [Vec<f64>; 5] = Default::default();
+        for i in 0..n {
+            let d = if i % 3 == 0 { -1.0 } else { 1.0 };
+            let scale = if i % 5 == 0 { 1e-3 } else { 1.0 };
+            let w0 = v - d * scale * (rnd() + 0.5);
+            // every 7th block may cross (u_t - v changes sign), the others stay away
+            let w1 = v - d * scale * (rnd() + if i % 7 == 0 { 0.0 } else { 0.6 });
+            let row = [d, w0, w1, 10.0 * rnd(), 10.0 * rnd()];
+            for (c, r) in cols.iter_mut().zip(row) {
+                c.push(r);
+            }
+        }
+        cols[2][77] = f64::NAN;
+        let mut out = Vec::new();
+        let [d, w0, w1, a0, a1] = &cols;
+        rest_candidates(d, w0, w1, a0, a1, v, h, &mut out);
+        let mut found = 0;
+        for i in 0..n {
+            let g = Hermite {
+                g0: d[i] * (w0[i] - v),
+                m0: d[i] * a0[i],
+                g1: d[i] * (w1[i] - v),
+                m1: d[i] * a1[i],
+            };
+            if g.first_crossing(h).is_some() {
+                found += 1;
+                assert!(out.contains(&i), "block {i} missed");
+            }
+        }
+        assert!(found > 20 && out.len() < n / 2, "{found} {}", out.len());
     }
 
     #[test]

@@ -184,8 +184,9 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     h: f64,
     a_start: Vec<f64>,
     a_end: Vec<f64>,
+    /// Stage sums at the last fresh start of the accelerations (kept in checkpoints; the
+    /// books are summed per step by the integrator).
     s_start: StageSums,
-    s_end: StageSums,
     a_valid: bool,
     u0: Vec<f64>,
     w0: Vec<f64>,
@@ -333,7 +334,6 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             a_start: vec![0.0; n + 2],
             a_end: vec![0.0; n + 2],
             s_start: StageSums::default(),
-            s_end: StageSums::default(),
             a_valid: false,
             u0: vec![0.0; n + 2],
             w0: vec![0.0; n + 2],
@@ -774,8 +774,22 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     }
                 }
             };
+        let mut cands: Vec<usize> = Vec::new();
         for &(a, b) in &self.st.runs {
-            for p in a..b {
+            // the blocks that may come to rest in the step (a vectorised cheap test)
+            cands.clear();
+            events::rest_candidates(
+                &self.st.dir[a..b],
+                &self.w0[a..b],
+                &self.st.w[a..b],
+                &self.a_start[a..b],
+                &self.a_end[a..b],
+                v,
+                h,
+                &mut cands,
+            );
+            for &i in &cands {
+                let p = a + i;
                 let d = self.st.dir[p];
                 let g = Hermite {
                     g0: d * (self.w0[p] - v),
@@ -1052,7 +1066,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             self.a_valid = true;
         }
         let mut h = self.h.min(t_cap - t0);
-        let mut integ = self.do_step(t0, h);
+        self.do_step(t0, h);
         let mut events: Vec<(usize, i8)> = Vec::new();
         if let Some((s, who)) = self.detect(t0, h) {
             if s < 1.0 {
@@ -1062,10 +1076,12 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     self.st.w[a..b].copy_from_slice(&self.w0[a..b]);
                 }
                 h *= s;
-                integ = self.do_step(t0, h);
+                self.do_step(t0, h);
             }
             events = who;
         }
+        // the energy flows of the step taken, once (not in the stages, not for a redo)
+        let integ = self.rk.books(&self.st, h);
         if !(integ.u.is_finite() && integ.dry.is_finite() && integ.visc.is_finite()) {
             return Err(Error::NoConvergence {
                 what: "chain integration",
@@ -1089,7 +1105,6 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.t = if t0 + h >= t_cap { t_cap } else { t0 + h };
         // the end accelerations become the next start ones
         std::mem::swap(&mut self.a_start, &mut self.a_end);
-        self.s_start = self.s_end;
         self.a_valid = true;
         if !events.is_empty() {
             for (p, kind) in events {
@@ -1107,24 +1122,21 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         Ok(())
     }
 
-    fn do_step(&mut self, t0: f64, h: f64) -> integrator::StepIntegrals {
-        let integ = self.rk.step(
+    fn do_step(&mut self, t0: f64, h: f64) {
+        self.rk.step(
             &mut self.st,
             &self.blk,
             t0,
             h,
             &self.a_start,
-            self.s_start,
             &mut self.u0,
             &mut self.w0,
         );
         let mut a = std::mem::take(&mut self.a_end);
-        let s_end = self.rk.accel(&mut self.st, &self.blk, t0 + h, &mut a);
+        self.rk.accel_only(&mut self.st, &self.blk, t0 + h, &mut a);
         self.a_end = a;
-        self.s_end = s_end;
         self.counters.steps += 1;
         self.counters.block_steps += self.st.n_active as u64;
-        integ
     }
 }
 

@@ -105,6 +105,10 @@ impl Friction for Coulomb {
         // when s has just crossed zero before its stick is located
         (self.beta() * s * dir, 2.0 * self.gamma * s * s)
     }
+    fn dry_power_is_zero(&self) -> bool {
+        // beta s dir with the books' beta = 0
+        self.beta() == 0.0
+    }
     fn max_slope(&self, _threshold_max: f64) -> f64 {
         2.0 * self.gamma
     }

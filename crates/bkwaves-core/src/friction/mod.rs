@@ -61,6 +61,11 @@ pub trait Friction: Clone + Send + Sync + std::fmt::Debug + 'static {
     /// in units of (f_r - f_s)^2 / sqrt(k_p m). Their sum is s * (R(s) + beta), the friction
     /// force f = f_s + (f_r - f_s) R times the speed.
     fn power(&self, s: f64, dir: f64, threshold: f64) -> (f64, f64);
+    /// True when the dry part of [`Friction::power`] is 0 for every finite speed (Coulomb
+    /// friction in the beta-free books): the integrator then skips booking it.
+    fn dry_power_is_zero(&self) -> bool {
+        false
+    }
     /// A bound on |dR/ds| over both branches for thresholds up to `threshold_max`
     /// (the fastest rate the law adds to a sliding block: step-size checks).
     fn max_slope(&self, threshold_max: f64) -> f64;

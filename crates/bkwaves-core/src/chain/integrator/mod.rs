@@ -8,7 +8,9 @@
 //! of a run enter through their exact drift u = u_ref + v (t - t_ref), evaluated at each
 //! stage time, and the chain ends through their ghosts. The loader work and the
 //! dissipated power are integrated by the same stages (an augmented system), so the
-//! energy books close to the order of the method.
+//! energy books close to the order of the method; RK4 keeps the weighted stage values per
+//! block and sums over the blocks once per step ([`Integrator::books`]), so no stage has
+//! a reduction and every stage vectorises.
 
 pub mod midpoint;
 pub mod rk4;
@@ -61,9 +63,19 @@ pub trait Integrator: std::fmt::Debug + Send {
     ) -> StageSums
     where
         Self: Sized;
+    /// Acceleration of every sliding block at the state's current time t into `acc`
+    /// (as [`Integrator::accel`], without the stage sums).
+    fn accel_only<F: Friction, M: Medium>(
+        &mut self,
+        st: &mut State,
+        fr: &Blocks<F, M>,
+        t: f64,
+        acc: &mut [f64],
+    ) where
+        Self: Sized;
     /// Advance the sliding blocks from t0 to t0 + h. `a0` holds the accelerations at
-    /// t0 (from [`Integrator::accel`]) with their sums `s0`; the start state is saved
-    /// in `u0`, `w0` for the dense output and for a redo.
+    /// t0 (from [`Integrator::accel`] or the last step); the start state is saved in
+    /// `u0`, `w0` for the dense output and for a redo.
     #[allow(clippy::too_many_arguments)]
     fn step<F: Friction, M: Medium>(
         &mut self,
@@ -72,19 +84,17 @@ pub trait Integrator: std::fmt::Debug + Send {
         t0: f64,
         h: f64,
         a0: &[f64],
-        s0: StageSums,
         u0: &mut [f64],
         w0: &mut [f64],
-    ) -> StepIntegrals
-    where
+    ) where
         Self: Sized;
+    /// The energy flows of the last step taken (of length h): called once per step
+    /// taken, after any redo.
+    fn books(&mut self, st: &State, h: f64) -> StepIntegrals;
 }
 
-/// Fill the stage displacement of the neighbours of every run (stuck blocks by their
-/// exact drift, ghosts by the boundary) at stage time ts. Sliding values in `su` must
-/// already be set.
 /// Accelerations of the sliding blocks at the present state, time t, using `su` as the
-/// stage buffer (the first stage of every integrator).
+/// stage buffer (the first stage of every integrator), and the stage sums there.
 pub(crate) fn accel_at_state<F: Friction, M: Medium>(
     st: &State,
     fr: &Blocks<F, M>,
@@ -92,13 +102,30 @@ pub(crate) fn accel_at_state<F: Friction, M: Medium>(
     t: f64,
     acc: &mut [f64],
 ) -> StageSums {
+    accel_only_at_state(st, fr, su, t, acc);
+    stage_sums(st, fr, su, &st.w)
+}
+
+/// Accelerations of the sliding blocks at the present state (as [`accel_at_state`]),
+/// without the stage sums.
+#[inline(always)]
+pub(crate) fn accel_only_at_state<F: Friction, M: Medium>(
+    st: &State,
+    fr: &Blocks<F, M>,
+    su: &mut [f64],
+    t: f64,
+    acc: &mut [f64],
+) {
     for &(a, b) in &st.runs {
         su[a..b].copy_from_slice(&st.u[a..b]);
     }
     fill_neighbours(st, su, t);
-    stage_accel(st, fr, su, &st.w, acc)
+    stage_accel(st, fr, su, &st.w, acc);
 }
 
+/// Fill the stage displacement of the neighbours of every run (stuck blocks by their
+/// exact drift, ghosts by the boundary) at stage time ts. Sliding values in `su` must
+/// already be set.
 pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
     let n = st.n;
     for &(a, b) in &st.runs {
@@ -118,32 +145,47 @@ pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
     }
 }
 
-/// Accelerations of all sliding blocks from stage values su, sw.
-#[inline]
+/// Accelerations of all sliding blocks from stage values su, sw: one pass per run with
+/// no branch and no reduction, which the compiler vectorises.
+#[inline(always)]
 pub(crate) fn stage_accel<F: Friction, M: Medium>(
     st: &State,
     fr: &Blocks<F, M>,
     su: &[f64],
     sw: &[f64],
     acc: &mut [f64],
-) -> StageSums {
+) {
     let (v, k) = (st.v, st.inv_dx2);
+    for &(a, b) in &st.runs {
+        let len = b - a;
+        let (ul, uc, ur) = (&su[a - 1..b - 1], &su[a..b], &su[a + 1..b + 1]);
+        let (sw, dir, th) = (&sw[a..b], &st.dir[a..b], &st.onset[a..b]);
+        let acc = &mut acc[a..b];
+        assert!(ul.len() == len && ur.len() == len && sw.len() == len && dir.len() == len);
+        assert!(th.len() == len && acc.len() == len);
+        for i in 0..len {
+            acc[i] = fr.accel(a + i, ul[i], uc[i], ur[i], v - sw[i], dir[i], th[i], k);
+        }
+    }
+}
+
+/// The stage sums (loader displacement, dry and viscous power) of the sliding blocks at
+/// stage values su, sw, summed block by block in order within each run.
+pub(crate) fn stage_sums<F: Friction, M: Medium>(
+    st: &State,
+    fr: &Blocks<F, M>,
+    su: &[f64],
+    sw: &[f64],
+) -> StageSums {
+    let v = st.v;
     let mut sums = StageSums::default();
     for &(a, b) in &st.runs {
-        let dir = &st.dir[a..b];
-        let th = &st.onset[a..b];
-        let u = &su[a - 1..b + 1];
-        let w = &sw[a..b];
-        let out = &mut acc[a..b];
         let (mut su_, mut sd, mut sv) = (0.0, 0.0, 0.0);
-        for i in 0..b - a {
-            let p = a + i;
-            let ui = u[i + 1];
-            let s = v - w[i];
-            out[i] = fr.accel(p, u[i], ui, u[i + 2], s, dir[i], th[i], k);
-            let (pd, pv) = fr.fr.power(s, dir[i], th[i]);
+        for p in a..b {
+            let s = v - sw[p];
+            let (pd, pv) = fr.fr.power(s, st.dir[p], st.onset[p]);
             // the loader work rate is v sum (k_p,i u_i + beta)
-            su_ += fr.med.loader(p) * ui;
+            su_ += fr.med.loader(p) * su[p];
             sd += pd;
             sv += pv;
         }
@@ -152,6 +194,24 @@ pub(crate) fn stage_accel<F: Friction, M: Medium>(
         sums.visc += sv;
     }
     sums
+}
+
+/// Sum of `x` in four interleaved partial sums (element i to sum i mod 4, the four added
+/// at the end): independent chains of additions, which the compiler vectorises.
+#[inline(always)]
+pub(crate) fn lane_sum(x: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let chunks = x.chunks_exact(4);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for l in 0..4 {
+            acc[l] += c[l];
+        }
+    }
+    for (l, &r) in rest.iter().enumerate() {
+        acc[l] += r;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 /// The integrators by name (the registry).
@@ -238,6 +298,19 @@ impl Stepper {
             Stepper::Midpoint(m) => m.accel(st, fr, t, acc),
         }
     }
+    /// See [`Integrator::accel_only`].
+    pub fn accel_only<F: Friction, M: Medium>(
+        &mut self,
+        st: &mut State,
+        fr: &Blocks<F, M>,
+        t: f64,
+        acc: &mut [f64],
+    ) {
+        match self {
+            Stepper::Rk4(m) => m.accel_only(st, fr, t, acc),
+            Stepper::Midpoint(m) => m.accel_only(st, fr, t, acc),
+        }
+    }
     /// See [`Integrator::step`].
     #[allow(clippy::too_many_arguments)]
     pub fn step<F: Friction, M: Medium>(
@@ -247,13 +320,19 @@ impl Stepper {
         t0: f64,
         h: f64,
         a0: &[f64],
-        s0: StageSums,
         u0: &mut [f64],
         w0: &mut [f64],
-    ) -> StepIntegrals {
+    ) {
         match self {
-            Stepper::Rk4(m) => m.step(st, fr, t0, h, a0, s0, u0, w0),
-            Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, s0, u0, w0),
+            Stepper::Rk4(m) => m.step(st, fr, t0, h, a0, u0, w0),
+            Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, u0, w0),
+        }
+    }
+    /// See [`Integrator::books`].
+    pub fn books(&mut self, st: &State, h: f64) -> StepIntegrals {
+        match self {
+            Stepper::Rk4(m) => m.books(st, h),
+            Stepper::Midpoint(m) => m.books(st, h),
         }
     }
 }
