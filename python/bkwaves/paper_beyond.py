@@ -102,3 +102,75 @@ def fig_disorder_speed(axes, quick):
 
 
 BEYOND_FIGURES["beyond_disorder_speed"] = _panels(fig_disorder_speed, 2)
+
+
+def fig_vw_crossover(axes, quick):
+    """Velocity-weakening friction against eq. (crit): front speed c and slipping zone
+    (lattice spacings) against v_f/dx at several dx (bkwaves.velocity_weakening)."""
+    from . import velocity_weakening as vw
+    from .waves import front_speed, traveling_wave
+
+    u, gamma = 0.6, 0.3
+    dxs = (0.1, 0.05) if quick else (0.1, 0.05, 0.025)
+    ratios = (0.03, 0.3, 3.0, 30.0) if quick else (0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0)
+    ax, az = axes
+    gaps, near_one, deaths, first_dead, zone_at = [], [], [], [], {}
+    w_c = traveling_wave(u, gamma).w
+    for i, dx in enumerate(dxs):
+        fronts = [
+            vw.front(u, gamma, dx, r * dx, length=10.0 if quick else 20.0, weakening=False)
+            for r in ratios
+        ]
+        live = [f for f in fronts if f.status != "dies"]
+        dead = [f.ratio for f in fronts if f.status == "dies"]
+        c_c = float(front_speed(u, dx=dx, gamma=gamma))
+        r = [f.ratio for f in live]
+        ax.semilogx(r, [f.c for f in live], "o-", color=f"C{i}", ms=4, label=f"dx = {dx:g}")
+        ax.axhline(c_c, color=f"C{i}", ls="--", lw=0.8)
+        ax.semilogx(dead, [0.9 + 0.012 * i] * len(dead), "x", color=f"C{i}", ms=7)
+        az.loglog(r, [f.zone for f in live], "o-", color=f"C{i}", ms=4, label=f"dx = {dx:g}")
+        az.axhline(w_c / dx, color=f"C{i}", ls="--", lw=0.8)
+        gaps.append(1.0 - live[0].c / c_c)
+        near_one += [abs(f.c - 1.0) for f in live if f.ratio >= 1.0]
+        if dead:  # the first v_f of the grid at which the front dies
+            first_dead.append(min(dead) * dx)
+            deaths.append(f"{min(dead) * dx:.2g} at dx = {dx:g}")
+        zone_at[dx] = {f.ratio: f.zone for f in live}
+    ax.axhline(1.0, color="k", ls=":", lw=1, label="sound speed c = 1")
+    ax.set_xlabel("v_f / dx")
+    ax.set_ylabel("front speed c")
+    ax.set_ylim(0.88, None)
+    ax.legend(fontsize=7, loc="lower left")
+    ax.set_title(f"Front speed, u+ = {u:g}, gamma = {gamma:g} (x: no front)", fontsize=9)
+    from matplotlib.ticker import ScalarFormatter
+
+    az.yaxis.set_major_formatter(ScalarFormatter())
+    az.set_xlabel("v_f / dx")
+    az.set_ylabel("slipping zone / dx")
+    az.legend(fontsize=7)
+    az.set_title("Slipping zone in lattice spacings", fontsize=9)
+    star = vw.v_f_existence(u, gamma)
+    # the slipping zone at the largest v_f/dx where every dx has a front
+    common = max(set.intersection(*(set(z) for z in zone_at.values())))
+    zone = ", ".join(f"{zone_at[dx][common]:.0f}" for dx in dxs)
+    grows = all(zone_at[a][common] < zone_at[b][common] for a, b in zip(dxs, dxs[1:], strict=False))
+    where = "above" if min(first_dead) > star else "near"
+    return (
+        f"Velocity-weakening friction, R(s) = 1/(1 + s/v_f) + 2 gamma s, u_+ = {u:g}, "
+        f"gamma = {gamma:g}: the front of `bkwaves front` against v_f/dx (eq. crit), dashed: "
+        f"the Coulomb chain at the same dx (left: its speed from the finite-dx tip problem; "
+        f"right: App. B's pulse width w/dx). At v_f/dx = {ratios[0]:g} the front is still "
+        f"{100 * min(gaps):.1f}-{100 * max(gaps):.1f} % slower than Coulomb's: the Coulomb "
+        f"limit needs v_f << dx by far more than a factor {1 / ratios[0]:.0f}. For "
+        f"v_f >= dx it runs within {100 * max(near_one):.1f} % of the sound speed, as the "
+        f"paper says. At v_f/dx = {common:g} the slipping zone is {zone} lattice spacings at "
+        f"dx = {', '.join(f'{dx:g}' for dx in dxs)} (the Coulomb pulse: "
+        f"{', '.join(f'{w_c / dx:.0f}' for dx in dxs)}); "
+        f"{'it grows as dx falls (a few lattice spacings only at coarse dx). ' if grows else ''}"
+        f"The front dies (x) on this grid from v_f = {', '.join(deaths)} on, {where} "
+        f"v_f* = {star:.2g} where min R reaches u_+, whatever dx: the v_f >> dx regime "
+        f"needs dx << v_f*."
+    )
+
+
+BEYOND_FIGURES["beyond_vw_crossover"] = _panels(fig_vw_crossover, 2)
