@@ -86,7 +86,7 @@ def fig_disorder_speed(axes, quick):
     axes[1].set_xlabel("sigma")
     axes[1].set_ylabel("k = (c_eff - c0)/sigma^2")
     axes[1].set_yscale("log")
-    axes[1].legend(fontsize=6, loc="center right")
+    axes[1].legend(fontsize=6, loc="lower left", bbox_to_anchor=(0.0, 0.1))
     axes[1].set_title("The sigma^2 coefficient", fontsize=9)
     return (
         f"Quenched disorder: a front at stress u_+ ahead runs into blocks with iid uniform "
