@@ -244,7 +244,8 @@ def test_noise_table_in_configs_runs_seeded():
     cfg_si = parse_config(si)
     u = cfg_si.params.units
     assert cfg_si.noise["rate"] == pytest.approx(0.01 * u.length_scale * u.time_scale, rel=1e-15)
-    with pytest.raises(bk.ParameterError, match="noise"):
-        parse_config({**noise_config(**table), "model": "chain", "domain": {"blocks": 10}})
+    # kick is the chain's (its spontaneous slips): refused in a free boundary config
+    with pytest.raises(bk.ParameterError, match=r"noise\.kick"):
+        parse_config(noise_config(**table, kick=0.1))
     with pytest.raises(bk.ParameterError, match=r"noise\.exponent"):
         parse_config(noise_config(law="power", rate=0.01))

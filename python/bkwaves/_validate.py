@@ -364,18 +364,29 @@ CONFIG = {
             "law",
             "choice",
             choices=("constant", "exponential", "power"),
-            doc="free boundary: spontaneous pair nucleation at Lambda(u) = rate g(u), g(1) = 1; "
+            doc="free boundary: spontaneous pair nucleation at Lambda(u) = rate g(u); chain: "
+            "spontaneous slips of stuck blocks at rate g(x), x = 1 - (threshold - phi); g(1) = 1; "
             "g = 1, exp(-(1 - u)/phi0) or max(u, 0)^exponent (bk.noise, docs/noise.md)",
         ),  # fmt: skip
         Spec(
             "rate",
             "real",
             lo=0.0,
-            unit="1/(x' t') (1/(m s) with [physical])",
-            doc="Lambda at u = 1: pairs per unit length and time",
+            unit="free boundary 1/(x' t') (1/(m s) with [physical]); chain 1/t' (1/s)",
+            doc="the rate at the threshold: free boundary, pairs per unit length and time; "
+            "chain, slips per block and unit time",
         ),  # fmt: skip
         Spec("phi0", "real", lo=0.0, lo_open=True, doc="exponential law only: stress scale"),
         Spec("exponent", "real", lo=0.0, doc="power law only: the exponent"),
+        Spec(
+            "kick",
+            "real",
+            lo=0.0,
+            hi=1e6,
+            unit="u_t units (m/s with [physical])",
+            doc="chain only: forward speed of a spontaneous kick over the ground; "
+            "0 (default): the block is released",
+        ),  # fmt: skip
     ),
     "triggers": table(
         Spec("time", "real", lo=0.0, unit="t' (s with [physical])", doc="when"),

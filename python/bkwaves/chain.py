@@ -23,6 +23,7 @@ See docs/chain.md.
 
 from __future__ import annotations
 
+import json
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -166,7 +167,13 @@ class Chain:
     n values), u_t0: initial velocities (default v: all stuck; blocks with u_t != v
     start sliding). step: time step as a fraction of dx. integrator: ``"rk4"`` (default,
     error ~ step^4) or ``"midpoint"`` (error ~ step^2, energy balance exact to round-off).
-    seed: recorded in the outputs (use it to build u0, e.g. :func:`smooth_random_stress`).
+    seed: recorded in the outputs (use it to build u0, e.g. :func:`smooth_random_stress`);
+    the noise generator's seed (default with noise: drawn at random and recorded).
+    noise: spontaneous slips of stuck blocks, a ``[noise]`` table as a dict: ``law``
+    ("constant", "exponential" with ``phi0``, "power" with ``exponent``), ``rate`` (slips
+    per block and unit time at the threshold: each stuck block slips at rate g(x),
+    x = 1 - (threshold - phi)), ``kick`` (forward speed over the ground; default 0: a
+    release). Their slips and events have kind "noise" (docs/noise.md).
     threshold, mass, loader, coupling: per-block properties (``PROPERTIES``), each a
     scalar or an array (one per block; ``coupling`` one per bond: n - 1 free, n + 1
     fixed, n periodic), in units of the reference values of ``params``; default 1 (the
@@ -185,6 +192,7 @@ class Chain:
         fixed: tuple[float, float] | None = None,
         seed: int | None = None,
         integrator: str = INTEGRATORS[0],
+        noise: dict | None = None,
         threshold=None,
         mass=None,
         loader=None,
@@ -210,7 +218,12 @@ class Chain:
         self.n = int(n)
         self.params = params
         self.boundary = boundary
-        self.seed = V.seed("seed", seed)
+        from . import noise as _noise
+
+        self.noise = None if noise is None else _noise.check_noise(noise, model="chain")
+        self.seed = (
+            V.seed("seed", seed) if self.noise is None else _noise.noise_seed(seed, self.noise)
+        )
         self.step = spec["step"].check(step)
         u0 = _per_block("u0", u0, self.n)
         if u_t0 is not None:
@@ -240,6 +253,9 @@ class Chain:
         )
         self._engine.set_integrator(integrator)
         self.integrator = integrator
+        if self.noise is not None:
+            params = {k: v for k, v in self.noise.items() if k not in ("law", "rate")}
+            self._engine.set_noise(self.noise["law"], self.noise["rate"], self.seed, **params)
         self._e0 = sum(self._engine.energy())
 
     # --- checkpoints -----------------------------------------------------------------
@@ -255,6 +271,7 @@ class Chain:
             "step": self.step,
             "integrator": self.integrator,
             "seed": self.seed,
+            "noise": self.noise,
             "e0": self._e0,
         }
         arrays = {"engine": np.frombuffer(self._engine.checkpoint(), dtype=np.uint8)}
@@ -275,6 +292,7 @@ class Chain:
             step=meta["step"],
             integrator=meta["integrator"],
             seed=meta["seed"],
+            noise=meta.get("noise"),
             **{k: arrays[f"property_{k}"] for k in PROPERTIES if f"property_{k}" in arrays},
         )
         restore_engine(self._engine, arrays, source)
@@ -494,7 +512,7 @@ class Chain:
             slips=slips,
             snapshots=self._snapshots(),
             energy=energy,
-            counters=eng.counters(),
+            counters=self._counters(),
             interrupted=interrupted,
             stop=stop,
             wall_s=wall,
@@ -502,6 +520,14 @@ class Chain:
             u=eng.u(),
             u_t=eng.u_t(),
         )
+
+    def _counters(self) -> dict:
+        """The engine's work counters, with the noise's candidates and spontaneous slips."""
+        c = self._engine.counters()
+        noise = self._engine.noise_counters
+        if noise is not None:
+            c["noise_candidates"], c["noise_slips"] = noise
+        return c
 
     def _snapshots(self):
         import xarray as xr
@@ -542,6 +568,7 @@ class Chain:
                 "units": repr(UNITS),
                 "version": __version__,
                 "seed": "none" if self.seed is None else int(self.seed),
+                "noise": json.dumps(self.noise),
             }
         )
         if p.units is not None:

@@ -33,10 +33,14 @@ Schema (all sections optional except those marked)::
                 correlation_length} (like initial kind "random"; lengths in metres
                 with [physical]); docs/free_boundary.md, "Threshold field"
 
-    [noise]     (free boundary) spontaneous pair nucleation at Lambda(u) = rate g(u):
-                law = "constant" | "exponential" (phi0) | "power" (exponent), rate
-                (Lambda at u = 1, per unit length and time; 1/(m s) with [physical]);
-                seeded by the config's seed (bk.noise, docs/noise.md)
+    [noise]     law = "constant" | "exponential" (phi0) | "power" (exponent), rate;
+                seeded by the config's seed (bk.noise, docs/noise.md).
+                free boundary: spontaneous pair nucleation at Lambda(u) = rate g(u)
+                (rate: Lambda at u = 1, per unit length and time; 1/(m s) with [physical]);
+                chain: spontaneous slips of stuck blocks at rate g(x) each,
+                x = 1 - (threshold - phi) (rate per block and unit time, 1/s with
+                [physical]), kick = forward speed over the ground (m/s with [physical];
+                default 0: a release)
 
     [speed]     (free boundary) the front-speed law as a table: u_plus = [...] (strictly
                 increasing in (0, 1)), c = [...] (> 1, strictly increasing), e.g. the
@@ -390,17 +394,20 @@ def _disorder(doc: dict, model: str) -> tuple:
     return tuple(out)
 
 
-def _noise(doc: dict, model: str, scale: float) -> dict | None:
-    """The [noise] table, dimensionless (rate per unit x' and t'; ``scale`` converts an SI
-    rate, 1/(m s), to it: length_scale * time_scale)."""
+def _noise(doc: dict, model: str, ts: float, ls: float, vs: float) -> dict | None:
+    """The [noise] table, dimensionless. Free boundary: rate per unit x' and t' (an SI
+    rate, 1/(m s), times ls ts); chain: rate per block and unit t' (1/s times ts) and the
+    kick speed in u_t units (m/s divided by vs)."""
     if "noise" not in doc:
         return None
-    if model != "free_boundary":
-        _err("noise", "spontaneous nucleation is implemented for the free_boundary model only")
     from . import noise as _noise_laws
 
-    noise = _noise_laws.check_noise(_table(doc["noise"], "noise"))
-    noise["rate"] *= scale
+    noise = _noise_laws.check_noise(_table(doc["noise"], "noise"), model=model)
+    if model == "chain":
+        noise["rate"] *= ts
+        noise["kick"] /= vs
+    else:
+        noise["rate"] *= ls * ts
     return noise
 
 
@@ -704,14 +711,19 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         seed=seed,
         title=title,
         disorder=_scaled_disorder(_disorder(doc, model), ls),
-        noise=_noise(doc, model, ls * ts),
+        noise=_noise(doc, model, ts, ls, vs),
         speed=_speed(doc, model),
         base_dir=base_dir,
     )
     # a random config without a seed gets a fresh one now: the drawn properties checked
     # here are the ones the run uses, and cfg.to_dict() records the seed
     cfg = cfg.seeded()
-    if cfg.noise is not None and dict(cfg.disorder).get("threshold") is not None:
+    # (the free boundary's threshold field; the chain's noise follows per-block thresholds)
+    if (
+        cfg.model == "free_boundary"
+        and cfg.noise is not None
+        and dict(cfg.disorder).get("threshold") is not None
+    ):
         _err("noise", "not implemented with a threshold field ([disorder] threshold)")
     arrays = disorder_arrays(cfg) if cfg.model == "chain" else {"threshold": threshold_field(cfg)}
     for k, a in arrays.items() if cfg.disorder else ():

@@ -46,20 +46,6 @@ def _version() -> str:
     return _core.__version__
 
 
-def _seed(seed, noise):
-    """The noise generator's seed: the user's (an integer >= 0), else one drawn at random
-    when there is noise (recorded), else None."""
-    if seed is None:
-        if noise is None:
-            return None
-        import secrets
-
-        return secrets.randbits(63)
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or not 0 <= seed < 2**64:
-        V._fail("seed", seed, "an integer 0 <= seed < 2**64")
-    return int(seed)
-
-
 #: Nodes at which a callable speed law is sampled: u_+ = sqrt(k/(n + 1)), k = 1..n
 #: (uniform in X = u_+^2, the variable the table is interpolated in).
 SPEED_SAMPLES = 256
@@ -285,7 +271,7 @@ class FreeBoundary:
         self.tol = float(tol)
         self.record_path = bool(record_path)
         self.noise = None if noise is None else _noise.check_noise(noise)
-        self.seed = _seed(seed, self.noise)
+        self.seed = _noise.noise_seed(seed, self.noise)
         self.speed = speed_table(speed)
         self.threshold = threshold
         if self.threshold is not None:

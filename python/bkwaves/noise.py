@@ -33,6 +33,7 @@ __all__ = [
     "DISTRIBUTIONS",
     "LAWS",
     "check_noise",
+    "noise_seed",
     "rate_density",
     "kick_threshold",
     "measured_kick_threshold",
@@ -49,15 +50,23 @@ DISTRIBUTIONS = ("fixed", "exponential")
 LAWS = {"constant": (), "exponential": ("phi0",), "power": ("exponent",)}
 
 
-def check_noise(table, where: str = "noise") -> dict:
+#: Keys of a ``[noise]`` table besides the law's own, per model: the chain's spontaneous
+#: slips also take ``kick`` (optional, default 0: a release).
+MODEL_KEYS = {"free_boundary": (), "chain": ("kick",)}
+
+
+def check_noise(table, where: str = "noise", model: str = "free_boundary") -> dict:
     """A validated ``[noise]`` table: ``law`` (one of :data:`LAWS`), ``rate`` >= 0 and the
-    law's own parameters (required; another law's parameters are refused). Errors name
-    the key as written (``noise.phi0``) and its allowed range."""
+    law's own parameters (required; another law's parameters are refused); for the
+    chain (``model="chain"``) also ``kick`` >= 0 (forward speed of a spontaneous kick over
+    the ground; default 0: the block is released). Errors name the key as written
+    (``noise.phi0``) and its allowed range."""
     specs = V.CONFIG["noise"]
     if not isinstance(table, dict):
         V._fail(where, table, "a table with law, rate and the law's parameters")
     law = specs["law"].check(table.get("law"), f"{where}.law")
-    allowed = ("law", "rate", *LAWS[law])
+    optional = MODEL_KEYS[model]
+    allowed = ("law", "rate", *LAWS[law], *optional)
     for key in table:
         if key not in allowed:
             V._fail(
@@ -67,10 +76,27 @@ def check_noise(table, where: str = "noise") -> dict:
             )
     out = {"law": law}
     for key in allowed[1:]:
+        if key in optional and key not in table:
+            out[key] = 0.0
+            continue
         if key not in table:
             V._fail(f"{where}.{key}", None, specs[key].allowed(key))
         out[key] = specs[key].check(table[key], f"{where}.{key}")
     return out
+
+
+def noise_seed(seed, noise):
+    """The noise generator's seed: the user's (an integer 0 <= seed < 2**64), else one
+    drawn at random when there is noise (to be recorded), else None."""
+    if seed is None:
+        if noise is None:
+            return None
+        import secrets
+
+        return secrets.randbits(63)
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or not 0 <= seed < 2**64:
+        V._fail("seed", seed, "an integer 0 <= seed < 2**64")
+    return int(seed)
 
 
 def rate_density(u, noise: dict):

@@ -704,7 +704,16 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         u_t0 = (
             None if cfg.initial.velocity == 0.0 else np.full(cfg.blocks, p.v - cfg.initial.velocity)
         )
-        chain = Chain(cfg.blocks, p, cfg.boundary, u0, u_t0, seed=cfg.seed, **disorder_arrays(cfg))
+        chain = Chain(
+            cfg.blocks,
+            p,
+            cfg.boundary,
+            u0,
+            u_t0,
+            seed=cfg.seed,
+            noise=cfg.noise,
+            **disorder_arrays(cfg),
+        )
         for tr in cfg.triggers:
             if tr.kind == "kick":
                 chain.kick(tr.block, -tr.velocity, tr.time)

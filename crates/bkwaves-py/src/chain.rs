@@ -12,6 +12,7 @@ use bkwaves_core::chain::medium::Properties;
 use bkwaves_core::chain::sources::causes;
 use bkwaves_core::chain::{ChainConfig, Stop, Trigger, TriggerKind};
 use bkwaves_core::friction::{FrictionSpec, DEFAULT_LAW, LAWS};
+use bkwaves_core::noise::NoiseLaw;
 use bkwaves_core::params::ParamSpec;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -283,6 +284,30 @@ impl ChainEngine {
         self.inner
             .add_trigger(Trigger { t, block, kind })
             .map_err(to_py)
+    }
+
+    /// Spontaneous slips of stuck blocks from now on: a Poisson process of rate
+    /// rate g(x) per block (law "constant", "exponential" with phi0, "power" with
+    /// exponent; x = 1 - (threshold - phi)), each a forward kick of speed `kick` over the
+    /// ground (0: a release), seeded. A zero rate is no noise.
+    #[pyo3(signature = (law, rate, seed, kick=0.0, phi0=f64::NAN, exponent=f64::NAN))]
+    fn set_noise(
+        &mut self,
+        law: &str,
+        rate: f64,
+        seed: u64,
+        kick: f64,
+        phi0: f64,
+        exponent: f64,
+    ) -> PyResult<()> {
+        let law = NoiseLaw::new(law, rate, phi0, exponent).map_err(to_py)?;
+        self.inner.set_noise(law, kick, seed).map_err(to_py)
+    }
+
+    /// (candidates drawn, spontaneous slips) by the noise so far; None without noise.
+    #[getter]
+    fn noise_counters(&self) -> Option<(u64, u64)> {
+        self.inner.noise_counters()
     }
 
     /// Snapshots at the given times and/or at the end of every k-th event (0 = never).

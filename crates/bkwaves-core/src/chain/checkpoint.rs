@@ -22,7 +22,7 @@ use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 use crate::friction::Friction;
 
-const MAGIC: &[u8; 8] = b"BKCHAIN4";
+const MAGIC: &[u8; 8] = b"BKCHAIN5";
 
 /// A value of the state, written and read by one code path.
 pub(crate) trait Field {
@@ -166,6 +166,9 @@ macro_rules! chain_state {
             $($r)+ $c.s_start.dry,
             $($r)+ $c.s_start.visc,
             $($r)+ $c.a_start,
+            // (its entries of stuck blocks are stale values that a swap carries into
+            // a_start: kept, so a restored run's checkpoints equal the uninterrupted one's)
+            $($r)+ $c.a_end,
             $($r)+ $c.st.u,
             $($r)+ $c.st.w,
             $($r)+ $c.st.tref,
@@ -261,9 +264,17 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             f.get(&mut r)?;
         }
         let st = &next.st;
-        if [&next.a_start, &st.u, &st.w, &st.tref, &st.dir, &st.onset]
-            .iter()
-            .any(|a| a.len() != n2)
+        if [
+            &next.a_start,
+            &next.a_end,
+            &st.u,
+            &st.w,
+            &st.tref,
+            &st.dir,
+            &st.onset,
+        ]
+        .iter()
+        .any(|a| a.len() != n2)
         {
             return Err(bad(r.i, "arrays of n + 2 values"));
         }
@@ -296,7 +307,6 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             }
         }
         // scratch of the integrator: as a freshly built chain has it
-        next.a_end = vec![0.0; n2];
         next.u0 = vec![0.0; n2];
         next.w0 = vec![0.0; n2];
         *self = next;

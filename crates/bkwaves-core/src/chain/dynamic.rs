@@ -11,6 +11,7 @@ use super::{Chain, ChainConfig, Counters, Snapshots, Stop, Trigger};
 use crate::boundary::{Boundary, Ghost};
 use crate::error::Result;
 use crate::friction::{Friction, FrictionSpec};
+use crate::noise::NoiseLaw;
 
 /// What a chain is built from, besides its friction law.
 #[derive(Debug, Clone, Copy)]
@@ -41,6 +42,10 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
     fn add_trigger(&mut self, tr: Trigger) -> Result<()>;
     /// See [`Chain::add_snapshots`].
     fn add_snapshots(&mut self, times: &[f64], every_events: usize) -> Result<()>;
+    /// See [`Chain::set_noise`].
+    fn set_noise(&mut self, law: NoiseLaw, kick: f64, seed: u64) -> Result<()>;
+    /// See [`Chain::noise_counters`].
+    fn noise_counters(&self) -> Option<(u64, u64)>;
     /// See [`Chain::run`].
     fn run(&mut self, t_end: f64, max_events: usize, max_steps: u64) -> Result<Stop>;
     /// See [`Chain::set_run_limits`].
@@ -103,6 +108,12 @@ impl<F: Friction, M: Medium> DynChain for Chain<F, M> {
     }
     fn add_snapshots(&mut self, times: &[f64], every_events: usize) -> Result<()> {
         Chain::add_snapshots(self, times, every_events)
+    }
+    fn set_noise(&mut self, law: NoiseLaw, kick: f64, seed: u64) -> Result<()> {
+        Chain::set_noise(self, law, kick, seed)
+    }
+    fn noise_counters(&self) -> Option<(u64, u64)> {
+        Chain::noise_counters(self)
     }
     fn run(&mut self, t_end: f64, max_events: usize, max_steps: u64) -> Result<Stop> {
         Chain::run(self, t_end, max_events, max_steps)

@@ -34,6 +34,7 @@ pub mod state;
 use crate::boundary::Boundary;
 use crate::error::{check_at_least, check_open, Error, Result};
 use crate::friction::Friction;
+use crate::noise::NoiseLaw;
 use catalog::Catalog;
 use energy::Ledger;
 use events::{Hermite, SlipQueue};
@@ -491,6 +492,27 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
         self.triggers().push(tr);
         Ok(())
+    }
+
+    /// Spontaneous slips of stuck blocks from now on (`sources::noise`): a Poisson process
+    /// of rate `law` (per block and unit time; rate g(x), x = 1 - (threshold - phi)), each
+    /// a forward kick of speed `kick` over the ground (0: a release), its generator seeded
+    /// by `seed`. A zero rate removes the noise (the noiseless engine, bit for bit).
+    pub fn set_noise(&mut self, law: NoiseLaw, kick: f64, seed: u64) -> Result<()> {
+        let noise = sources::noise::Noise::new(law, kick, seed, self.t)?;
+        self.sources.retain(|s| s.as_noise().is_none());
+        if noise.law().rate > 0.0 {
+            self.sources.push(Box::new(noise));
+        }
+        Ok(())
+    }
+
+    /// (candidates drawn, spontaneous slips) of the noise so far; None without noise.
+    pub fn noise_counters(&self) -> Option<(u64, u64)> {
+        self.sources
+            .iter()
+            .find_map(|s| s.as_noise())
+            .map(|n| (n.candidates, n.slips))
     }
 
     /// Ask for snapshots at these times (>= now) and/or at the end of every k-th event.
@@ -1146,6 +1168,8 @@ mod tests;
 mod tests_blocks;
 #[cfg(test)]
 mod tests_laws;
+#[cfg(test)]
+mod tests_noise;
 
 impl<F: Friction, M: Medium> View for Chain<F, M> {
     fn time(&self) -> f64 {

@@ -11,7 +11,10 @@
 //! A source is one file of this folder and one line of [`SOURCES`]:
 //! - [`triggers`]: kicks and releases scheduled by the user (`Chain::add_trigger`), in a
 //!   binary heap (N triggers cost O(N log N));
+//! - [`noise`]: spontaneous slips of stuck blocks, a Poisson process whose rate depends
+//!   on each block's distance to its threshold (issue 14).
 
+pub mod noise;
 pub mod triggers;
 
 use super::Trigger;
@@ -20,7 +23,7 @@ use crate::error::Result;
 
 /// The registry: name and meaning of each source kind (the catalog's `kind` of an event
 /// opened by it).
-pub const SOURCES: &[(&str, &str)] = &[(triggers::NAME, triggers::DOC)];
+pub const SOURCES: &[(&str, &str)] = &[(triggers::NAME, triggers::DOC), (noise::NAME, noise::DOC)];
 
 /// The causes of slips that are no source: a block at its threshold, the initial state.
 pub const OTHER_CAUSES: [(&str, &str); 2] = [
@@ -121,6 +124,10 @@ pub(crate) trait Source: std::fmt::Debug + Send + Sync {
     fn load(&mut self, r: &mut Reader) -> Result<()>;
     /// A boxed copy.
     fn boxed(&self) -> Box<dyn Source>;
+    /// The noise source, if this is it (for its counters).
+    fn as_noise(&self) -> Option<&noise::Noise> {
+        None
+    }
     /// The triggers source, if this is it (for scheduling).
     fn as_triggers(&mut self) -> Option<&mut triggers::Triggers> {
         None

@@ -1,0 +1,267 @@
+//! Noise in the chain (sources/noise.rs): the Poisson statistics of spontaneous slips
+//! against the requested law, restart bit for bit, zero rate = the noiseless engine.
+
+use super::sources::Cause;
+use super::*;
+use crate::boundary::{Free, Periodic};
+use crate::friction::Coulomb;
+use crate::noise::NoiseLaw;
+
+fn cfg(dx: f64, v: f64) -> ChainConfig {
+    ChainConfig { dx, v, step: 0.05 }
+}
+
+/// Kolmogorov-Smirnov test of samples against the uniform law on (0, 1): the p-value
+/// (asymptotic Kolmogorov distribution with Stephens' small-sample correction).
+fn ks_uniform(mut u: Vec<f64>) -> f64 {
+    u.sort_by(f64::total_cmp);
+    let n = u.len() as f64;
+    let d = u
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| (x - i as f64 / n).max((i + 1) as f64 / n - x))
+        .fold(0.0, f64::max);
+    let lam = (n.sqrt() + 0.12 + 0.11 / n.sqrt()) * d;
+    let p: f64 = (1..=100)
+        .map(|k| {
+            let k = k as f64;
+            2.0 * (-1f64).powf(k - 1.0) * (-2.0 * k * k * lam * lam).exp()
+        })
+        .sum();
+    p.clamp(0.0, 1.0)
+}
+
+/// A stress profile with phi well below 1 everywhere and distinct values per block.
+fn ramp_state(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| 0.2 + 0.3 * ((i as f64 * 0.7).sin() * 0.5 + 0.5))
+        .collect()
+}
+
+/// The first spontaneous slip of `runs` seeded loading ramps (v > 0, nothing else
+/// happens before it): its time, transformed by the exact distribution of the first
+/// event of the requested law (1 - exp(-sum_i int lambda(phi_i + v s) ds)), should be
+/// uniform. `off` scales the rate the transform assumes (1: the true one).
+fn first_slip_uniforms(law: &NoiseLaw, runs: u64, off: f64) -> Vec<f64> {
+    let (n, v, dx) = (12, 0.01, 0.5);
+    let fr = Coulomb::new(0.3, f64::INFINITY).unwrap();
+    let u0 = ramp_state(n);
+    let mut out = Vec::new();
+    for seed in 0..runs {
+        let mut ch = Chain::new(cfg(dx, v), fr, &Free, &u0, None).unwrap();
+        let phi0 = ch.phi();
+        assert!(phi0.iter().all(|&x| x < 0.9));
+        ch.set_noise(law.clone(), 0.0, 1000 + seed).unwrap();
+        ch.run(1e6, 1, u64::MAX).unwrap();
+        let e = ch.catalog.events[0];
+        assert_eq!(e.kind, Cause::Source(1), "the first event is spontaneous");
+        let t = e.t_start;
+        // the cumulative rate of the first spontaneous slip up to t, every block alike
+        let mass: f64 = phi0.iter().map(|&p| law.mass(p, v, t, 1.0)).sum();
+        out.push(1.0 - (-off * mass).exp());
+    }
+    out
+}
+
+#[test]
+fn first_spontaneous_slips_on_a_loading_ramp_follow_the_law() {
+    // rates such that the first slip comes long before any block reaches its threshold
+    for law in [
+        NoiseLaw::new("constant", 0.05, f64::NAN, f64::NAN).unwrap(),
+        NoiseLaw::new("exponential", 0.5, 0.1, f64::NAN).unwrap(),
+        NoiseLaw::new("power", 0.1, f64::NAN, 3.0).unwrap(),
+    ] {
+        let name = law.law.name();
+        let p = ks_uniform(first_slip_uniforms(&law, 2000, 1.0));
+        assert!(p > 0.01, "{name}: KS p = {p}");
+        // the test can fail: the rate off by 20 % is refused
+        let p_off = ks_uniform(first_slip_uniforms(&law, 2000, 1.2));
+        assert!(
+            p_off < 1e-3,
+            "{name}: KS p = {p_off} with the rate off by 20 %"
+        );
+    }
+}
+
+/// Spontaneous slips over a long loaded run with a constant law: the rate is
+/// rate x (number of stuck blocks), which changes during the events (a few per cent of
+/// the block-time slides here: counting every block is refused).
+/// The compensator between successive spontaneous slips, rate int n_stuck dt (from the
+/// slip records), must be unit exponential (time rescaling).
+#[test]
+fn spontaneous_slips_during_events_are_poisson_in_the_stuck_blocks() {
+    let (n, rate) = (40, 0.02);
+    let fr = Coulomb::new(0.3, f64::INFINITY).unwrap();
+    let u0: Vec<f64> = (0..n)
+        .map(|i| 0.45 + 0.1 * (i as f64 * 1.3).sin())
+        .collect();
+    let mut ch = Chain::new(cfg(0.1, 0.01), fr, &Periodic, &u0, None).unwrap();
+    let law = NoiseLaw::new("constant", rate, f64::NAN, f64::NAN).unwrap();
+    ch.set_noise(law, 0.3, 7).unwrap();
+    let t_end = 1500.0;
+    ch.run(t_end, usize::MAX, u64::MAX).unwrap();
+    let slips = &ch.catalog.slips;
+    let spont: Vec<f64> = slips
+        .iter()
+        .filter(|r| r.kind == Cause::Source(1))
+        .map(|r| r.t_start)
+        .collect();
+    assert!(spont.len() > 300, "{} spontaneous slips", spont.len());
+    // the runs slide: a good share of the kicks come while other blocks slide
+    let during = spont
+        .iter()
+        .filter(|&&t| {
+            slips
+                .iter()
+                .any(|r| r.t_start < t && (r.t_end.is_nan() || r.t_end > t))
+        })
+        .count();
+    assert!(during > 30, "{during} kicks during events");
+    // sliding time in [a, b]: sum over slip intervals of their overlap
+    let sliding = |a: f64, b: f64| -> f64 {
+        slips
+            .iter()
+            .map(|r| {
+                let end = if r.t_end.is_nan() { t_end } else { r.t_end };
+                (end.min(b) - r.t_start.max(a)).max(0.0)
+            })
+            .sum()
+    };
+    let mut prev = 0.0;
+    let mut z = Vec::new();
+    for &t in &spont {
+        let stuck = n as f64 * (t - prev) - sliding(prev, t);
+        z.push(1.0 - (-rate * stuck).exp());
+        prev = t;
+    }
+    let p = ks_uniform(z.clone());
+    assert!(p > 0.01, "KS p = {p} over {} slips", z.len());
+    // counting every block, sliding ones too, is refused (the test can fail)
+    let mut prev = 0.0;
+    let wrong: Vec<f64> = spont
+        .iter()
+        .map(|&t| {
+            let u = 1.0 - (-rate * n as f64 * (t - prev)).exp();
+            prev = t;
+            u
+        })
+        .collect();
+    assert!(ks_uniform(wrong) < 1e-3);
+    let (cand, kicks) = ch.noise_counters().unwrap();
+    assert_eq!(kicks as usize, spont.len());
+    assert!(cand >= kicks);
+}
+
+fn noisy_chain(u0: &[f64], method: integrator::Method) -> Chain<Coulomb> {
+    let fr = Coulomb::new(0.3, 0.5).unwrap();
+    let mut ch = Chain::new(cfg(0.2, 1e-2), fr, &Periodic, u0, None).unwrap();
+    ch.set_integrator(method).unwrap();
+    let law = NoiseLaw::new("exponential", 0.05, 0.1, f64::NAN).unwrap();
+    ch.set_noise(law, 0.2, 11).unwrap();
+    ch.add_trigger(Trigger {
+        t: 5.0,
+        block: 3,
+        kind: TriggerKind::Kick { du_t: -0.5 },
+    })
+    .unwrap();
+    ch.add_snapshots(&[50.0, 100.0], 2).unwrap();
+    ch
+}
+
+#[test]
+fn a_noisy_chain_restored_from_a_checkpoint_continues_bit_for_bit() {
+    use integrator::Method;
+    let u0: Vec<f64> = (0..60)
+        .map(|i| 0.5 + 0.3 * (i as f64 * 0.37).sin())
+        .collect();
+    for method in [Method::Rk4, Method::Midpoint] {
+        let mut whole = noisy_chain(&u0, method);
+        whole.run(150.0, usize::MAX, u64::MAX).unwrap();
+        let (_, kicks) = whole.noise_counters().unwrap();
+        assert!(kicks >= 5, "{kicks} spontaneous slips");
+        // stop on the step budget (mid-event) several times, save, restore elsewhere
+        let mut part = noisy_chain(&u0, method);
+        let mut restarts = 0;
+        loop {
+            let stop = part.run(150.0, usize::MAX, 333).unwrap();
+            if stop != Stop::Steps {
+                break;
+            }
+            let bytes = part.checkpoint();
+            let mut other = noisy_chain(&[0.0; 60], method);
+            other.restore(&bytes).unwrap();
+            assert!(
+                other.checkpoint() == bytes,
+                "restore then checkpoint differs"
+            );
+            part = other;
+            restarts += 1;
+        }
+        assert!(restarts > 3);
+        assert!(whole.u() == part.u(), "{method:?}: u differs");
+        assert!(
+            whole.checkpoint() == part.checkpoint(),
+            "{method:?}: states differ"
+        );
+        let spont = |c: &Chain<Coulomb>| {
+            c.catalog
+                .events
+                .iter()
+                .filter(|e| e.kind == Cause::Source(1))
+                .count()
+        };
+        assert!(spont(&whole) >= 3);
+        // another seed differs; a noiseless chain refuses the noisy checkpoint
+        let fr = Coulomb::new(0.3, 0.5).unwrap();
+        let mut plain = Chain::new(cfg(0.2, 1e-2), fr, &Periodic, &u0, None).unwrap();
+        plain.set_integrator(method).unwrap();
+        assert!(plain.restore(&whole.checkpoint()).is_err());
+        let mut other = noisy_chain(&u0, method);
+        let law = NoiseLaw::new("exponential", 0.05, 0.1, f64::NAN).unwrap();
+        other.set_noise(law, 0.2, 12).unwrap();
+        other.run(150.0, usize::MAX, u64::MAX).unwrap();
+        assert!(other.u() != whole.u());
+    }
+}
+
+#[test]
+fn zero_rate_is_the_noiseless_chain_and_bad_kicks_are_named() {
+    let u0: Vec<f64> = (0..60)
+        .map(|i| 0.5 + 0.3 * (i as f64 * 0.37).sin())
+        .collect();
+    let fr = Coulomb::new(0.3, 0.5).unwrap();
+    let mut plain = Chain::new(cfg(0.2, 1e-2), fr, &Periodic, &u0, None).unwrap();
+    let mut zero = plain.clone();
+    let law = NoiseLaw::new("power", 0.0, f64::NAN, 2.0).unwrap();
+    zero.set_noise(law.clone(), 0.1, 3).unwrap();
+    assert!(zero.noise_counters().is_none());
+    plain.run(300.0, usize::MAX, u64::MAX).unwrap();
+    zero.run(300.0, usize::MAX, u64::MAX).unwrap();
+    assert!(plain.checkpoint() == zero.checkpoint());
+    for k in [-0.1, f64::NAN, f64::INFINITY] {
+        match zero.set_noise(law.clone(), k, 1) {
+            Err(Error::InvalidParameter { name, .. }) => assert_eq!(name, "kick"),
+            r => panic!("kick {k}: {r:?}"),
+        }
+    }
+}
+
+#[test]
+fn quiet_stretches_are_jumped_not_stepped() {
+    // an activated noise on a slowly loaded chain: every quiet stretch is one jump per
+    // candidate (or per event start), never stepped
+    let fr = Coulomb::new(0.3, f64::INFINITY).unwrap();
+    let u0 = ramp_state(200);
+    let mut ch = Chain::new(cfg(0.5, 1e-4), fr, &Free, &u0, None).unwrap();
+    let law = NoiseLaw::new("exponential", 1.0, 0.05, f64::NAN).unwrap();
+    ch.set_noise(law, 0.0, 5).unwrap();
+    ch.run(2000.0, usize::MAX, u64::MAX).unwrap();
+    let (cand, kicks) = ch.noise_counters().unwrap();
+    let events = ch.catalog.events.len() as u64;
+    assert!(cand > 5 && kicks >= 1, "{cand} candidates, {kicks} kicks");
+    assert!(
+        ch.counters.jumps <= cand + events + 1,
+        "{:?}: {cand} candidates, {events} events",
+        ch.counters
+    );
+}
