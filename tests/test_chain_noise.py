@@ -98,6 +98,9 @@ def test_noise_table_in_chain_configs():
     cfg = parse_config(doc)
     assert cfg.noise == {"law": "power", "rate": 0.01, "exponent": 2.0, "kick": 0.0}
     assert parse_config(cfg.to_dict()) == cfg
+    # per-block thresholds ([disorder]) and noise go together in the chain
+    with_thresholds = parse_config({**doc, "disorder": {"threshold": 1.2}})
+    assert with_thresholds.noise == cfg.noise
     a, b = bk.run(cfg), bk.run(cfg)
     assert (a.events["kind"] == "noise").any()
     assert a.events.equals(b.events)
