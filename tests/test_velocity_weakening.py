@@ -108,6 +108,8 @@ def test_cli_front_reports_whether_a_steady_front_exists():
     assert "died" in d["reason"] and d["window"] is None
     out = cli(*base, *vw_law, "1.0").stdout
     assert "front   = dies   (no steady front)" in out and "why     : no steady front" in out
+    # no measured speed is printed for a front that died; the continuum value is labelled
+    assert "c       = none (no front)" in out and "= 1.25)" in out and "nan" not in out
     d = json.loads(cli(*base, *vw_law, "0.01", "--json").stdout)
     assert d["front"] == "steady" and d["regime"] == "pulse"
     assert "front   = steady" in cli(*base).stdout  # Coulomb

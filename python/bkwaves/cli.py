@@ -597,7 +597,12 @@ def front(args) -> None:
     slip = "no backward slip" if math.isinf(m.beta) else "backward slip on"
     _echo(f"beta    = {m.beta:g}   ({slip}; {m.backward_slips} backward slips)")
     _echo(f"blocks  = {m.blocks}   ({m.passes} run{'s' if m.passes > 1 else ''})")
-    _echo(f"c       = {m.c:.12g}   (measured; continuum 1/sqrt(1 - u_plus^2))")
+    c_inf = 1.0 / math.sqrt(1.0 - m.u_plus**2)
+    measured = f"{m.c:.12g}" if math.isfinite(m.c) else "none (no front)"
+    _echo(
+        f"c       = {measured}   (measured on the chain; Coulomb continuum "
+        f"1/sqrt(1 - u_plus^2) = {c_inf:.6g})"
+    )
     if m.front == "dies":
         _echo("front   = dies   (no steady front)")
     else:
