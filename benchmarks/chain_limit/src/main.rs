@@ -10,9 +10,42 @@
 //!    ratio to the best reference over the engine's mean number of sliding blocks,
 //!    measured in the same round. Rounds are repeated; medians and spreads are printed.
 //!
+//! All times are CPU times of the work (the machine is shared: wall time would count the
+//! other jobs).
+//!
 //! cargo run --release -- [--repeat R] [--json FILE]
 
 mod reference;
+
+/// CPU time of this process in seconds (CLOCK_PROCESS_CPUTIME_ID): on a shared machine
+/// wall time counts the other jobs too. Linux (and other POSIX systems with this clock).
+fn cpu_seconds() -> f64 {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    extern "C" {
+        fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
+    }
+    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
+    let mut ts = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec into the struct we own.
+    let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime");
+    ts.sec as f64 + 1e-9 * ts.nsec as f64
+}
+
+/// A CPU-time stopwatch.
+struct Cpu(f64);
+impl Cpu {
+    fn start() -> Self {
+        Cpu(cpu_seconds())
+    }
+    fn elapsed(&self) -> f64 {
+        cpu_seconds() - self.0
+    }
+}
 
 use bkwaves_core::boundary::Free;
 use bkwaves_core::chain::{Chain, ChainConfig, Trigger, TriggerKind};
@@ -20,7 +53,6 @@ use bkwaves_core::friction::Coulomb;
 use reference::Reference;
 use std::path::PathBuf;
 use std::process::Command;
-use std::time::Instant;
 
 /// Updates per second of the Rust reference over n blocks (about `work` updates).
 fn rust_reference(n: usize, dx: f64, gamma: f64, work: f64, avx2: bool) -> (f64, f64) {
@@ -28,13 +60,13 @@ fn rust_reference(n: usize, dx: f64, gamma: f64, work: f64, avx2: bool) -> (f64,
     let mut r = Reference::new(n, dx, gamma, 0.05);
     r.run(10); // warm the caches
     let mut r = Reference::new(n, dx, gamma, 0.05);
-    let t = Instant::now();
+    let t = Cpu::start();
     if avx2 {
         r.run(steps);
     } else {
         r.run_baseline(steps);
     }
-    let s = t.elapsed().as_secs_f64();
+    let s = t.elapsed();
     ((n as u64 * steps) as f64 / s, r.checksum())
 }
 
@@ -101,9 +133,9 @@ fn engine_front(u_plus: f64, gamma: f64, dx: f64, n: usize) -> EngineRun {
     // c = 1/sqrt(1 - u_+^2) (docs/theory.md): stop at 90 % of the crossing
     let c = 1.0 / (1.0 - u_plus * u_plus).sqrt();
     let t_end = 0.9 * n as f64 * dx / c;
-    let t = Instant::now();
+    let t = Cpu::start();
     ch.run(t_end, usize::MAX, u64::MAX).unwrap();
-    let seconds = t.elapsed().as_secs_f64();
+    let seconds = t.elapsed();
     EngineRun {
         seconds,
         block_steps: ch.counters.block_steps,
@@ -128,9 +160,9 @@ fn engine_loading(n: usize, dx: f64, gamma: f64, v: f64, events: usize) -> Engin
         })
         .collect();
     let mut ch = Chain::new(cfg, fr, &Free, &u0, None).unwrap();
-    let t = Instant::now();
+    let t = Cpu::start();
     ch.run(f64::INFINITY, events, u64::MAX).unwrap();
-    let seconds = t.elapsed().as_secs_f64();
+    let seconds = t.elapsed();
     EngineRun {
         seconds,
         block_steps: ch.counters.block_steps,

@@ -137,8 +137,8 @@ impl Hermite {
 }
 
 /// The sliding blocks of a run that may come to rest in a step of length h: those whose
-/// u_t - v (times their direction) may reach 0 on the Hermite cubic by the cheap bound
-/// of [`Hermite::first_crossing`] (the same bound, so no root is missed). Appends their
+/// u_t - v (times their direction) may reach 0 on the Hermite cubic by a cheap bound on
+/// the cubic (a valid bound, so no root is missed). Appends their
 /// offsets in the run to `out`. Blocks are tested eight at a time without a branch (the
 /// compiler vectorises the test), a group with no candidate costs no branch per block.
 #[allow(clippy::too_many_arguments)]
@@ -191,8 +191,12 @@ fn rest_candidates_body(
 ) {
     const G: usize = 8;
     let hb = EXTREMUM_BOUND * h;
+    // g = d (u_t - v) with slopes d a: on [0, 1] the Hermite cubic is g0 h00 + g1 h01 +
+    // h (g0' h10 + g1' h11) with h00 + h01 = 1 (both >= 0), 0 <= h10 <= 4/27 and
+    // -4/27 <= h11 <= 0, so only a rising start or a falling end can lift it above
+    // max(g0, g1) (tighter than first_crossing's own test, which stays the judge)
     let bound = |d: f64, w0: f64, w1: f64, m0: f64, m1: f64| {
-        (d * (w0 - v)).max(d * (w1 - v)) + hb * (m0.abs() + m1.abs())
+        (d * (w0 - v)).max(d * (w1 - v)) + hb * ((d * m0).max(0.0) + (-d * m1).max(0.0))
     };
     // a bound that is not negative (NaN included) leaves the block to the root search
     let candidate = |b: f64| b >= 0.0 || b.is_nan();
