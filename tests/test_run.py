@@ -395,12 +395,19 @@ LOADING = {
 }
 
 
-@pytest.mark.parametrize("suffix", [".nc", ".zarr"])
-def test_resumed_chain_run_equals_the_uninterrupted_one_bit_for_bit(tmp_path, suffix):
+CHAIN_NOISE = {"law": "exponential", "rate": 1e-2, "phi0": 0.05, "kick": 0.05}
+
+
+@pytest.mark.parametrize(
+    "suffix,noise", [(".nc", None), (".zarr", None), (".nc", CHAIN_NOISE)], ids=str
+)
+def test_resumed_chain_run_equals_the_uninterrupted_one_bit_for_bit(tmp_path, suffix, noise):
     from bkwaves.runner import checkpoint_path, resume
 
-    cfg = parse_config(LOADING)
+    cfg = parse_config({**LOADING, "noise": noise} if noise else LOADING)
     ref = run(cfg, tmp_path / f"ref{suffix}", chunk=300)
+    if noise:  # spontaneous slips, counted and marked, and resumed with their generator
+        assert ref.extra["counters"]["noise_slips"] > 0
     out = tmp_path / f"cut{suffix}"
     # the first, system-size event takes most of the steps: find a cut after it
     for k in range(ref.extra["counters"]["steps"] // 300, 0, -1):
@@ -419,6 +426,7 @@ def test_resumed_chain_run_equals_the_uninterrupted_one_bit_for_bit(tmp_path, su
     np.testing.assert_array_equal(a.u_t.values, b.u_t.values)
     assert ca.equals(cb)
     assert last.events == ref.events and last.t == ref.t
+    assert (ca["kind"] == "noise").any() == bool(noise)
 
 
 FB_RING = {

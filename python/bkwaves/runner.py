@@ -808,7 +808,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         _finish(writer, ctl, chain, None, give_all, interrupted)
     extra = {
         "blocks": cfg.blocks,
-        "counters": eng.counters(),
+        "counters": chain._counters(),
         "signal": ctl.signal_name() if interrupted else None,
         "stop": stop,
     }
