@@ -573,6 +573,7 @@ class FreeBoundary:
             "boundary": self.boundary,
             "creep_rule": self.creep,
             "grid_spacing": self.h,
+            "record_path": int(self.record_path),
             "noise": json.dumps(self.noise),
             "seed": -1 if self.seed is None else self.seed,
             # the front-speed law: "exact" (1/sqrt(1 - u^2)) or the table

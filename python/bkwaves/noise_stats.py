@@ -1,0 +1,295 @@
+"""What noise does to the wave statistics (issue 14), with the free boundary engine.
+
+With noise, ruptures overlap in time and the engine's catalog (an event lasts while any
+shock lives) merges them: in the noise-dominated regime a whole run is one event. The
+statistics here are therefore per *rupture*: the shocks born together (a pair, at u = 1 or
+by noise, or one shock at a free end) and the ground they sweep until each of them ends
+(annihilation, exit, death). :func:`ruptures` builds that catalog from the shock paths
+(``record_path=True``), :func:`point_recurrence` the times between successive ruptures of
+the same point, and :func:`statistics_vs_strength` runs a ring at several noise rates
+and summarises size-frequency, b-value (with its uncertainty) and recurrence against
+the noise strength
+
+    nu = R int_0^1 Lambda(u) du / v,
+
+the expected number of spontaneous pairs on a length R while a point loads from u = 0
+(where the medium becomes excitable) to the slip threshold u = 1. With R = R_0, the
+rupture length of the noiseless pattern, nu << 1 keeps the patterns of Sec. V (sources at
+u = 1) and nu >> 1 is noise dominated (point recurrence (2 Lambda)^(-1/2)).
+docs/noise.md, "What noise does to the wave statistics".
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from . import _validate as V
+from . import noise as _noise
+from . import stats as _stats
+from .params import Params
+
+__all__ = [
+    "noise_strength",
+    "ruptures",
+    "point_recurrence",
+    "ring_statistics",
+    "statistics_vs_strength",
+]
+
+ORIGINS = ("initial", "birth", "nucleation")
+
+
+def noise_strength(noise: dict, length: float, v: float) -> float:
+    """nu = length int_0^1 Lambda(u) du / v: the expected number of noise nucleations on
+    ``length`` while a uniform stress loads at rate v from 0 to 1 (the engine nucleates
+    only where u > 0)."""
+    length = V.number("length", length, lo=0.0, lo_open=True)
+    v = V.number("v", v, lo=0.0, lo_open=True)
+    noise = _noise.check_noise(noise)
+    u = np.linspace(0.0, 1.0, 20001)
+    lam = np.asarray(_noise.rate_density(u, noise), dtype=float)
+    integral = float(np.sum(0.5 * (lam[1:] + lam[:-1]) * np.diff(u)))
+    return length * integral / v
+
+
+def _resets(result):
+    """Node resets of a result's shock paths: the ``node`` rows, and a pair born exactly at
+    a node (its birth resets that node; recorded only in the two birth rows: one kept)."""
+    sh = result.shocks
+    h = float(result.meta["grid_spacing"])
+    x0 = float(result.snapshots.x.values[0])
+    nodes = sh[sh.kind == "node"]
+    born = sh[sh.kind.isin(ORIGINS[1:])]
+    off = (born.x.to_numpy() - x0) / h
+    at_node = born[np.abs(off - np.rint(off)) <= 1e-9].drop_duplicates(["t", "x", "kind"])
+    if len(at_node):
+        import pandas as pd
+
+        nodes = pd.concat([nodes, at_node]).sort_values("t", kind="stable")
+    out = nodes
+    k = np.rint((out.x.to_numpy() - x0) / h).astype(np.int64)
+    if result.meta.get("boundary") == "periodic":
+        k = np.mod(k, result.snapshots.x.size)
+    return out.assign(node=k)
+
+
+def ruptures(result, h: float | None = None, dx: float | None = None):
+    """Per-rupture catalog of a free boundary result run with ``record_path=True``: one row
+    per group of shocks born together (same time, place and kind), with ``t_start``,
+    ``x_start``, ``spontaneous`` (started by noise), ``u_start`` (u where it started),
+    ``shocks``, ``t_end`` (the last node crossing of its shocks), ``swept`` (grid nodes its
+    shocks reset, times h), ``slip_integral`` (sum of A h over them: int A dx),
+    ``moment`` (slip_integral / dx, the chain's sum of block slips) and ``mean_u_plus``.
+    Sizes are on the grid: each reset node stands for the cell h around it."""
+    import pandas as pd
+
+    meta = result.meta
+    h = float(meta["grid_spacing"]) if h is None else V.number("h", h, lo=0.0, lo_open=True)
+    if dx is None:
+        import json
+
+        dx = float(json.loads(meta["params"])["dx"])
+    sh = result.shocks
+    cols = [
+        "t_start",
+        "x_start",
+        "spontaneous",
+        "u_start",
+        "shocks",
+        "t_end",
+        "swept",
+        "slip_integral",
+        "moment",
+        "mean_u_plus",
+    ]
+    if not len(sh):
+        return pd.DataFrame(columns=cols)
+    origin = sh[sh.kind.isin(ORIGINS)]
+    key = origin[["t", "x", "kind"]].astype(str).agg("|".join, axis=1)
+    rid = pd.factorize(key)[0]
+    owner = pd.Series(rid, index=origin.shock.to_numpy())
+    nodes = _resets(result)
+    # without record_path the paths hold births and ends only
+    if not meta.get("record_path", 1) or nodes.shock.map(owner).isna().any():
+        V._fail(
+            "result", "shock paths without node crossings", "a run with record_path=True"
+        )
+    first = origin.groupby(rid).first()
+    out = pd.DataFrame(
+        {
+            "t_start": first.t.to_numpy(),
+            "x_start": first.x.to_numpy(),
+            "spontaneous": (first.kind == "nucleation").to_numpy(),
+            "u_start": first.u_plus.to_numpy(),
+            "shocks": origin.groupby(rid).size().to_numpy(),
+        }
+    )
+    r = nodes.shock.map(owner).to_numpy()
+    amp = (nodes.u_plus - nodes.u_minus).to_numpy()
+    n = len(out)
+    count = np.bincount(r, minlength=n)
+    slip = np.bincount(r, weights=amp * h, minlength=n)
+    up = np.bincount(r, weights=nodes.u_plus.to_numpy(), minlength=n)
+    t_end = out.t_start.to_numpy().copy()
+    np.maximum.at(t_end, r, nodes.t.to_numpy())
+    out["t_end"] = t_end
+    out["swept"] = count * h
+    out["slip_integral"] = slip
+    out["moment"] = slip / dx
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out["mean_u_plus"] = np.where(count > 0, up / np.maximum(count, 1), np.nan)
+    return out
+
+
+def point_recurrence(result, t_min: float = -math.inf):
+    """Times between successive resets of the same grid node (ruptures passing a point),
+    pooled over the nodes, for resets after ``t_min`` (``record_path=True``)."""
+    nodes = _resets(result)
+    nodes = nodes[nodes.t >= t_min]
+    if not len(nodes):
+        return np.array([])
+    k = nodes.node.to_numpy()
+    t = nodes.t.to_numpy()
+    order = np.lexsort((t, k))
+    k, t = k[order], t[order]
+    same = k[1:] == k[:-1]
+    return np.diff(t)[same]
+
+
+def ring_statistics(
+    params: Params,
+    x,
+    u0,
+    noise: dict | None,
+    *,
+    t_end: float,
+    burn_in: float = 0.0,
+    seed: int = 1,
+    m_c_quantile: float = 0.5,
+) -> dict:
+    """One free boundary ring (``boundary="periodic"``, grid ``x``, start ``u0``) with
+    ``noise`` (None: noiseless) run to ``t_end``; the ruptures starting after ``burn_in``
+    and their statistics: ``ruptures`` (catalog), ``rate`` (ruptures per unit time and
+    length), ``spontaneous`` (fraction started by noise), ``b`` (:class:`bkwaves.stats.BValue`
+    of moment magnitudes M >= m_c, m_c the ``m_c_quantile`` quantile of M: the sizes have a
+    scale, not a power law, so b depends on m_c; the default, the median, is not set by
+    the few tiniest ruptures), ``recurrence`` (point recurrence times), ``u_start`` mean,
+    ``swept`` mean."""
+    from .free_boundary import FreeBoundary, NoCreepWarning
+
+    t_end = V.number("t_end", t_end, lo=0.0, lo_open=True)
+    burn_in = V.number("burn_in", burn_in, lo=0.0, hi=t_end, hi_open=True)
+    q = V.number("m_c_quantile", m_c_quantile, lo=0.0, hi=1.0, hi_open=True)
+    x = V.array("x", x)
+    length = float(x[-1] - x[0]) * x.size / (x.size - 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NoCreepWarning)
+        fb = FreeBoundary(params, x, u0, "periodic", record_path=True, noise=noise, seed=seed)
+    res = fb.run(t_end=t_end)
+    cat = ruptures(res)
+    cat = cat[(cat.t_start >= burn_in) & (cat.swept > 0)].reset_index(drop=True)
+    span = t_end - burn_in
+    out = {
+        "ruptures": cat,
+        "length": length,
+        "span": span,
+        "rate": len(cat) / (span * length),
+        "spontaneous": float(cat.spontaneous.mean()) if len(cat) else math.nan,
+        "recurrence": point_recurrence(res, burn_in),
+        "u_start": float(cat.u_start.mean()) if len(cat) else math.nan,
+        "swept": float(cat.swept.mean()) if len(cat) else math.nan,
+        "b": None,
+    }
+    mags = _stats.magnitudes(cat.moment.to_numpy(), "moment") if len(cat) else np.array([])
+    if np.sum(mags >= np.quantile(mags, q) if mags.size else 0) >= 2:
+        m_c = float(np.quantile(mags, q))
+        if np.mean(mags[mags >= m_c]) > m_c:
+            out["b"] = _stats.b_value(mags, m_c)
+    return out
+
+
+def statistics_vs_strength(
+    params: Params,
+    x,
+    u0,
+    strengths,
+    *,
+    law: str = "constant",
+    law_params: dict | None = None,
+    t_end: float,
+    burn_in: float = 0.0,
+    seed: int = 1,
+    m_c_quantile: float = 0.5,
+    length: float | None = None,
+):
+    """Ruptures on a ring against noise strength: for each nu in ``strengths`` (0: no
+    noise) the rate of the ``law`` (with ``law_params``) is set so that
+    :func:`noise_strength` over ``length`` (default: the ring's) is nu, and
+    :func:`ring_statistics` is run (same ``seed`` for every strength).
+    Returns (table, runs): a pandas DataFrame with one row per strength (nu, rate,
+    Lambda_mean = int_0^1 Lambda du, nu_R = Lambda_mean R_0 / v with R_0 the mean rupture
+    length of the noiseless run when 0 is among the strengths, ruptures, spontaneous
+    fraction, rupture rate per unit length and time, b, its Aki and Shi-Bolt
+    uncertainties, mean u where ruptures start, mean swept length, mean and CV of the
+    point recurrence time, v times the mean recurrence, and the balance
+    rupture_rate * swept * recurrence, which is 1 in a steady state: every point is swept
+    once per recurrence) and the runs' dicts."""
+    import pandas as pd
+
+    if not isinstance(params, Params):
+        V._fail("params", params, "a bkwaves.Params instance")
+    x = V.array("x", x)
+    ring = float(x[-1] - x[0]) * x.size / (x.size - 1)
+    length = ring if length is None else V.number("length", length, lo=0.0, lo_open=True)
+    law_params = dict(law_params or {})
+    unit = {"law": law, "rate": 1.0, **law_params}
+    per_rate = noise_strength(unit, 1.0, params.v) * params.v  # int_0^1 Lambda du / rate
+    rows, runs = [], []
+    for nu in V.array("strengths", strengths, lo=0.0).ravel():
+        nu = float(nu)
+        if nu > 0:
+            rate = nu * params.v / (length * per_rate)
+            noise = {**unit, "rate": rate}
+        else:
+            rate, noise = 0.0, None
+        run = ring_statistics(
+            params,
+            x,
+            u0,
+            noise,
+            t_end=t_end,
+            burn_in=burn_in,
+            seed=seed,
+            m_c_quantile=m_c_quantile,
+        )
+        b = run["b"]
+        rec = run["recurrence"]
+        mean_rec = float(rec.mean()) if rec.size else math.nan
+        rows.append(
+            {
+                "nu": nu,
+                "rate": rate,
+                "Lambda_mean": rate * per_rate,
+                "ruptures": len(run["ruptures"]),
+                "spontaneous": run["spontaneous"],
+                "rupture_rate": run["rate"],
+                "b": math.nan if b is None else b.b,
+                "b_sigma": math.nan if b is None else b.sigma_aki,
+                "b_sigma_shi_bolt": math.nan if b is None else b.sigma_shi_bolt,
+                "u_start": run["u_start"],
+                "swept": run["swept"],
+                "recurrence": mean_rec,
+                "recurrence_cv": float(rec.std() / rec.mean()) if rec.size else math.nan,
+                "v_recurrence": params.v * mean_rec,
+                "balance": run["rate"] * run["swept"] * mean_rec,
+            }
+        )
+        runs.append(run)
+    table = pd.DataFrame(rows)
+    quiet = table[table.nu == 0]
+    r0 = float(quiet.swept.iloc[0]) if len(quiet) else math.nan
+    table.insert(3, "nu_R", table.Lambda_mean * r0 / params.v)
+    return table, runs
