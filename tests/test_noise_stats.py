@@ -71,9 +71,7 @@ def test_point_recurrence_closes_the_loading_balance():
     """Between two resets of a node the stress only loads: v T = u_+(next) - u_-(previous)
     for every interval; the pairing of resets by node is checked against that identity."""
     x, u0 = ring(100.0, 0.4)
-    fb = bk.FreeBoundary(
-        P, x, u0, "periodic", noise={"law": "constant", "rate": 2e-3}, seed=3
-    )
+    fb = bk.FreeBoundary(P, x, u0, "periodic", noise={"law": "constant", "rate": 2e-3}, seed=3)
     r = fb.run(t_end=8 * T)
     rec = ns.point_recurrence(r)
     sh = r.shocks[r.shocks.kind == "node"]
@@ -163,3 +161,18 @@ def test_statistics_vs_strength_table():
     )
     assert noisy.spontaneous > 0.95 and np.isfinite(noisy.b) and noisy.b_sigma > 0
     assert noisy.v_recurrence < 0.3 * quiet.v_recurrence
+
+
+def test_calibrated_noise_divides_the_chain_rate_by_dx_where_every_kick_nucleates():
+    """Lambda(u) = lambda(u) P(u) / dx: a fixed kick above every K_c(u) (max ~ sqrt(2) dx
+    at u -> 0) nucleates at every 0 < u < 1, so the chain's law carries over with rate/dx;
+    a smaller kick makes Lambda a step in u, which no law is, and is refused by name."""
+    chain = {"law": "exponential", "rate": 0.01, "phi0": 0.1}
+    kc_max = float(np.max(bk.noise.kick_threshold(np.linspace(1e-4, 0.999, 500), 0.05, 0.3)))
+    assert 0.05 < kc_max < 0.1
+    fb = ns.calibrated_noise(chain, 1.01 * kc_max, 0.05, 0.3)
+    assert fb == {"law": "exponential", "rate": pytest.approx(0.01 / 0.05), "phi0": 0.1}
+    with pytest.raises(bk.ParameterError, match="kick"):
+        ns.calibrated_noise(chain, 0.5 * kc_max, 0.05, 0.3)
+    with pytest.raises(bk.ParameterError, match="kick"):  # P = exp(-K_c(u)/K) varies
+        ns.calibrated_noise(chain, 2.0, 0.05, 0.3, distribution="exponential")

@@ -42,9 +42,7 @@ def scan(L, h, amp, corr, periods, burn, nus, r0=None):
     u0 = 0.5 + amp * _smooth_random(x, corr, np.random.default_rng(1), True)
     T = theory.source_period(V, GAMMA)
     p = bk.Params(gamma=GAMMA, v=V, dx=1e-3)
-    tab, _ = noise_stats.statistics_vs_strength(
-        p, x, u0, nus, t_end=periods * T, burn_in=burn * T
-    )
+    tab, _ = noise_stats.statistics_vs_strength(p, x, u0, nus, t_end=periods * T, burn_in=burn * T)
     if r0 is not None:
         tab["nu_R"] = tab.Lambda_mean * r0 / V
     # noise dominated: every point is crossed by fronts at rate n c, n = sqrt(2 Lambda)

@@ -37,6 +37,7 @@ __all__ = [
     "point_recurrence",
     "ring_statistics",
     "statistics_vs_strength",
+    "calibrated_noise",
 ]
 
 ORIGINS = ("initial", "birth", "nucleation")
@@ -114,9 +115,7 @@ def ruptures(result, h: float | None = None, dx: float | None = None):
     nodes = _resets(result)
     # without record_path the paths hold births and ends only
     if not meta.get("record_path", 1) or nodes.shock.map(owner).isna().any():
-        V._fail(
-            "result", "shock paths without node crossings", "a run with record_path=True"
-        )
+        V._fail("result", "shock paths without node crossings", "a run with record_path=True")
     first = origin.groupby(rid).first()
     out = pd.DataFrame(
         {
@@ -293,3 +292,48 @@ def statistics_vs_strength(
     r0 = float(quiet.swept.iloc[0]) if len(quiet) else math.nan
     table.insert(3, "nu_R", table.Lambda_mean * r0 / params.v)
     return table, runs
+
+
+def calibrated_noise(
+    chain_noise: dict,
+    kick: float,
+    dx: float,
+    gamma: float,
+    *,
+    distribution: str = "fixed",
+    grid: int = 2001,
+) -> dict:
+    """The free boundary noise that stands for a chain's noise (docs/noise.md, "The
+    calibrated rate"): a stuck block slips spontaneously at lambda(phi) per unit time
+    (``chain_noise``, a ``[noise]`` table in chain units: rate per block at phi = 1), with a
+    forward kick ``kick`` (``distribution`` "fixed" or "exponential" with that mean); it
+    starts a pair with probability P(u) (:func:`bkwaves.noise.nucleation_probability`);
+    there are 1/dx blocks per unit length; so
+
+        Lambda(u) = lambda(u) P(u) / dx.
+
+    phi = u - Lap/dx^2 is the kicked block's own distance to threshold, = u - u_xx for a
+    smooth field: in the free boundary limit (u_xx ~ a << 1) phi = u. Returned as a
+    ``[noise]`` table for :class:`bkwaves.FreeBoundary` when P(u) is the same on all of
+    0 < u < 1 (checked on ``grid`` points, in closed form): the chain's law with rate
+    P rate / dx. Otherwise Lambda is not one of the laws and a ParameterError says so
+    (kicks that nucleate only above some u: a step in Lambda). Valid above the lattice's
+    propagation-failure stress u_f (docs/noise.md), where a kicked pair dies whatever P."""
+    from .noise import kick_threshold, nucleation_probability
+
+    chain_noise = _noise.check_noise(chain_noise, "chain_noise")
+    dx = V.number("dx", dx, lo=0.0, lo_open=True)
+    grid = V.integer("grid", grid, lo=3)
+    u = np.linspace(0.0, 1.0, grid)[1:-1]
+    p = np.asarray(nucleation_probability(u, kick, dx, gamma, distribution=distribution))
+    if np.ptp(p) > 0:
+        kc = float(np.max(kick_threshold(u, dx, gamma)))
+        V._fail(
+            "kick",
+            kick,
+            f"a kick that nucleates at every 0 < u < 1 with the same probability (fixed kick "
+            f">= {kc:.6g} = max K_c(u) at dx = {dx}, gamma = {gamma}): P(u) varies from "
+            f"{p.min():.3g} to {p.max():.3g}, and Lambda = lambda P / dx is then not one of "
+            "the rate laws",
+        )
+    return {**chain_noise, "rate": chain_noise["rate"] * float(p[0]) / dx}
