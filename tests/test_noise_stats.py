@@ -176,3 +176,66 @@ def test_calibrated_noise_divides_the_chain_rate_by_dx_where_every_kick_nucleate
         ns.calibrated_noise(chain, 0.5 * kc_max, 0.05, 0.3)
     with pytest.raises(bk.ParameterError, match="kick"):  # P = exp(-K_c(u)/K) varies
         ns.calibrated_noise(chain, 2.0, 0.05, 0.3, distribution="exponential")
+
+
+def kick_by_thinning(chain, noise, kick, t_end, rng, max_events=None):
+    """The chain's noise, by thinning (a reference for the tests and docs/scripts): each
+    stuck block slips spontaneously at lambda(phi_i) per unit time (``noise``, rate at
+    phi = 1; g(phi) <= 1 for a stuck block), kicked forward by ``kick``. Candidates fall at
+    rate * blocks; the chain is run to each and the candidate block is kicked if it is
+    stuck, with probability g(phi_i)."""
+    n = chain.u.size
+    t = chain.t
+    while True:
+        t += rng.exponential(1.0 / (noise["rate"] * n))
+        if t >= t_end:
+            break
+        res = chain.run(t_end=t, progress=False)
+        if max_events is not None and len(res.catalog) >= max_events:
+            return res
+        i, accept = int(rng.integers(n)), rng.random()
+        if (
+            chain.modes[i] == 0
+            and accept < bk.noise.rate_density(chain.phi[i], noise) / (noise["rate"])
+        ):
+            chain.kick(i, -kick, chain.t)
+    return chain.run(t_end=t_end, progress=False)
+
+
+def test_the_calibrated_free_boundary_has_the_chains_event_rate():
+    """Issue 14's calibration test: a ring of 400 blocks (dx = 0.05, gamma = 0.3) at
+    uniform u = 0.5 loading at v = 0.02, stuck blocks kicked (0.5 > every K_c) at
+    lambda(phi) = 0.01 exp(-(1 - phi)/0.1); the free boundary ring of the same length with
+    Lambda = lambda P / dx (calibrated_noise). The time to the first event over 40 seeds
+    agrees between the engines within the statistical error, and with the exact survival
+    exp(-int L Lambda(u0 + v t) dt); Lambda = lambda P (forgetting the 1/dx blocks per
+    unit length) is 20 times off."""
+    from scipy import stats
+
+    gamma, v, dx, n, u0 = 0.3, 0.02, 0.05, 400, 0.5
+    chain_noise = {"law": "exponential", "rate": 0.01, "phi0": 0.1}
+    p = bk.Params(gamma=gamma, v=v, dx=dx, beta=math.inf)
+    fb_noise = ns.calibrated_noise(chain_noise, 0.5, dx, gamma)
+    seeds = range(40)
+    chain_t = []
+    for seed in seeds:
+        ch = bk.Chain(n, p, "periodic", np.full(n, u0))
+        kick_by_thinning(ch, chain_noise, 0.5, 100.0, np.random.default_rng(seed), 1)
+        res = ch.run(t_end=ch.t + n * dx, progress=False)  # fronts are supersonic
+        assert res.catalog.n_blocks.iloc[0] == n  # a pair that swept the ring
+        chain_t.append(res.catalog.t_start.iloc[0])
+    x = np.arange(200) * 0.1
+    fb_t = []
+    for seed in seeds:
+        fb = bk.FreeBoundary(p, x, np.full(x.size, u0), "periodic", noise=fb_noise, seed=seed)
+        fb_t.append(fb.run(max_events=1).events.t_start.iloc[0])
+    chain_t, fb_t = np.array(chain_t), np.array(fb_t)
+    se = np.hypot(chain_t.std(ddof=1), fb_t.std(ddof=1)) / math.sqrt(len(seeds))
+    assert abs(chain_t.mean() - fb_t.mean()) < 3 * se
+    L, lam, f0 = n * dx, fb_noise["rate"], chain_noise["phi0"]
+
+    def survival(t, lam=lam):
+        return np.exp(-L * lam * f0 * (np.exp(-(1 - u0 - v * t) / f0) - np.exp(-(1 - u0) / f0)) / v)
+
+    assert stats.kstest(chain_t, lambda t: 1 - survival(t)).pvalue > 0.01
+    assert stats.kstest(chain_t, lambda t: 1 - survival(t, lam * dx)).pvalue < 1e-6
