@@ -178,30 +178,6 @@ def test_calibrated_noise_divides_the_chain_rate_by_dx_where_every_kick_nucleate
         ns.calibrated_noise(chain, 2.0, 0.05, 0.3, distribution="exponential")
 
 
-def kick_by_thinning(chain, noise, kick, t_end, rng, max_events=None):
-    """The chain's noise, by thinning (a reference for the tests and docs/scripts): each
-    stuck block slips spontaneously at lambda(phi_i) per unit time (``noise``, rate at
-    phi = 1; g(phi) <= 1 for a stuck block), kicked forward by ``kick``. Candidates fall at
-    rate * blocks; the chain is run to each and the candidate block is kicked if it is
-    stuck, with probability g(phi_i)."""
-    n = chain.u.size
-    t = chain.t
-    while True:
-        t += rng.exponential(1.0 / (noise["rate"] * n))
-        if t >= t_end:
-            break
-        res = chain.run(t_end=t, progress=False)
-        if max_events is not None and len(res.catalog) >= max_events:
-            return res
-        i, accept = int(rng.integers(n)), rng.random()
-        if (
-            chain.modes[i] == 0
-            and accept < bk.noise.rate_density(chain.phi[i], noise) / (noise["rate"])
-        ):
-            chain.kick(i, -kick, chain.t)
-    return chain.run(t_end=t_end, progress=False)
-
-
 def test_the_calibrated_free_boundary_has_the_chains_event_rate():
     """Issue 14's calibration test: a ring of 400 blocks (dx = 0.05, gamma = 0.3) at
     uniform u = 0.5 loading at v = 0.02, stuck blocks kicked (0.5 > every K_c) at
@@ -220,7 +196,7 @@ def test_the_calibrated_free_boundary_has_the_chains_event_rate():
     chain_t = []
     for seed in seeds:
         ch = bk.Chain(n, p, "periodic", np.full(n, u0))
-        kick_by_thinning(ch, chain_noise, 0.5, 100.0, np.random.default_rng(seed), 1)
+        ns.chain_with_noise(ch, chain_noise, 0.5, 100.0, seed=seed, max_events=1)
         res = ch.run(t_end=ch.t + n * dx, progress=False)  # fronts are supersonic
         assert res.catalog.n_blocks.iloc[0] == n  # a pair that swept the ring
         chain_t.append(res.catalog.t_start.iloc[0])

@@ -17,6 +17,11 @@ the expected number of spontaneous pairs on a length R while a point loads from 
 rupture length of the noiseless pattern, nu << 1 keeps the patterns of Sec. V (sources at
 u = 1) and nu >> 1 is noise dominated (point recurrence (2 Lambda)^(-1/2)).
 docs/noise.md, "What noise does to the wave statistics".
+
+The calibrated rate: :func:`calibrated_noise` turns a chain's noise law lambda(phi) and kick
+into the free boundary's Lambda(u) = lambda(u) P(u) / dx; :func:`chain_with_noise` runs a
+chain with that noise (by thinning) for the comparison (docs/noise.md, "The calibrated
+rate").
 """
 
 from __future__ import annotations
@@ -38,6 +43,7 @@ __all__ = [
     "ring_statistics",
     "statistics_vs_strength",
     "calibrated_noise",
+    "chain_with_noise",
 ]
 
 ORIGINS = ("initial", "birth", "nucleation")
@@ -337,3 +343,36 @@ def calibrated_noise(
             "the rate laws",
         )
     return {**chain_noise, "rate": chain_noise["rate"] * float(p[0]) / dx}
+
+
+def chain_with_noise(chain, noise: dict, kick: float, t_end: float, *, seed=None, max_events=None):
+    """Run a :class:`bkwaves.Chain` to ``t_end`` with spontaneous slips: each stuck block is
+    kicked forward by ``kick`` at lambda(phi_i) per unit time (``noise``, a ``[noise]``
+    table: rate per block at phi = 1), by thinning: candidates at rate x blocks, the chain
+    run to each, its block kicked if stuck with probability g(phi_i) (exact: phi < 1 for a
+    stuck block, so g(phi) <= 1). A reference for the calibration (docs/noise.md) until the
+    chain engine has its own noise source; it costs one engine call per candidate.
+    Returns the chain's result; stops early once the catalog holds ``max_events`` events
+    (the last may still be running), or where the chain's run stops before the time asked
+    (a runaway event: its warning says which)."""
+    noise = _noise.check_noise(noise)
+    kick = V.number("kick", kick, lo=0.0, lo_open=True)
+    t_end = V.number("t_end", t_end, lo=chain.t)
+    rng = np.random.default_rng(seed)
+    n = chain.u.size
+    t = chain.t
+    while noise["rate"] > 0:
+        t += rng.exponential(1.0 / (noise["rate"] * n))
+        if t >= t_end:
+            break
+        res = chain.run(t_end=t, progress=False)
+        if chain.t < t:  # the run stopped early (a runaway event, Ctrl-C): so do we
+            return res
+        if max_events is not None and len(res.catalog) >= max_events:
+            return res
+        i, accept = int(rng.integers(n)), rng.random()
+        if chain.modes[i] == 0 and accept * noise["rate"] < _noise.rate_density(
+            chain.phi[i], noise
+        ):
+            chain.kick(i, -kick, chain.t)
+    return chain.run(t_end=t_end, progress=False)
