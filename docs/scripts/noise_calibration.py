@@ -19,19 +19,21 @@ import bkwaves as bk
 from bkwaves import noise_stats as ns
 
 GAMMA, V, DX, N, KICK = 0.3, 0.02, 0.05, 400, 0.5
-CHAIN_NOISE = {"law": "exponential", "rate": 0.01, "phi0": 0.1}
+CHAIN_NOISE = {"law": "exponential", "rate": 0.01, "phi0": 0.1, "kick": KICK}
 P = bk.Params(gamma=GAMMA, v=V, dx=DX, beta=math.inf)
 X = np.arange(200) * 0.1  # free boundary ring of length N DX
 
 
 def first_ruptures(u0=0.5, seeds=range(40)):
-    fb_noise = ns.calibrated_noise(CHAIN_NOISE, KICK, DX, GAMMA)
+    fb_noise = ns.calibrated_noise(CHAIN_NOISE, DX, GAMMA)
     ch_t, fb_t = [], []
     for seed in seeds:
-        ch = bk.Chain(N, P, "periodic", np.full(N, u0))
-        ns.chain_with_noise(ch, CHAIN_NOISE, KICK, 200.0, seed=seed, max_events=1)
-        ch_t.append(ch.run(t_end=ch.t + N * DX, progress=False).catalog.t_start.iloc[0])
-        fb = bk.FreeBoundary(P, X, np.full(X.size, u0), "periodic", noise=fb_noise, seed=seed)
+        ch = bk.Chain(N, P, "periodic", np.full(N, u0), noise=CHAIN_NOISE, seed=seed)
+        ch_t.append(ch.run(t_end=200.0, max_events=1, progress=False).catalog.t_start.iloc[0])
+        # another seed: the engines draw noise alike, equal seeds would give equal times
+        fb = bk.FreeBoundary(
+            P, X, np.full(X.size, u0), "periodic", noise=fb_noise, seed=1000 + seed
+        )
         fb_t.append(fb.run(max_events=1).events.t_start.iloc[0])
     L, lam, f0 = N * DX, fb_noise["rate"], CHAIN_NOISE["phi0"]
 
@@ -48,13 +50,14 @@ def first_ruptures(u0=0.5, seeds=range(40)):
 
 
 def long_runs(u0=0.3, t_end=1500.0, kick=KICK):
-    ch = bk.Chain(N, P, "periodic", np.full(N, u0))
-    res = ns.chain_with_noise(ch, CHAIN_NOISE, kick, t_end, seed=1)
+    noise = {**CHAIN_NOISE, "kick": kick}
+    ch = bk.Chain(N, P, "periodic", np.full(N, u0), noise=noise, seed=1)
+    res = ch.run(t_end=t_end, progress=False)
     cat = res.catalog
     print(f"\nchain: run to t = {ch.t:.1f} of {t_end} (kick {kick})")
     print("\nchain catalog:")
     print(cat[["t_start", "t_end", "nucleation", "n_blocks", "moment", "kind"]].to_string())
-    fb_noise = ns.calibrated_noise(CHAIN_NOISE, KICK, DX, GAMMA)
+    fb_noise = ns.calibrated_noise(noise, DX, GAMMA)
     fb = bk.FreeBoundary(P, X, np.full(X.size, u0), "periodic", noise=fb_noise, seed=2)
     rup = ns.ruptures(fb.run(t_end=t_end))
     print(

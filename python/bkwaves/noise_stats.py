@@ -18,10 +18,9 @@ rupture length of the noiseless pattern, nu << 1 keeps the patterns of Sec. V (s
 u = 1) and nu >> 1 is noise dominated (point recurrence (2 Lambda)^(-1/2)).
 docs/noise.md, "What noise does to the wave statistics".
 
-The calibrated rate: :func:`calibrated_noise` turns a chain's noise law lambda(phi) and kick
-into the free boundary's Lambda(u) = lambda(u) P(u) / dx; :func:`chain_with_noise` runs a
-chain with that noise (by thinning) for the comparison (docs/noise.md, "The calibrated
-rate").
+The calibrated rate: :func:`calibrated_noise` turns a chain's ``[noise]`` table (law
+lambda(phi) and kick, ``bk.Chain(noise=...)``) into the free boundary's Lambda(u) =
+lambda(u) P(u) / dx (docs/noise.md, "The calibrated rate").
 """
 
 from __future__ import annotations
@@ -43,7 +42,6 @@ __all__ = [
     "ring_statistics",
     "statistics_vs_strength",
     "calibrated_noise",
-    "chain_with_noise",
 ]
 
 ORIGINS = ("initial", "birth", "nucleation")
@@ -302,7 +300,6 @@ def statistics_vs_strength(
 
 def calibrated_noise(
     chain_noise: dict,
-    kick: float,
     dx: float,
     gamma: float,
     *,
@@ -310,11 +307,12 @@ def calibrated_noise(
     grid: int = 2001,
 ) -> dict:
     """The free boundary noise that stands for a chain's noise (docs/noise.md, "The
-    calibrated rate"): a stuck block slips spontaneously at lambda(phi) per unit time
-    (``chain_noise``, a ``[noise]`` table in chain units: rate per block at phi = 1), with a
-    forward kick ``kick`` (``distribution`` "fixed" or "exponential" with that mean); it
-    starts a pair with probability P(u) (:func:`bkwaves.noise.nucleation_probability`);
-    there are 1/dx blocks per unit length; so
+    calibrated rate"). In the chain (``chain_noise``, the ``[noise]`` table of
+    ``bk.Chain(noise=...)``: rate per block at phi = 1, and ``kick``) a stuck block slips
+    spontaneously at lambda(phi) per unit time with a forward kick (``distribution``
+    "fixed", or "exponential" with mean ``kick``); it starts a pair with probability P(u)
+    (:func:`bkwaves.noise.nucleation_probability`); there are 1/dx blocks per unit
+    length; so
 
         Lambda(u) = lambda(u) P(u) / dx.
 
@@ -323,56 +321,31 @@ def calibrated_noise(
     ``[noise]`` table for :class:`bkwaves.FreeBoundary` when P(u) is the same on all of
     0 < u < 1 (checked on ``grid`` points, in closed form): the chain's law with rate
     P rate / dx. Otherwise Lambda is not one of the laws and a ParameterError says so
-    (kicks that nucleate only above some u: a step in Lambda). Valid above the lattice's
-    propagation-failure stress u_f (docs/noise.md), where a kicked pair dies whatever P."""
+    (a release, kick = 0, or a kick below some K_c(u): a step in Lambda). Valid above the
+    lattice's propagation-failure stress u_f (docs/noise.md)."""
     from .noise import kick_threshold, nucleation_probability
 
-    chain_noise = _noise.check_noise(chain_noise, "chain_noise")
+    chain_noise = _noise.check_noise(chain_noise, "chain_noise", model="chain")
     dx = V.number("dx", dx, lo=0.0, lo_open=True)
     grid = V.integer("grid", grid, lo=3)
+    kick = chain_noise["kick"]
     u = np.linspace(0.0, 1.0, grid)[1:-1]
-    p = np.asarray(nucleation_probability(u, kick, dx, gamma, distribution=distribution))
+    kc = np.asarray(kick_threshold(u, dx, gamma), dtype=float)
+    if kick > 0:
+        p = np.asarray(nucleation_probability(u, kick, dx, gamma, distribution=distribution))
+    else:  # a release: a pair exactly where the first swing from rest trips the neighbours
+        p = (kc == 0).astype(float)
     if np.ptp(p) > 0:
-        kc = float(np.max(kick_threshold(u, dx, gamma)))
         V._fail(
-            "kick",
+            "chain_noise.kick",
             kick,
             f"a kick that nucleates at every 0 < u < 1 with the same probability (fixed kick "
-            f">= {kc:.6g} = max K_c(u) at dx = {dx}, gamma = {gamma}): P(u) varies from "
+            f">= {kc.max():.6g} = max K_c(u) at dx = {dx}, gamma = {gamma}): P(u) varies from "
             f"{p.min():.3g} to {p.max():.3g}, and Lambda = lambda P / dx is then not one of "
             "the rate laws",
         )
-    return {**chain_noise, "rate": chain_noise["rate"] * float(p[0]) / dx}
-
-
-def chain_with_noise(chain, noise: dict, kick: float, t_end: float, *, seed=None, max_events=None):
-    """Run a :class:`bkwaves.Chain` to ``t_end`` with spontaneous slips: each stuck block is
-    kicked forward by ``kick`` at lambda(phi_i) per unit time (``noise``, a ``[noise]``
-    table: rate per block at phi = 1), by thinning: candidates at rate x blocks, the chain
-    run to each, its block kicked if stuck with probability g(phi_i) (exact: phi < 1 for a
-    stuck block, so g(phi) <= 1). A reference for the calibration (docs/noise.md) until the
-    chain engine has its own noise source; it costs one engine call per candidate.
-    Returns the chain's result; stops early once the catalog holds ``max_events`` events
-    (the last may still be running), or where the chain's run stops before the time asked
-    (a runaway event: its warning says which)."""
-    noise = _noise.check_noise(noise)
-    kick = V.number("kick", kick, lo=0.0, lo_open=True)
-    t_end = V.number("t_end", t_end, lo=chain.t)
-    rng = np.random.default_rng(seed)
-    n = chain.u.size
-    t = chain.t
-    while noise["rate"] > 0:
-        t += rng.exponential(1.0 / (noise["rate"] * n))
-        if t >= t_end:
-            break
-        res = chain.run(t_end=t, progress=False)
-        if chain.t < t:  # the run stopped early (a runaway event, Ctrl-C): so do we
-            return res
-        if max_events is not None and len(res.catalog) >= max_events:
-            return res
-        i, accept = int(rng.integers(n)), rng.random()
-        if chain.modes[i] == 0 and accept * noise["rate"] < _noise.rate_density(
-            chain.phi[i], noise
-        ):
-            chain.kick(i, -kick, chain.t)
-    return chain.run(t_end=t_end, progress=False)
+    return {
+        k: (val * float(p[0]) / dx if k == "rate" else val)
+        for k, val in chain_noise.items()
+        if k != "kick"
+    }
