@@ -52,17 +52,11 @@ impl Rk4 {
     }
 }
 
-/// True when the CPU runs AVX2 code (x86-64 only).
+/// True when the CPU runs AVX2 code.
 #[inline]
+#[cfg(target_arch = "x86_64")]
 pub(crate) fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
+    std::is_x86_feature_detected!("avx2")
 }
 
 /// One RK4 stage over every run: the right-hand side at the stage values (cu, cw; the
@@ -398,7 +392,7 @@ impl Integrator for Rk4 {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
     use crate::boundary::Ghost;
