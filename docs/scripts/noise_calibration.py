@@ -5,7 +5,7 @@ the free boundary engine with Lambda = lambda P / dx, at one setup.
 
 1. Time to the first rupture over 40 seeds: chain, free boundary, exact survival.
 2. Long runs (1500 time units) of both: the chain's catalog, the free boundary's ruptures.
-3. What the chain leaves where two pulses collide: phi - u, against dx and the time step.
+3. What the chain leaves where two pulses collide: phi - u, against dx, the time step, u_+.
 4. gamma = 0 and 0.05: the chain's state in a long run, the free boundary's rupture rate.
 5. Noiseless rings: the chain's second event starts at the first one's collision pattern.
 
@@ -79,10 +79,12 @@ def collision(u_plus=0.79, kick=0.1, gamma=GAMMA, dx=DX, **chain_options):
     d = ch.phi - ch.u
     far = np.nonzero(d > 0.2)[0]
     i = int(np.argmax(d))
+    span = f"blocks {far.min()}-{far.max()}" if far.size else "no block"
     print(
         f"\ncollision of two pulses at u_+ = {u_plus}, gamma = {gamma}, dx = {dx} "
         f"{chain_options or ''}: max phi - u = {d.max():.4f} at x = {i * dx:.2f} (u {ch.u[i]:.3f}; "
-        f"collision at x = {N * DX / 2}); phi - u > 0.2 at blocks {far.min()}-{far.max()}"
+        f"collision at x = {N * DX / 2}; the pattern fires at background u = {1 - d.max():.3f}); "
+        f"phi - u > 0.2 at {span}"
     )
 
 
@@ -145,7 +147,9 @@ if __name__ == "__main__":
         collision(gamma=0.0, dx=dx)
     collision(step=0.0125)
     collision(step=0.0125, integrator="midpoint")
-    collision(gamma=0.6)
+    for gamma in (0.0, GAMMA, 0.6):
+        for u_plus in (0.5, 0.65, 0.79, 0.85, 0.9, 0.95, 0.99):
+            collision(u_plus=u_plus, gamma=gamma)
     no_creep_range(0.0)
     no_creep_range(0.05)
     noiseless_rings()
