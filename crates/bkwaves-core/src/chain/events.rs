@@ -108,7 +108,7 @@ impl Hermite {
         let pts = &mut cuts[..=nc];
         pts.sort_by(|a, b| a.total_cmp(b));
         for k in 0..nc {
-            let (mut lo, mut hi) = (pts[k], pts[k + 1]);
+            let (lo, hi) = (pts[k], pts[k + 1]);
             if hi <= lo {
                 continue;
             }
@@ -119,21 +119,61 @@ impl Hermite {
             if lo > 0.0 && q(lo) >= 0.0 {
                 return Some(lo);
             }
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if mid <= lo || mid >= hi {
-                    break;
-                }
-                if q(mid) >= 0.0 {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            return Some(hi);
+            return Some(bisect(q, lo, hi));
         }
         None
     }
+}
+
+/// Most bisection steps [`bisect`] takes (the bracket [lo, hi] is halved at most this
+/// often).
+const BISECTION_STEPS: u32 = 200;
+
+/// Bisection of q on [lo, hi] (q(lo) < 0 or lo the inside start, q(hi) >= 0): halve at
+/// mid = (lo + hi)/2, keep the half where the sign changes, until mid is lo or hi (the
+/// last bit) or after [`BISECTION_STEPS`] halvings; returns hi.
+///
+/// Two halvings per pass: q at the mid and at both possible next mids are independent,
+/// so they are evaluated together (speculatively) and the right one is picked without a
+/// branch; the chain of dependent operations is half as long as one halving at a time,
+/// and every halving uses the same mid and the same q(mid) as one at a time, so the
+/// result is the same to the last bit (tested against the one-at-a-time loop).
+#[inline]
+fn bisect(q: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    let mut steps = 0u32;
+    while steps < BISECTION_STEPS {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        // the next mid is (lo + mid)/2 if q(mid) >= 0, else (mid + hi)/2
+        let (left, right) = (0.5 * (lo + mid), 0.5 * (mid + hi));
+        let (q_mid, q_left, q_right) = (q(mid), q(left), q(right));
+        let up = q_mid >= 0.0;
+        hi = pick(up, mid, hi);
+        lo = pick(up, lo, mid);
+        steps += 1;
+        if steps >= BISECTION_STEPS {
+            break;
+        }
+        let (next, q_next) = (pick(up, left, right), pick(up, q_left, q_right));
+        if next <= lo || next >= hi {
+            break;
+        }
+        let up = q_next >= 0.0;
+        hi = pick(up, next, hi);
+        lo = pick(up, lo, next);
+        steps += 1;
+    }
+    hi
+}
+
+/// `a` if `c`, else `b`, by a bit mask (no branch: the compiler would otherwise branch
+/// on the unpredictable sign of q and evaluate only the q it needs, one after another).
+#[inline(always)]
+fn pick(c: bool, a: f64, b: f64) -> f64 {
+    let mask = (c as u64).wrapping_neg();
+    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }
 
 /// The sliding blocks of a run that may come to rest in a step of length h: those whose
@@ -365,6 +405,70 @@ mod tests {
             m1: 0.0,
         };
         assert_eq!(g.first_crossing(1.0), None);
+    }
+
+    /// The bisection one halving at a time (as it was before two per pass).
+    fn bisect_one_at_a_time(q: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+        for _ in 0..BISECTION_STEPS {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if q(mid) >= 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        hi
+    }
+
+    #[test]
+    fn two_halvings_per_pass_give_the_bisection_bit_for_bit() {
+        let mut x = 0x2545f4914f6cdd1du64;
+        let mut rnd = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut checked = 0;
+        for k in 0..20000 {
+            // random cubics (some with tiny or huge coefficients, some flat enough that
+            // rounding makes q non-monotone near the root), random brackets
+            let scale = [1.0, 1e-12, 1e8, 1e-300][k % 4];
+            let c = [
+                scale * rnd(),
+                scale * rnd(),
+                scale * rnd(),
+                if k % 7 == 0 { 0.0 } else { scale * rnd() },
+            ];
+            let q = |s: f64| ((c[3] * s + c[2]) * s + c[1]) * s + c[0];
+            let (a, b) = (rnd() + 0.5, rnd() + 0.5);
+            let (lo, hi) = if k % 5 == 0 {
+                (0.0, a.max(b))
+            } else {
+                (a.min(b), a.max(b))
+            };
+            let fast = bisect(q, lo, hi);
+            let slow = bisect_one_at_a_time(q, lo, hi);
+            assert_eq!(
+                fast.to_bits(),
+                slow.to_bits(),
+                "cubic {c:?} on [{lo}, {hi}]"
+            );
+            checked += 1;
+        }
+        assert_eq!(checked, 20000);
+        // the step limit binds: a root at 0 from lo = 0 halves hi 200 times
+        let q = |s: f64| s;
+        assert_eq!(bisect(q, 0.0, 1.0), 0.5f64.powi(200));
+        assert_eq!(bisect(q, 0.0, 1.0), bisect_one_at_a_time(q, 0.0, 1.0));
+        let q = |s: f64| if s > 0.0 { 1.0 } else { -1.0 };
+        assert_eq!(bisect(q, 0.0, 0.75), bisect_one_at_a_time(q, 0.0, 0.75));
+        // NaN values count as below (lo moves), as before
+        let q = |s: f64| if s < 0.3 { f64::NAN } else { s - 0.6 };
+        assert_eq!(bisect(q, 0.0, 1.0), bisect_one_at_a_time(q, 0.0, 1.0));
     }
 
     #[test]
