@@ -253,9 +253,10 @@ fn rest_candidates_body(
         for l in 0..G {
             b[l] = bound(d[l], w0[l], w1[l], m0[l], m1[l]);
         }
-        // one test per group: its largest bound (max ignores NaN: tested apart)
-        let top = b.iter().fold(f64::NEG_INFINITY, |x, &y| x.max(y));
-        if candidate(top) || b.iter().any(|x| x.is_nan()) {
+        // one test per group: does any lane hold a candidate (the lanes' tests or-ed
+        // without a branch)
+        let any = b.iter().fold(false, |any, &x| any | candidate(x));
+        if any {
             out.extend((0..G).filter(|&l| candidate(b[l])).map(|l| g * G + l));
         }
     }
