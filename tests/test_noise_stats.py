@@ -166,17 +166,61 @@ def test_statistics_vs_strength_table():
 def test_calibrated_noise_divides_the_chain_rate_by_dx_where_every_kick_nucleates():
     """Lambda(u) = lambda(u) P(u) / dx: a fixed kick above every K_c(u) (max ~ sqrt(2) dx
     at u -> 0) nucleates at every 0 < u < 1, so the chain's law carries over with rate/dx;
-    a smaller kick or a release makes Lambda a step in u, which no law is: refused."""
+    a smaller kick or a release makes Lambda a step in u: the law ``table`` through
+    lambda P / dx on the grid, zero where the kick cannot nucleate."""
+    dx, gamma = 0.05, 0.3
     chain = {"law": "exponential", "rate": 0.01, "phi0": 0.1}
-    kc_max = float(np.max(bk.noise.kick_threshold(np.linspace(1e-4, 0.999, 500), 0.05, 0.3)))
+    kc_max = float(np.max(bk.noise.kick_threshold(np.linspace(1e-4, 0.999, 500), dx, gamma)))
     assert 0.05 < kc_max < 0.1
-    fb = ns.calibrated_noise({**chain, "kick": 1.01 * kc_max}, 0.05, 0.3)
+    fb = ns.calibrated_noise({**chain, "kick": 1.01 * kc_max}, dx, gamma)
     assert fb == {"law": "exponential", "rate": pytest.approx(0.01 / 0.05), "phi0": 0.1}
+    u = np.linspace(0.0, 1.0, 4001)
+    lam_chain = bk.noise.rate_density(u, chain)
+    u_r = bk.noise.release_stress(dx, gamma)
     for kick in (0.5 * kc_max, 0.0):
-        with pytest.raises(bk.ParameterError, match="chain_noise.kick"):
-            ns.calibrated_noise({**chain, "kick": kick}, 0.05, 0.3)
-    with pytest.raises(bk.ParameterError, match="chain_noise.kick"):  # exp(-K_c(u)/K) varies
-        ns.calibrated_noise({**chain, "kick": 2.0}, 0.05, 0.3, distribution="exponential")
+        fb = ns.calibrated_noise({**chain, "kick": kick}, dx, gamma)
+        assert fb["law"] == "table" and fb["rate"] == pytest.approx(0.01 / dx, rel=1e-15)
+        kc = bk.noise.kick_threshold(u, dx, gamma)
+        p = (kc <= kick) if kick > 0 else (kc == 0)
+        lam = bk.noise.rate_density(u, fb)
+        # one grid cell (1/2000) around the step is a ramp; elsewhere lambda P / dx
+        u_step = u[p][0]
+        far = np.abs(u - u_step) > 1.0 / 2000
+        np.testing.assert_allclose(lam[far], (lam_chain * p / dx)[far], rtol=1e-3, atol=0)
+        assert np.all(lam[u < u_step - 1.0 / 2000] == 0)
+        if kick == 0:
+            assert abs(u_step - u_r) < 1e-3  # a release nucleates above u_r only
+    # exponentially distributed kicks: P = exp(-K_c(u)/K), continuous (linear
+    # interpolation on the grid; the first cell ramps from P(0) = 0, K_c(0) = inf)
+    fb = ns.calibrated_noise({**chain, "kick": 2.0}, dx, gamma, distribution="exponential")
+    w = u > 1.0 / 2000
+    pe = np.exp(-bk.noise.kick_threshold(u[w], dx, gamma) / 2.0)
+    np.testing.assert_allclose(bk.noise.rate_density(u[w], fb), lam_chain[w] * pe / dx, rtol=1e-3)
+
+
+@pytest.mark.filterwarnings("ignore::bkwaves.NoCreepWarning")
+def test_a_step_table_never_nucleates_below_its_step():
+    """The calibrated release law on a loading ramp from u = 0.1 to 0.7: every first
+    spontaneous pair starts above the release stress u_r (up to the grid's ramp)."""
+    dx, gamma = 0.05, 0.3
+    fb_noise = ns.calibrated_noise(
+        {"law": "constant", "rate": 5e-3, "kick": 0.0}, dx, gamma, grid=20001
+    )
+    u_r = bk.noise.release_stress(dx, gamma)
+    x = np.linspace(0.0, 10.0, 201)
+    p = bk.Params(gamma=gamma, v=1e-2, dx=1e-3)
+
+    def first_pair_stress(noise):
+        out = []
+        for seed in range(40):
+            fb = bk.FreeBoundary(p, x, 0.1 + 0.06 * x, noise=noise, seed=seed)
+            sh = fb.run(max_events=1).shocks
+            out.append(sh.query("kind == 'nucleation'").u_plus.iloc[0])
+        return np.array(out)
+
+    assert first_pair_stress(fb_noise).min() >= u_r - 1.0 / 20000
+    # the chain's constant law itself (same rate above u_r) starts pairs below u_r too
+    assert first_pair_stress({"law": "constant", "rate": 0.1}).min() < u_r - 0.1
 
 
 def test_the_calibrated_free_boundary_has_the_chains_event_rate():

@@ -33,8 +33,9 @@ Schema (all sections optional except those marked)::
                 correlation_length} (like initial kind "random"; lengths in metres
                 with [physical]); docs/free_boundary.md, "Threshold field"
 
-    [noise]     law = "constant" | "exponential" (phi0) | "power" (exponent), rate;
-                seeded by the config's seed (bk.noise, docs/noise.md).
+    [noise]     law = "constant" | "exponential" (phi0) | "power" (exponent) |
+                "table" (u = [...], g = [...]: piecewise linear, free boundary only),
+                rate; seeded by the config's seed (bk.noise, docs/noise.md).
                 free boundary: spontaneous pair nucleation at Lambda(u) = rate g(u)
                 (rate: Lambda at u = 1, per unit length and time; 1/(m s) with [physical]);
                 chain: spontaneous slips of stuck blocks at rate g(x) each,

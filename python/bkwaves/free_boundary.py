@@ -183,7 +183,8 @@ class FreeBoundary:
     tol: local error per integration step (relative to the grid spacing).
     record_path: record every node crossing in ``result.shocks`` (else births and ends).
     noise: spontaneous pair nucleation, a ``[noise]`` table as a dict: ``law``
-        (``"constant"``, ``"exponential"`` with ``phi0``, ``"power"`` with ``exponent``) and
+        (``"constant"``, ``"exponential"`` with ``phi0``, ``"power"`` with ``exponent``,
+        ``"table"`` with node lists ``u`` and ``g``: piecewise linear, divided by g(1)) and
         ``rate``, the rate density Lambda(u = 1) per unit length and time
         (:mod:`bkwaves.noise`, docs/noise.md). Pairs nucleate where no shock is and
         u > 0 (u > u_c with ``creep="stop"``); they are rows of ``result.shocks`` with

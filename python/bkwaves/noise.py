@@ -3,7 +3,10 @@
 Rate laws (:data:`LAWS`, the ``[noise]`` table): spontaneous pair nucleation at a rate
 density Lambda(u) = rate g(u) with g(1) = 1, so ``rate`` is the rate at the slip threshold
 (per unit length and unit time in the free boundary problem): ``"constant"`` g = 1,
-``"exponential"`` g = exp(-(1 - u)/phi0) (an activated law), ``"power"`` g = max(u, 0)^exponent.
+``"exponential"`` g = exp(-(1 - u)/phi0) (an activated law), ``"power"`` g = max(u, 0)^exponent,
+``"table"`` g piecewise linear through nodes ``u`` (strictly increasing) and values ``g``
+(>= 0), constant outside the nodes and divided by its value at u = 1 (free boundary only;
+:func:`bkwaves.noise_stats.calibrated_noise` builds one).
 :func:`check_noise` validates a ``[noise]`` table, :func:`rate_density` evaluates Lambda(u)
 (the core's laws, ``crates/bkwaves-core/src/noise.rs``, are the ones the engines use).
 
@@ -47,7 +50,7 @@ DISTRIBUTIONS = ("fixed", "exponential")
 
 #: The rate laws by name: each law's own parameters (their ranges: the ``[noise]`` table
 #: of ``bkwaves._validate.CONFIG``).
-LAWS = {"constant": (), "exponential": ("phi0",), "power": ("exponent",)}
+LAWS = {"constant": (), "exponential": ("phi0",), "power": ("exponent",), "table": ("u", "g")}
 
 
 #: Keys of a ``[noise]`` table besides the law's own, per model: the chain's spontaneous
@@ -65,6 +68,8 @@ def check_noise(table, where: str = "noise", model: str = "free_boundary") -> di
     if not isinstance(table, dict):
         V._fail(where, table, "a table with law, rate and the law's parameters")
     law = specs["law"].check(table.get("law"), f"{where}.law")
+    if law == "table" and model != "free_boundary":
+        V._fail(f"{where}.law", law, "constant, exponential or power (table: free boundary only)")
     optional = MODEL_KEYS[model]
     allowed = ("law", "rate", *LAWS[law], *optional)
     for key in table:
@@ -82,7 +87,22 @@ def check_noise(table, where: str = "noise", model: str = "free_boundary") -> di
         if key not in table:
             V._fail(f"{where}.{key}", None, specs[key].allowed(key))
         out[key] = specs[key].check(table[key], f"{where}.{key}")
+    if law == "table":
+        _check_table(out, where)
     return out
+
+
+def _check_table(out: dict, where: str) -> None:
+    """The ``table`` law's nodes (the core checks the same): as lists of floats."""
+    u = np.atleast_1d(np.asarray(out["u"], dtype=float))
+    g = np.atleast_1d(np.asarray(out["g"], dtype=float))
+    if u.ndim != 1 or u.size < 2 or np.any(np.diff(u) <= 0):
+        V._fail(f"{where}.u", out["u"], "at least two strictly increasing nodes")
+    if g.shape != u.shape:
+        V._fail(f"{where}.g", out["g"], f"{u.size} values >= 0 (one per node of u)")
+    if not np.interp(1.0, u, g) > 0:
+        V._fail(f"{where}.g", out["g"], "values >= 0 whose interpolant is > 0 at u = 1")
+    out["u"], out["g"] = u.tolist(), g.tolist()
 
 
 def noise_seed(seed, noise):
@@ -107,6 +127,8 @@ def rate_density(u, noise: dict):
         g = np.ones_like(u)
     elif noise["law"] == "exponential":
         g = np.exp(-(1.0 - u) / noise["phi0"])
+    elif noise["law"] == "table":
+        g = np.interp(u, noise["u"], noise["g"]) / np.interp(1.0, noise["u"], noise["g"])
     else:
         g = np.where(u > 0, np.maximum(u, 0.0) ** noise["exponent"], 0.0)
     out = noise["rate"] * g

@@ -318,34 +318,34 @@ def calibrated_noise(
 
     phi = u - Lap/dx^2 is the kicked block's own distance to threshold, = u - u_xx for a
     smooth field: in the free boundary limit (u_xx ~ a << 1) phi = u. Returned as a
-    ``[noise]`` table for :class:`bkwaves.FreeBoundary` when P(u) is the same on all of
-    0 < u < 1 (checked on ``grid`` points, in closed form): the chain's law with rate
-    P rate / dx. Otherwise Lambda is not one of the laws and a ParameterError says so
-    (a release, kick = 0, or a kick below some K_c(u): a step in Lambda). Valid above the
-    lattice's propagation-failure stress u_f (docs/noise.md)."""
+    ``[noise]`` table for :class:`bkwaves.FreeBoundary`: when P(u) is the same on all of
+    0 < u < 1 (checked on ``grid`` points, in closed form), the chain's law with rate
+    P rate / dx; otherwise (a release, kick = 0, a kick below some K_c(u), or
+    exponentially distributed kicks) the law ``table`` through g(u) P(u) on ``grid``
+    points of 0 <= u <= 1, with rate rate P(1) / dx (P(1) = 1: K_c(1) = 0). A step of P
+    (a fixed kick) is then a linear ramp over one grid cell, 1/(grid - 1) wide; above
+    u = 1 the table is constant (stuck points stay at u <= 1). Valid above the lattice's
+    propagation-failure stress u_f (docs/noise.md)."""
     from .noise import kick_threshold, nucleation_probability
 
     chain_noise = _noise.check_noise(chain_noise, "chain_noise", model="chain")
     dx = V.number("dx", dx, lo=0.0, lo_open=True)
     grid = V.integer("grid", grid, lo=3)
     kick = chain_noise["kick"]
-    u = np.linspace(0.0, 1.0, grid)[1:-1]
+    law = {k: val for k, val in chain_noise.items() if k != "kick"}
+    u = np.linspace(0.0, 1.0, grid)
     kc = np.asarray(kick_threshold(u, dx, gamma), dtype=float)
     if kick > 0:
         p = np.asarray(nucleation_probability(u, kick, dx, gamma, distribution=distribution))
     else:  # a release: a pair exactly where the first swing from rest trips the neighbours
         p = (kc == 0).astype(float)
-    if np.ptp(p) > 0:
-        V._fail(
-            "chain_noise.kick",
-            kick,
-            f"a kick that nucleates at every 0 < u < 1 with the same probability (fixed kick "
-            f">= {kc.max():.6g} = max K_c(u) at dx = {dx}, gamma = {gamma}): P(u) varies from "
-            f"{p.min():.3g} to {p.max():.3g}, and Lambda = lambda P / dx is then not one of "
-            "the rate laws",
-        )
+    inner = p[1:-1]  # P(0) = 0 (K_c = inf: nothing ahead is excitable) and P(1) = 1
+    if np.ptp(inner) == 0:
+        return {**law, "rate": law["rate"] * float(inner[0]) / dx}
+    g = np.asarray(_noise.rate_density(u, {**law, "rate": 1.0}), dtype=float)  # g(1) = 1
     return {
-        k: (val * float(p[0]) / dx if k == "rate" else val)
-        for k, val in chain_noise.items()
-        if k != "kick"
+        "law": "table",
+        "rate": law["rate"] * float(p[-1]) / dx,
+        "u": u.tolist(),
+        "g": (g * p / p[-1]).tolist(),
     }

@@ -10,6 +10,13 @@
 //! | `constant` | 1 | |
 //! | `exponential` | exp(-(1 - u)/phi0) (activated) | phi0 > 0 |
 //! | `power` | max(u, 0)^exponent | exponent >= 0 |
+//! | `table` | piecewise linear through nodes (u_k, g_k), divided by its value at u = 1 | u, g |
+//!
+//! `table`: u_k strictly increasing (at least two nodes), g_k >= 0 finite, and the
+//! interpolant positive at u = 1 (it is divided by that value, so g(1) = 1). Outside the
+//! nodes g is constant: g_first below the first node, g_last above the last (a table
+//! with g_first = 0 never nucleates below its first node). Its primitive is piecewise
+//! quadratic and inverted exactly piece by piece.
 //!
 //! A law is one small struct implementing [`RateLaw`] (g, its primitive and the primitive's
 //! inverse) and one line of [`law_from_name`].
@@ -129,13 +136,154 @@ impl RateLaw for Power {
     }
 }
 
+/// `table`: g piecewise linear through the nodes (u_k, g_k), constant outside them,
+/// normalised to g(1) = 1 (see the module docs).
+#[derive(Debug, Clone)]
+pub struct Table {
+    /// The nodes u_k, strictly increasing.
+    u: Vec<f64>,
+    /// g at the nodes, normalised (g(1) = 1).
+    g: Vec<f64>,
+    /// The primitive at the nodes, from 0 at the first node.
+    cum: Vec<f64>,
+    /// The nodes as given (for fingerprints): u then g.
+    raw: Vec<f64>,
+}
+
+impl Table {
+    /// The law through (u_k, g_k); errors name `u` or `g` and the allowed range.
+    pub fn new(u: &[f64], g: &[f64]) -> Result<Self> {
+        let bad = |name, value, allowed| Error::InvalidParameter {
+            name,
+            value,
+            allowed,
+        };
+        if u.len() < 2 {
+            return Err(bad("u", u.len() as f64, "at least two nodes"));
+        }
+        if g.len() != u.len() {
+            return Err(bad("g", g.len() as f64, "as many values as u has nodes"));
+        }
+        if let Some(&x) = u.iter().find(|x| !x.is_finite()) {
+            return Err(bad("u", x, "finite nodes"));
+        }
+        if let Some(w) = u.windows(2).find(|w| w[1] <= w[0]) {
+            return Err(bad("u", w[1], "strictly increasing nodes"));
+        }
+        if let Some(&x) = g.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+            return Err(bad("g", x, "finite values >= 0"));
+        }
+        let mut t = Table {
+            u: u.to_vec(),
+            g: g.to_vec(),
+            cum: Vec::new(),
+            raw: u.iter().chain(g).copied().collect(),
+        };
+        let at_one = t.g(1.0);
+        if at_one <= 0.0 {
+            return Err(bad(
+                "g",
+                at_one,
+                "a table positive at u = 1 (g is divided by g(1))",
+            ));
+        }
+        for x in t.g.iter_mut() {
+            *x /= at_one;
+        }
+        let mut c = 0.0;
+        t.cum.push(c);
+        for k in 0..u.len() - 1 {
+            c += 0.5 * (t.g[k] + t.g[k + 1]) * (u[k + 1] - u[k]);
+            t.cum.push(c);
+        }
+        Ok(t)
+    }
+}
+
+impl RateLaw for Table {
+    fn boxed(&self) -> Box<dyn RateLaw> {
+        Box::new(self.clone())
+    }
+    fn name(&self) -> &'static str {
+        "table"
+    }
+    fn params(&self) -> Vec<f64> {
+        self.raw.clone()
+    }
+    fn g(&self, u: f64) -> f64 {
+        let (nu, last) = (&self.u, self.u.len() - 1);
+        if u <= nu[0] {
+            return self.g[0];
+        }
+        if u >= nu[last] {
+            return self.g[last];
+        }
+        let k = nu.partition_point(|&x| x <= u) - 1;
+        let s = (u - nu[k]) / (nu[k + 1] - nu[k]);
+        self.g[k] + s * (self.g[k + 1] - self.g[k])
+    }
+    fn primitive(&self, u: f64) -> f64 {
+        let (nu, last) = (&self.u, self.u.len() - 1);
+        if u <= nu[0] {
+            return self.g[0] * (u - nu[0]);
+        }
+        if u >= nu[last] {
+            return self.cum[last] + self.g[last] * (u - nu[last]);
+        }
+        let k = nu.partition_point(|&x| x <= u) - 1;
+        let (s, h) = (u - nu[k], nu[k + 1] - nu[k]);
+        let slope = (self.g[k + 1] - self.g[k]) / h;
+        self.cum[k] + s * (self.g[k] + 0.5 * slope * s)
+    }
+    fn inverse_primitive(&self, p: f64) -> f64 {
+        let (nu, last) = (&self.u, self.u.len() - 1);
+        if p < 0.0 {
+            // below the first node: G = g_first (u - u_first); flat: the largest u
+            return if self.g[0] > 0.0 {
+                nu[0] + p / self.g[0]
+            } else {
+                nu[0]
+            };
+        }
+        // the last node with G <= p (the end of a flat stretch at G = p)
+        let k = self.cum.partition_point(|&c| c <= p) - 1;
+        let d = p - self.cum[k];
+        if k == last {
+            return if d == 0.0 {
+                nu[last]
+            } else if self.g[last] > 0.0 {
+                nu[last] + d / self.g[last]
+            } else {
+                f64::INFINITY
+            };
+        }
+        if d == 0.0 {
+            return nu[k];
+        }
+        // g_k s + slope s^2/2 = d, the root in [0, h] (no cancellation: both terms of the
+        // denominator are >= 0, and it is > 0 since d > 0 lies inside the piece)
+        let h = nu[k + 1] - nu[k];
+        let slope = (self.g[k + 1] - self.g[k]) / h;
+        let disc = (self.g[k] * self.g[k] + 2.0 * slope * d).max(0.0);
+        let s = 2.0 * d / (self.g[k] + disc.sqrt());
+        nu[k] + s.clamp(0.0, h)
+    }
+}
+
 /// The law names, in registry order.
-pub const LAWS: [&str; 3] = ["constant", "exponential", "power"];
+pub const LAWS: [&str; 4] = ["constant", "exponential", "power", "table"];
 
 /// The registry: a law by name with its parameters (`phi0` for `exponential`, `exponent`
-/// for `power`; the others are ignored).
-pub fn law_from_name(name: &str, phi0: f64, exponent: f64) -> Result<Box<dyn RateLaw>> {
+/// for `power`, the nodes `u` and values `g` for `table`; the others are ignored).
+pub fn law_from_name(
+    name: &str,
+    phi0: f64,
+    exponent: f64,
+    u: &[f64],
+    g: &[f64],
+) -> Result<Box<dyn RateLaw>> {
     match name {
+        "table" => Ok(Box::new(Table::new(u, g)?)),
         "constant" => Ok(Box::new(Constant)),
         "exponential" => {
             crate::error::check_open("phi0", phi0, 0.0, f64::INFINITY, "phi0 > 0")?;
@@ -148,7 +296,7 @@ pub fn law_from_name(name: &str, phi0: f64, exponent: f64) -> Result<Box<dyn Rat
         _ => Err(Error::InvalidParameter {
             name: "law",
             value: f64::NAN,
-            allowed: "\"constant\", \"exponential\" or \"power\"",
+            allowed: "\"constant\", \"exponential\", \"power\" or \"table\"",
         }),
     }
 }
@@ -174,9 +322,21 @@ impl Clone for NoiseLaw {
 impl NoiseLaw {
     /// A law by name; `rate` >= 0 (0: no noise).
     pub fn new(name: &str, rate: f64, phi0: f64, exponent: f64) -> Result<Self> {
+        Self::with_table(name, rate, phi0, exponent, &[], &[])
+    }
+
+    /// A law by name with every law's parameters (the table's nodes `u` and values `g`).
+    pub fn with_table(
+        name: &str,
+        rate: f64,
+        phi0: f64,
+        exponent: f64,
+        u: &[f64],
+        g: &[f64],
+    ) -> Result<Self> {
         crate::error::check_at_least("rate", rate, 0.0, "rate >= 0")?;
         Ok(NoiseLaw {
-            law: law_from_name(name, phi0, exponent)?,
+            law: law_from_name(name, phi0, exponent, u, g)?,
             rate,
         })
     }
@@ -342,6 +502,120 @@ mod tests {
         assert_eq!(name(NoiseLaw::new("power", 1.0, 0.0, -1.0)), "exponent");
         assert_eq!(name(NoiseLaw::new("power", -1.0, 0.0, 1.0)), "rate");
         assert_eq!(name(NoiseLaw::new("gaussian", 1.0, 0.0, 1.0)), "law");
+    }
+
+    fn table(u: &[f64], g: &[f64]) -> NoiseLaw {
+        NoiseLaw::with_table("table", 1.0, f64::NAN, f64::NAN, u, g).unwrap()
+    }
+
+    #[test]
+    fn table_through_an_exponential_reproduces_its_primitive_and_times() {
+        let phi0 = 0.1;
+        let n = 2001;
+        let u: Vec<f64> = (0..n)
+            .map(|k| -0.5 + 1.7 * k as f64 / (n - 1) as f64)
+            .collect();
+        let g: Vec<f64> = u.iter().map(|&x| (-(1.0 - x) / phi0).exp()).collect();
+        let t = table(&u, &g);
+        let e = NoiseLaw::new("exponential", 1.0, phi0, f64::NAN).unwrap();
+        assert!((t.lambda(1.0) - 1.0).abs() < 1e-15);
+        // trapezoid error of a node spacing h: h^2 g''/12 per unit u, relative to g:
+        // (h/phi0)^2/12 = 6e-6 at h = 8.5e-4
+        let h: f64 = 1.7 / (n - 1) as f64;
+        let bound = 1.01 * (h / phi0).powi(2) / 12.0;
+        for (a, b) in [(0.0, 0.5), (0.3, 0.95), (0.8, 1.1), (-0.4, 1.0)] {
+            let mt = t.mass(a, 0.01, (b - a) / 0.01, 1.0);
+            let me = e.mass(a, 0.01, (b - a) / 0.01, 1.0);
+            assert!((mt / me - 1.0).abs() < bound, "[{a}, {b}]: {mt} vs {me}");
+        }
+        // the first nucleation time for the same exponential variates, from u0 = 0.2
+        let mut rng = Rng::new(3);
+        for _ in 0..1000 {
+            let x = rng.exponential() * 1e-3;
+            let (tt, te) = (
+                t.time_to_mass(0.2, 0.01, x, 1.0),
+                e.time_to_mass(0.2, 0.01, x, 1.0),
+            );
+            // dt = phi0/v * (relative mass error) at most
+            assert!(
+                (tt - te).abs() < bound * phi0 / 0.01 + 1e-9 * te,
+                "{tt} vs {te}"
+            );
+        }
+    }
+
+    #[test]
+    fn table_primitive_and_inverse_round_trip_with_flat_pieces() {
+        // flat zero below 0.2, zero plateau on [0.4, 0.5], a decreasing piece, a flat
+        // positive piece, and a rising end
+        let u = [0.0, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 1.3];
+        let g = [0.0, 0.0, 2.0, 0.0, 0.0, 3.0, 1.0, 1.0, 4.0];
+        let l = table(&u, &g);
+        let law = &l.law;
+        assert_eq!(law.g(1.0), 1.0);
+        assert_eq!(law.g(-3.0), 0.0);
+        assert_eq!(law.g(0.45), 0.0);
+        assert!((law.g(0.7) - 2.0).abs() < 1e-15);
+        let mut rng = Rng::new(9);
+        let (lo, hi) = (law.primitive(-0.5), law.primitive(1.6));
+        for _ in 0..20_000 {
+            let x = -0.5 + 2.1 * rng.uniform();
+            let p = law.primitive(x);
+            let y = law.inverse_primitive(p);
+            // the inverse returns the largest u with G(u) = p
+            assert!((law.primitive(y) - p).abs() < 1e-12, "x = {x}: G(y) - p");
+            if law.g(x) > 0.0 || (x > 0.5 && x < 1.6) {
+                assert!((y - x).abs() < 1e-12, "x = {x}, y = {y}");
+            } else if x < 0.2 {
+                assert_eq!(y, 0.2, "x = {x}");
+            } else {
+                assert!((y - 0.5).abs() < 1e-12, "plateau x = {x}: {y}");
+            }
+            let q = lo + (hi - lo) * rng.uniform();
+            let z = law.inverse_primitive(q);
+            assert!((law.primitive(z) - q).abs() < 1e-12, "q = {q}");
+        }
+    }
+
+    #[test]
+    fn step_table_never_nucleates_below_its_step() {
+        let u_r = 0.6;
+        let l = table(&[u_r - 1e-9, u_r, 1.0], &[0.0, 1.0, 1.0]);
+        let mut rng = Rng::new(5);
+        for _ in 0..10_000 {
+            let u0 = -0.2 + 0.8 * rng.uniform();
+            let v = 0.001 + rng.uniform();
+            let e = rng.exponential();
+            let tau = l.time_to_mass(u0, v, e, 2.0);
+            assert!(
+                u0 + v * tau >= u_r - 1e-9,
+                "u0 = {u0}: nucleates at {}",
+                u0 + v * tau
+            );
+            // above the step Lambda = 1: the mass e is reached after e/length more stress
+            let expect = (u_r - u0 + e / 2.0 * v) / v;
+            assert!(
+                (tau - expect).abs() < 1e-6 * expect.max(1.0),
+                "{tau} vs {expect}"
+            );
+        }
+        assert_eq!(l.time_to_mass(0.3, 0.0, 1.0, 1.0), f64::INFINITY);
+    }
+
+    #[test]
+    fn bad_tables_are_refused_naming_the_key() {
+        let name = |u: &[f64], g: &[f64]| match NoiseLaw::with_table("table", 1.0, 0.0, 0.0, u, g) {
+            Err(Error::InvalidParameter { name, .. }) => name,
+            _ => "",
+        };
+        assert_eq!(name(&[1.0], &[1.0]), "u");
+        assert_eq!(name(&[0.0, 0.5, 0.5, 1.0], &[1.0; 4]), "u");
+        assert_eq!(name(&[0.0, f64::NAN], &[1.0; 2]), "u");
+        assert_eq!(name(&[0.0, 1.0], &[1.0]), "g");
+        assert_eq!(name(&[0.0, 1.0], &[-1.0, 1.0]), "g");
+        assert_eq!(name(&[0.0, 1.0], &[1.0, f64::INFINITY]), "g");
+        assert_eq!(name(&[0.0, 1.0, 2.0], &[1.0, 0.0, 1.0]), "g"); // zero at u = 1
+        assert_eq!(name(&[0.0, 1.0], &[0.5, 2.0]), "");
     }
 
     #[test]

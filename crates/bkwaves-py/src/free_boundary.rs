@@ -93,9 +93,10 @@ impl PyFreeBoundary {
     }
 
     /// Spontaneous pair nucleation at Lambda(u) = rate g(u) (law "constant",
-    /// "exponential" with phi0, "power" with exponent), seeded; from now on. A zero rate
-    /// is no noise.
-    #[pyo3(signature = (law, rate, seed, phi0=f64::NAN, exponent=f64::NAN))]
+    /// "exponential" with phi0, "power" with exponent, "table" with nodes u and values g),
+    /// seeded; from now on. A zero rate is no noise.
+    #[pyo3(signature = (law, rate, seed, phi0=f64::NAN, exponent=f64::NAN, u=Vec::new(), g=Vec::new()))]
+    #[allow(clippy::too_many_arguments)]
     fn set_noise(
         &mut self,
         law: &str,
@@ -103,8 +104,10 @@ impl PyFreeBoundary {
         seed: u64,
         phi0: f64,
         exponent: f64,
+        u: Vec<f64>,
+        g: Vec<f64>,
     ) -> PyResult<()> {
-        let law = NoiseLaw::new(law, rate, phi0, exponent).map_err(to_py)?;
+        let law = NoiseLaw::with_table(law, rate, phi0, exponent, &u, &g).map_err(to_py)?;
         self.inner.set_noise(law, seed).map_err(to_py)?;
         Ok(())
     }
