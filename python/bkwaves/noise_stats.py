@@ -323,9 +323,10 @@ def calibrated_noise(
     P rate / dx; otherwise (a release, kick = 0, a kick below some K_c(u), or
     exponentially distributed kicks) the law ``table`` through g(u) P(u) on ``grid``
     points of 0 <= u <= 1, with rate rate P(1) / dx (P(1) = 1: K_c(1) = 0). A step of P
-    (a fixed kick) is then a linear ramp over one grid cell, 1/(grid - 1) wide; above
-    u = 1 the table is constant (stuck points stay at u <= 1). Valid above the lattice's
-    propagation-failure stress u_f (docs/noise.md)."""
+    (a fixed kick or a release: P = 1 where K_c(u) <= kick) is placed at its stress u*
+    (bisected to the last bit) as a ramp 1e-12 wide; above u = 1 the table is constant
+    (stuck points stay at u <= 1). Valid above the lattice's propagation-failure stress
+    u_f (docs/noise.md)."""
     from .noise import kick_threshold, nucleation_probability
 
     chain_noise = _noise.check_noise(chain_noise, "chain_noise", model="chain")
@@ -342,6 +343,19 @@ def calibrated_noise(
     inner = p[1:-1]  # P(0) = 0 (K_c = inf: nothing ahead is excitable) and P(1) = 1
     if np.ptp(inner) == 0:
         return {**law, "rate": law["rate"] * float(inner[0]) / dx}
+    steps = np.flatnonzero(np.diff(p))
+    if distribution == "fixed" or kick == 0:
+        # one step 0 -> 1 between two grid points: K_c(u) <= kick from u* on
+        if steps.size != 1 or p[steps[0]] != 0:
+            raise AssertionError(f"P(u) is not one step: {p}")
+        lo, hi = float(u[steps[0]]), float(u[steps[0] + 1])
+        while (mid := 0.5 * (lo + hi)) not in (lo, hi):
+            lo, hi = (lo, mid) if kick_threshold(mid, dx, gamma) <= kick else (mid, hi)
+        below = hi - 1e-12
+        at = steps[0] + 1
+        if u[at - 1] < below:
+            new_u, new_p = ([below, hi], [0.0, 1.0]) if hi < u[at] else ([below], [0.0])
+            u, p = np.insert(u, at, new_u), np.insert(p, at, new_p)
     g = np.asarray(_noise.rate_density(u, {**law, "rate": 1.0}), dtype=float)  # g(1) = 1
     return {
         "law": "table",
