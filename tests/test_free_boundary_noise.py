@@ -15,9 +15,10 @@ import bkwaves as bk
 
 # a ramp u0 = A + B x on [0, L], loading at V: u(x, t) = A + B x + V t
 A, B, L, V = 0.1, 0.05, 10.0, 0.01
-# the table law: zero below u = 0.2, a peak 3 at 0.5, 1 from u = 1 on (constant outside
-# the nodes); G and H by the trapezoid rule on a fine grid (exact for g up to the kinks)
-TABLE_U, TABLE_G = [0.2, 0.5, 1.0], [0.0, 3.0, 1.0]
+# the table law: zero below u = 0.2, a steep rise to 0.6 at 0.5, then a shallow one to 1
+# at u = 1 (constant outside the nodes; a table must not decrease: the engines' thinning
+# bound); G and H by the trapezoid rule on a fine grid (exact for g up to the kinks)
+TABLE_U, TABLE_G = [0.2, 0.5, 1.0], [0.0, 0.6, 1.0]
 _FINE = np.linspace(-1.0, 3.0, 400_001)
 _G = np.concatenate([[0.0], np.cumsum(np.diff(_FINE) * 0.5 * np.convolve(
     np.interp(_FINE, TABLE_U, TABLE_G), [1, 1], "valid"))])  # fmt: skip
@@ -176,6 +177,8 @@ def test_bad_noise_tables_name_the_key():
         ({"u": [1.0], "g": [1.0]}, r"noise\.u = .*at least two"),
         ({"u": [0.0, 1.0], "g": [1.0, 1.0, 1.0]}, r"noise\.g = .*one per node"),
         ({"u": [0.0, 1.0, 2.0], "g": [1.0, 0.0, 1.0]}, r"noise\.g = .*> 0 at u = 1"),
+        # decreasing: the thinning bound (the rate at the largest stress) would not hold
+        ({"u": [0.0, 0.5, 1.0], "g": [0.0, 2.0, 1.0]}, r"noise\.g = .*non-decreasing"),
         ({"u": [0.0, 1.0], "g": [1.0, 1.0], "phi0": 0.1}, r"noise\.phi0"),
     ]
     for extra, match in bad:
@@ -187,6 +190,8 @@ def test_bad_noise_tables_name_the_key():
         eng.set_noise("table", 1.0, 1, u=[0.0, 0.0], g=[1.0, 1.0])
     with pytest.raises(bk.ParameterError, match=r"invalid g = "):
         eng.set_noise("table", 1.0, 1, u=[0.0, 1.0], g=[1.0])
+    with pytest.raises(bk.ParameterError, match=r"invalid g = .*non-decreasing"):
+        eng.set_noise("table", 1.0, 1, u=[0.0, 0.5, 1.0], g=[0.0, 2.0, 1.0])
     # the chain takes no table
     with pytest.raises(bk.ParameterError, match=r"noise\.law = 'table'"):
         bk.noise.check_noise({**table, "u": [0, 1], "g": [1, 1]}, model="chain")

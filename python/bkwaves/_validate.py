@@ -381,7 +381,12 @@ CONFIG = {
         Spec("phi0", "real", lo=0.0, lo_open=True, doc="exponential law only: stress scale"),
         Spec("exponent", "real", lo=0.0, doc="power law only: the exponent"),
         Spec("u", "reals", doc="table law only: the nodes, strictly increasing (stress u)"),
-        Spec("g", "reals", lo=0.0, doc="table law only: g at the nodes (>= 0, > 0 at u = 1)"),
+        Spec(
+            "g",
+            "reals",
+            lo=0.0,
+            doc="table law only: g at the nodes (>= 0, non-decreasing, > 0 at u = 1)",
+        ),
         Spec(
             "kick",
             "real",

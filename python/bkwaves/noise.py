@@ -102,6 +102,14 @@ def _check_table(out: dict, where: str) -> None:
         V._fail(f"{where}.g", out["g"], f"{u.size} values >= 0 (one per node of u)")
     if not np.interp(1.0, u, g) > 0:
         V._fail(f"{where}.g", out["g"], "values >= 0 whose interpolant is > 0 at u = 1")
+    if np.any(np.diff(g) < 0):
+        # the engines draw by thinning under the rate at the largest stress present
+        V._fail(
+            f"{where}.g",
+            out["g"],
+            "non-decreasing values (the engines bound the rate by its value at the "
+            "largest stress present)",
+        )
     out["u"], out["g"] = u.tolist(), g.tolist()
 
 
