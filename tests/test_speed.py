@@ -286,3 +286,10 @@ def test_resticking_exponent_is_one_rule_for_every_gamma():
     assert bk.front_speed(0.5, dx=0.2, gamma=0.3) > 1
     with pytest.raises(bk.ParameterError):
         bk.front_speed(0.5, dx=0.2, gamma=0.1)
+
+
+def test_a_lattice_spacing_the_tip_solver_cannot_reach_is_named():
+    # dx >> 1 with damping: the finite-dx tip problem's collocation system is singular;
+    # the error names dx (found by the fuzz test: it was a ConvergenceError traceback)
+    with pytest.raises(bk.ParameterError, match=r"invalid dx = .*bk\.chain\.front"):
+        bk.front_speed(0.5, dx=24058.0, gamma=1.0)

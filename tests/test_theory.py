@@ -255,3 +255,15 @@ def test_tiny_u_plus_errors_name_only_what_the_user_passed():
         with pytest.raises(bk.ParameterError, match="u_plus") as e:
             bk.traveling_wave(bad, 0.0)
         assert "invalid c" not in str(e.value)
+
+
+def test_train_at_vanishing_stress_uses_the_exact_wave():
+    # u_+ = 1e-300: c rounds to 1; the exact wave still knows the pulse at gamma = 0
+    # (u_- = -u_+, A = 2 u_+) and creep for any gamma > 0 (no train: NaN), and no error
+    # names a c the caller never gave (found by the fuzz test)
+    assert th.wavelength(1e-300, 0.0, 1e-2) == pytest.approx(2e-298, rel=1e-12)
+    assert th.train_period(1e-300, 0.0, 1e-2) == pytest.approx(2e-298, rel=1e-12)
+    assert np.isnan(th.wavelength(1e-300, 1e6, 1e-2))
+    L = th.wavelength(np.array([0.5, 0.7]), 0.3, 1e-2)
+    c = bk.front_speed(np.array([0.5, 0.7]))
+    assert np.allclose(L, c * th.amplitude(np.array([0.5, 0.7]), c, 0.3) / 1e-2, rtol=1e-12)

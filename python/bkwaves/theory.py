@@ -200,18 +200,31 @@ def profile(z, u_plus, gamma, c=None):
 
 
 # ------------------------------------------------------------ wave trains (Sec. V)
+def _speed_and_amplitude(u_plus, gamma, c):
+    """c and A for eqs. (L) and (T): the given c with eq. (A), or, without one, the exact
+    wave of App. B from u_+ itself (its cancellation-free forms hold down to u_+ -> 0,
+    where c rounds to 1 and the speed-based forms could not tell pulse from creep)."""
+    u = _u(u_plus)
+    if c is not None:
+        c = _c(c)
+        return c, np.asarray(amplitude(u, c, gamma))
+    g = _gamma(gamma)
+    waves = [_core.traveling_wave(float(x), g) for x in np.ravel(u)]
+    speed = np.reshape([w["c"] for w in waves], np.shape(u))
+    amp = np.reshape([np.nan if w["A"] is None else w["A"] for w in waves], np.shape(u))
+    return speed, amp
+
+
 def wavelength(u_plus, gamma, v, c=None):
     """Eq. (L): spatial period L = c A / v of the periodic wave train."""
-    u = _u(u_plus)
-    c = front_speed(u) if c is None else _c(c)
-    return _out(np.asarray(c) * np.asarray(amplitude(u, c, gamma)) / _v(v))
+    c, amp = _speed_and_amplitude(u_plus, gamma, c)
+    return _out(c * amp / _v(v))
 
 
 def train_period(u_plus, gamma, v, c=None):
     """T = A / v: time period of the wave train (Sec. V)."""
-    u = _u(u_plus)
-    c = front_speed(u) if c is None else _c(c)
-    return _out(np.asarray(amplitude(u, c, gamma)) / _v(v))
+    _, amp = _speed_and_amplitude(u_plus, gamma, c)
+    return _out(amp / _v(v))
 
 
 def min_wavelength(gamma, v, speed=None):

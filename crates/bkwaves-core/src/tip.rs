@@ -298,7 +298,19 @@ pub fn solve_linear_for_u_plus(u_plus: f64, opts: &TipOptions) -> Result<TipSolu
     let target_theta = (1.0 - u) / u;
     let target = target_theta.ln();
     let eval = |x: f64| -> Result<(f64, TipSolution)> {
-        let s = solve_linear_for_speed(1.0 + x.exp(), opts)?;
+        let s = solve_linear_for_speed(1.0 + x.exp(), opts).map_err(|e| match e {
+            // at dx > 0 the outer equation's dx^2 g term can make the collocation system
+            // singular (dx >> 1): no front the solver can reach, said in terms of dx
+            Error::NoConvergence { .. } if opts.dx > 0.0 => Error::InvalidParameter {
+                name: "dx",
+                value: opts.dx,
+                allowed: "a lattice spacing at which the finite-dx tip problem for this \
+                          u_plus and gamma is solvable (here its collocation system is \
+                          singular); measure the front in the chain: bk.chain.front \
+                          (u_plus, gamma, dx), or bkwaves front",
+            },
+            e => e,
+        })?;
         Ok((s.theta.ln() - target, s))
     };
     // theta decreases with c. Crude start that has both limits right within a factor 2.
