@@ -20,7 +20,22 @@ from pathlib import Path
 
 import pytest
 
+
 # ------------------------------------------------------------------ the driver
+def _fuzz_settings(n: int):
+    """Hypothesis settings of every fuzz driver: n examples, reproducible, no deadline,
+    no example database, no health checks (the drivers run in subprocesses)."""
+    from hypothesis import HealthCheck, settings
+
+    return settings(
+        max_examples=n,
+        derandomize=True,
+        deadline=None,
+        database=None,
+        suppress_health_check=list(HealthCheck),
+    )
+
+
 BASES = {
     "chain_front": {
         "model": "chain",
@@ -158,7 +173,7 @@ def _check(call, keys, bad, case, run=None):
 
 
 def fuzz_configs(n: int) -> list[dict]:
-    from hypothesis import HealthCheck, given, settings
+    from hypothesis import given
     from hypothesis import strategies as st
 
     from bkwaves.config import load_config, parse_config
@@ -173,13 +188,7 @@ def fuzz_configs(n: int) -> list[dict]:
     )
     bad: list[dict] = []
 
-    @settings(
-        max_examples=n,
-        derandomize=True,
-        deadline=None,
-        database=None,
-        suppress_health_check=list(HealthCheck),
-    )
+    @_fuzz_settings(n)
     @given(st.data())
     def one(data):
         name = data.draw(st.sampled_from(sorted(BASES)))
@@ -249,7 +258,7 @@ def fuzz_configs(n: int) -> list[dict]:
 
 def fuzz_api(n: int) -> list[dict]:
     import numpy as np
-    from hypothesis import HealthCheck, given, settings
+    from hypothesis import given
     from hypothesis import strategies as st
 
     import bkwaves as bk
@@ -334,13 +343,7 @@ def fuzz_api(n: int) -> list[dict]:
     }
     bad: list[dict] = []
 
-    @settings(
-        max_examples=n,
-        derandomize=True,
-        deadline=None,
-        database=None,
-        suppress_health_check=list(HealthCheck),
-    )
+    @_fuzz_settings(n)
     @given(st.data())
     def one(data):
         name = data.draw(st.sampled_from(sorted(calls)))
