@@ -1,0 +1,118 @@
+"""Long runs of the noisy chain against the calibrated free boundary (docs/noise.md,
+"Long runs compared: a chain that cycles").
+
+    python docs/scripts/noise_long_runs.py          # about a minute on one core
+
+1. The rupture map: the background u at which a ring is next fired by its own pattern,
+   after a ring-wide rupture at u_+ (kick 0.5, as the noise), against gamma.
+2. Re-sticking under load: one kicked pulse on the ring at gamma = 0.85, against v.
+3. The comparison at gamma = 0.85, v = 1e-5 (t = 3e7): recurrences, moments, and the
+   exact recurrence given the state a rupture leaves in each engine.
+"""
+
+import math
+import warnings
+
+import numpy as np
+from scipy import integrate, stats
+
+import bkwaves as bk
+from bkwaves import noise_stats as ns
+from bkwaves import theory
+
+N, DX, KICK = 400, 0.05, 0.5
+L = N * DX
+
+
+def ring_after_rupture(u_plus, gamma, v=0.0, t_end=60.0):
+    p = bk.Params(gamma=gamma, v=v, dx=DX, beta=math.inf)
+    ch = bk.Chain(N, p, "periodic", np.full(N, u_plus))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = ch.kick(0, -KICK, 0.0).run(t_end=t_end, max_events=1, progress=False)
+    return ch, res.catalog
+
+
+def rupture_map():
+    print("background u_b at which the ring is next fired by its own pattern")
+    for gamma in (0.3, 0.8, 0.85, 0.9):
+        row = []
+        for u_plus in (0.86, 0.9, 0.93, 0.95, 0.97, 0.99, 0.995, 0.999):
+            ch, _ = ring_after_rupture(u_plus, gamma)
+            u_b = np.median(ch.u) + 1 - ch.phi.max()
+            row.append(f"{u_plus}: {u_b:.3f}{'*' if u_b > u_plus else ''}")
+        print(f"  gamma = {gamma} (* cycle possible): " + ", ".join(row))
+
+
+def resticking():
+    print("one kicked pulse, gamma = 0.85: event duration (open: no re-sticking by t = 200)")
+    for u_plus in (0.87, 0.9, 0.95):
+        row = []
+        for v in (1e-3, 1e-4, 1e-5, 0.0):
+            _, cat = ring_after_rupture(u_plus, 0.85, v=v, t_end=200.0)
+            ended = not math.isnan(cat.t_end.iloc[0])
+            row.append(f"v = {v:g}: {cat.duration.iloc[0]:.1f}" if ended else f"v = {v:g}: open")
+        print(f"  u_+ = {u_plus}: " + "; ".join(row))
+
+
+def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
+    chain_noise = {"law": "exponential", "rate": 1e-3, "phi0": phi0, "kick": KICK}
+    p = bk.Params(gamma=gamma, v=v, dx=DX, beta=math.inf)
+    ch = bk.Chain(N, p, "periodic", np.full(N, gamma + 0.01), noise=chain_noise, seed=1)
+    cat = ch.run(t_end=t_end, progress=False, max_event_duration=1e9).catalog
+    fb_noise = ns.calibrated_noise(chain_noise, DX, gamma)
+    x = np.arange(200) * 0.1
+    fb = bk.FreeBoundary(p, x, np.full(x.size, gamma + 0.01), "periodic", noise=fb_noise, seed=2)
+    rup = ns.ruptures(fb.run(t_end=t_end))
+    u_start = float(rup.u_start.mean())
+    u_minus = float(theory.u_minus(u_start, theory.c_exact(u_start), gamma))
+    after, _ = ring_after_rupture(u_start, gamma)
+    u_eff = phi0 * math.log(np.mean(np.exp(after.phi / phi0)))
+
+    def exact(u_after, rate):
+        k = N * rate * phi0 / v * math.exp(-(1 - u_after) / phi0)
+
+        def survival(t):
+            return np.exp(-k * np.expm1(v * np.asarray(t) / phi0))
+
+        t_typ = (0.94 - u_after) / v
+        return integrate.quad(survival, 0, 2 * t_typ, limit=200, points=[t_typ])[0], survival
+
+    print(f"gamma = {gamma}, v = {v}, t = {t_end:g}; free boundary noise {fb_noise}")
+    print(
+        f"  chain events: {len(cat)} ({cat.t_end.isna().sum()} open), sizes "
+        f"{cat.n_blocks.min()}-{cat.n_blocks.max()}, durations {cat.duration.min():.1f}-"
+        f"{cat.duration.max():.1f}; free boundary ruptures {len(rup)}, u_start "
+        f"{u_start:.3f} +- {rup.u_start.std():.3f}"
+    )
+    print(
+        f"  after a rupture at {u_start:.3f}: u_- = {u_minus:.5f} (free boundary), chain median"
+        f" u {np.median(after.u):.5f}, mean {after.u.mean():.5f}, min {after.u.min():.5f},"
+        f" hazard-weighted phi {u_eff:.5f}"
+    )
+    rows = (
+        ("chain", cat.t_start.to_numpy(), cat.moment, exact(u_eff, chain_noise["rate"])),
+        (
+            "free boundary",
+            rup.t_start.to_numpy(),
+            rup.moment,
+            exact(u_minus, fb_noise["rate"] * DX),
+        ),
+    )
+    for name, t, moment, (mean, survival) in rows:
+        d = np.diff(t)
+        ks = stats.kstest(d, lambda s, f=survival: 1 - f(s)).pvalue
+        print(
+            f"  {name}: recurrence {d.mean():.0f} +- {d.std(ddof=1) / math.sqrt(d.size):.0f} "
+            f"(sd {d.std(ddof=1):.0f}), exact {mean:.0f}, KS p {ks:.2f}; moment "
+            f"{moment.mean():.1f} (sd {moment.std():.1f})"
+        )
+    print(
+        f"  KS two-sample p = {stats.ks_2samp(np.diff(rows[0][1]), np.diff(rows[1][1])).pvalue:.2f}"
+    )
+
+
+if __name__ == "__main__":
+    rupture_map()
+    resticking()
+    comparison()
