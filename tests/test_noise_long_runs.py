@@ -45,22 +45,30 @@ def mean_recurrence(u_after, rate):
 @pytest.fixture(scope="module")
 def runs():
     ch = bk.Chain(N, P, "periodic", np.full(N, U0), noise=CHAIN_NOISE, seed=1)
-    cat = ch.run(t_end=T_END, progress=False, max_event_duration=1e9).catalog
+    chain_result = ch.run(t_end=T_END, progress=False, max_event_duration=1e9)
+    cat = chain_result.catalog
     fb_noise = ns.calibrated_noise(CHAIN_NOISE, DX, GAMMA)
     x = np.arange(200) * 0.1
     fb = bk.FreeBoundary(P, x, np.full(x.size, U0), "periodic", noise=fb_noise, seed=2)
-    rup = ns.ruptures(fb.run(t_end=T_END))
-    return cat, rup, fb_noise
+    fb_result = fb.run(t_end=T_END)
+    return cat, ns.ruptures(fb_result), fb_noise, chain_result, fb_result.events
 
 
 def test_the_chain_cycles_through_separate_ring_wide_ruptures(runs):
-    cat, rup, _ = runs
+    cat, rup, _, chain_result, fb_events = runs
     assert len(cat) >= 100
     # every event ended (no creep, no steady sliding) and swept the ring from one noise slip
     assert not cat.t_end.isna().any()
     assert (cat.kind == "noise").all() and (cat.n_blocks == N).all()
     assert cat.duration.max() < 20  # a pulse pair crossing the ring, not a slow creep
     assert rup.spontaneous.all() and np.allclose(rup.swept, L)
+    assert abs(len(fb_events) - len(cat)) <= 2  # recurrences with a CV of 1.4 %
+    # the chain's ruptures: all spontaneous, each event's moment shared out among them; at
+    # this noise (nu_R << 1) a second nucleation during a sweep is rare (one in 107 here)
+    per = ns.chain_ruptures(chain_result, "periodic")
+    assert per.spontaneous.all() and len(cat) <= len(per) <= 1.05 * len(cat)
+    shared = per.groupby("event").moment.sum().to_numpy()
+    assert np.allclose(shared, cat.moment.to_numpy(), rtol=1e-12)
 
 
 def test_long_run_rupture_rates_agree_and_the_gap_is_the_chains_own_u_minus(runs):
@@ -70,9 +78,11 @@ def test_long_run_rupture_rates_agree_and_the_gap_is_the_chains_own_u_minus(runs
     leave (a noiseless ring-wide rupture at the mean starting stress), whose
     hazard-weighted stress is lower than u_- (the birth and collision zones slip more):
     that is the measured gap between the engines, and it is dx-independent."""
-    cat, rup, fb_noise = runs
+    cat, rup, fb_noise, _, fb_events = runs
+    # event starts (a rupture that starts while another sweeps belongs to its event) in
+    # both engines: the exact laws below are for the first nucleation after a sweep
     dc = np.diff(cat.t_start.to_numpy())
-    df = np.diff(rup.t_start.to_numpy())
+    df = np.diff(fb_events.t_start.to_numpy())
     se_c, se_f = (d.std(ddof=1) / math.sqrt(d.size) for d in (dc, df))
     assert abs(dc.mean() - df.mean()) < 3 * math.hypot(se_c, se_f)
 
@@ -97,3 +107,21 @@ def test_long_run_rupture_rates_agree_and_the_gap_is_the_chains_own_u_minus(runs
     # and the calibration matters: forgetting the 1/dx (Lambda = rate P) is rejected
     wrong = mean_recurrence(u_minus, fb_noise["rate"] * DX * DX)[1]
     assert stats.kstest(df, lambda t: 1 - wrong(t)).pvalue < 1e-6
+
+
+def test_chain_ruptures_splits_an_event_at_the_fronts_meeting_points():
+    """Two pairs started 0.5 apart in time at opposite points of a ring make one catalog
+    event; chain_ruptures gives each its ground: the fronts meet where their arrival
+    times are equal, so the first gets 10 + c/2 of the ring of length 20."""
+    p = bk.Params(gamma=GAMMA, v=0.0, dx=DX, beta=math.inf)
+    ch = bk.Chain(N, p, "periodic", np.full(N, 0.93))
+    res = ch.kick(0, -0.5, 0.0).kick(200, -0.5, 0.5).run(t_end=100.0, progress=False)
+    assert len(res.catalog) == 1
+    rup = ns.chain_ruptures(res, "periodic")
+    assert rup.block.tolist() == [0, 200] and rup.t_start.tolist() == [0.0, 0.5]
+    c = bk.front_speed(0.93, dx=DX, gamma=GAMMA)
+    assert abs(rup.n_blocks[0] - (L / 2 + 0.5 * c) / DX) <= 4  # the births' start-up lag
+    assert rup.n_blocks.sum() == N
+    assert math.isclose(rup.moment.sum(), res.catalog.moment.sum(), rel_tol=1e-12)
+    with pytest.raises(bk.ParameterError, match="boundary"):
+        ns.chain_ruptures(res, "ring")

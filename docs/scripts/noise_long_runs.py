@@ -59,11 +59,14 @@ def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
     chain_noise = {"law": "exponential", "rate": 1e-3, "phi0": phi0, "kick": KICK}
     p = bk.Params(gamma=gamma, v=v, dx=DX, beta=math.inf)
     ch = bk.Chain(N, p, "periodic", np.full(N, gamma + 0.01), noise=chain_noise, seed=1)
-    cat = ch.run(t_end=t_end, progress=False, max_event_duration=1e9).catalog
+    chain_result = ch.run(t_end=t_end, progress=False, max_event_duration=1e9)
+    cat = chain_result.catalog
+    per = ns.chain_ruptures(chain_result, "periodic")
     fb_noise = ns.calibrated_noise(chain_noise, DX, gamma)
     x = np.arange(200) * 0.1
     fb = bk.FreeBoundary(p, x, np.full(x.size, gamma + 0.01), "periodic", noise=fb_noise, seed=2)
-    rup = ns.ruptures(fb.run(t_end=t_end))
+    fb_result = fb.run(t_end=t_end)
+    rup = ns.ruptures(fb_result)
     u_start = float(rup.u_start.mean())
     u_minus = float(theory.u_minus(u_start, theory.c_exact(u_start), gamma))
     after, _ = ring_after_rupture(u_start, gamma)
@@ -86,15 +89,21 @@ def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
         f"{u_start:.3f} +- {rup.u_start.std():.3f}"
     )
     print(
+        f"  ruptures: chain {len(per)} ({per.spontaneous.mean():.2f} spontaneous, sizes "
+        f"{per.n_blocks.min()}-{per.n_blocks.max()} blocks), free boundary {len(rup)} (sizes "
+        f"{rup.swept.min():.2f}-{rup.swept.max():.2f}); free boundary events "
+        f"{len(fb_result.events)}"
+    )
+    print(
         f"  after a rupture at {u_start:.3f}: u_- = {u_minus:.5f} (free boundary), chain median"
         f" u {np.median(after.u):.5f}, mean {after.u.mean():.5f}, min {after.u.min():.5f},"
         f" hazard-weighted phi {u_eff:.5f}"
     )
     rows = (
-        ("chain", cat.t_start.to_numpy(), cat.moment, exact(u_eff, chain_noise["rate"])),
+        ("chain", cat.t_start.to_numpy(), per.moment, exact(u_eff, chain_noise["rate"])),
         (
             "free boundary",
-            rup.t_start.to_numpy(),
+            fb_result.events.t_start.to_numpy(),
             rup.moment,
             exact(u_minus, fb_noise["rate"] * DX),
         ),
@@ -103,9 +112,9 @@ def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
         d = np.diff(t)
         ks = stats.kstest(d, lambda s, f=survival: 1 - f(s)).pvalue
         print(
-            f"  {name}: recurrence {d.mean():.0f} +- {d.std(ddof=1) / math.sqrt(d.size):.0f} "
+            f"  {name}: event recurrence {d.mean():.0f} +- {d.std(ddof=1) / math.sqrt(d.size):.0f} "
             f"(sd {d.std(ddof=1):.0f}), exact {mean:.0f}, KS p {ks:.2f}; moment "
-            f"{moment.mean():.1f} (sd {moment.std():.1f})"
+            f"{moment.mean():.1f} (sd {moment.std():.1f}) per rupture"
         )
     print(
         f"  KS two-sample p = {stats.ks_2samp(np.diff(rows[0][1]), np.diff(rows[1][1])).pvalue:.2f}"
