@@ -181,20 +181,25 @@ def test_bad_noise_tables_name_the_key():
         ({"u": [0.0, 0.5, 1.0], "g": [0.0, 2.0, 1.0]}, r"noise\.g = .*non-decreasing"),
         ({"u": [0.0, 1.0], "g": [1.0, 1.0], "phi0": 0.1}, r"noise\.phi0"),
     ]
-    for extra, match in bad:
-        with pytest.raises(bk.ParameterError, match=match):
-            bk.FreeBoundary(p, x, 0.5 + 0 * x, noise={**table, **extra})
-    # the core refuses the same tables by name (the binding's own check)
-    eng = bk.FreeBoundary(p, x, 0.5 + 0 * x)._engine
-    with pytest.raises(bk.ParameterError, match=r"invalid u = .*strictly increasing"):
-        eng.set_noise("table", 1.0, 1, u=[0.0, 0.0], g=[1.0, 1.0])
-    with pytest.raises(bk.ParameterError, match=r"invalid g = "):
-        eng.set_noise("table", 1.0, 1, u=[0.0, 1.0], g=[1.0])
-    with pytest.raises(bk.ParameterError, match=r"invalid g = .*non-decreasing"):
-        eng.set_noise("table", 1.0, 1, u=[0.0, 0.5, 1.0], g=[0.0, 2.0, 1.0])
-    # the chain takes no table
-    with pytest.raises(bk.ParameterError, match=r"noise\.law = 'table'"):
-        bk.noise.check_noise({**table, "u": [0, 1], "g": [1, 1]}, model="chain")
+    # the chain (law in x = 1 - (threshold - phi)) refuses the same tables alike
+    chain_p = bk.Params(gamma=0.3, v=1e-2, dx=0.1)
+    models = {
+        "free boundary": lambda noise: bk.FreeBoundary(p, x, 0.5 + 0 * x, noise=noise),
+        "chain": lambda noise: bk.Chain(10, chain_p, u0=0.5, noise=noise),
+    }
+    for model, build in models.items():
+        for extra, match in bad:
+            with pytest.raises(bk.ParameterError, match=match):
+                build({**table, **extra})
+        # the core refuses the same tables by name (the binding's own check)
+        eng = build(None)._engine
+        with pytest.raises(bk.ParameterError, match=r"invalid u = .*strictly increasing"):
+            eng.set_noise("table", 1.0, 1, u=[0.0, 0.0], g=[1.0, 1.0])
+        with pytest.raises(bk.ParameterError, match=r"invalid g = "):
+            eng.set_noise("table", 1.0, 1, u=[0.0, 1.0], g=[1.0])
+        with pytest.raises(bk.ParameterError, match=r"invalid g = .*non-decreasing"):
+            eng.set_noise("table", 1.0, 1, u=[0.0, 0.5, 1.0], g=[0.0, 2.0, 1.0])
+        assert build({**table, "u": [0.0, 1.0], "g": [1.0, 2.0]}).noise["law"] == "table", model
 
 
 def test_seed_is_drawn_and_recorded_when_not_given():

@@ -366,7 +366,7 @@ CONFIG = {
             choices=("constant", "exponential", "power", "table"),
             doc="free boundary: spontaneous pair nucleation at Lambda(u) = rate g(u); chain: "
             "spontaneous slips of stuck blocks at rate g(x), x = 1 - (threshold - phi); g(1) = 1; "
-            "g = 1, exp(-(1 - u)/phi0), max(u, 0)^exponent, or (free boundary) a table: "
+            "g = 1, exp(-(1 - u)/phi0), max(u, 0)^exponent, or a table: "
             "piecewise linear through (u, g), constant outside, divided by g(1) "
             "(bk.noise, docs/noise.md)",
         ),  # fmt: skip
@@ -380,7 +380,9 @@ CONFIG = {
         ),  # fmt: skip
         Spec("phi0", "real", lo=0.0, lo_open=True, doc="exponential law only: stress scale"),
         Spec("exponent", "real", lo=0.0, doc="power law only: the exponent"),
-        Spec("u", "reals", doc="table law only: the nodes, strictly increasing (stress u)"),
+        Spec(
+            "u", "reals", doc="table law only: the nodes, strictly increasing (stress u; chain: x)"
+        ),
         Spec(
             "g",
             "reals",

@@ -170,7 +170,8 @@ class Chain:
     seed: recorded in the outputs (use it to build u0, e.g. :func:`smooth_random_stress`);
     the noise generator's seed (default with noise: drawn at random and recorded).
     noise: spontaneous slips of stuck blocks, a ``[noise]`` table as a dict: ``law``
-    ("constant", "exponential" with ``phi0``, "power" with ``exponent``), ``rate`` (slips
+    ("constant", "exponential" with ``phi0``, "power" with ``exponent``, "table" with
+    nodes ``u`` and values ``g``, piecewise linear in x), ``rate`` (slips
     per block and unit time at the threshold: each stuck block slips at rate g(x),
     x = 1 - (threshold - phi)), ``kick`` (forward speed over the ground; default 0: a
     release). Their slips and events have kind "noise" (docs/noise.md).

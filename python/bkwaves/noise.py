@@ -5,8 +5,10 @@ density Lambda(u) = rate g(u) with g(1) = 1, so ``rate`` is the rate at the slip
 (per unit length and unit time in the free boundary problem): ``"constant"`` g = 1,
 ``"exponential"`` g = exp(-(1 - u)/phi0) (an activated law), ``"power"`` g = max(u, 0)^exponent,
 ``"table"`` g piecewise linear through nodes ``u`` (strictly increasing) and values ``g``
-(>= 0), constant outside the nodes and divided by its value at u = 1 (free boundary only;
-:func:`bkwaves.noise_stats.calibrated_noise` builds one).
+(>= 0, non-decreasing), constant outside the nodes and divided by its value at u = 1
+(:func:`bkwaves.noise_stats.calibrated_noise` builds one for the free boundary). In the
+chain every law is a function of the block's stress from its threshold, x = 1 - (threshold
+- phi), in place of u.
 :func:`check_noise` validates a ``[noise]`` table, :func:`rate_density` evaluates Lambda(u)
 (the core's laws, ``crates/bkwaves-core/src/noise.rs``, are the ones the engines use).
 
@@ -68,8 +70,6 @@ def check_noise(table, where: str = "noise", model: str = "free_boundary") -> di
     if not isinstance(table, dict):
         V._fail(where, table, "a table with law, rate and the law's parameters")
     law = specs["law"].check(table.get("law"), f"{where}.law")
-    if law == "table" and model != "free_boundary":
-        V._fail(f"{where}.law", law, "constant, exponential or power (table: free boundary only)")
     optional = MODEL_KEYS[model]
     allowed = ("law", "rate", *LAWS[law], *optional)
     for key in table:

@@ -288,9 +288,12 @@ impl ChainEngine {
 
     /// Spontaneous slips of stuck blocks from now on: a Poisson process of rate
     /// rate g(x) per block (law "constant", "exponential" with phi0, "power" with
-    /// exponent; x = 1 - (threshold - phi)), each a forward kick of speed `kick` over the
-    /// ground (0: a release), seeded. A zero rate is no noise.
-    #[pyo3(signature = (law, rate, seed, kick=0.0, phi0=f64::NAN, exponent=f64::NAN))]
+    /// exponent, "table" with nodes u and values g; x = 1 - (threshold - phi)), each a
+    /// forward kick of speed `kick` over the ground (0: a release), seeded. A zero rate is
+    /// no noise.
+    #[pyo3(signature = (law, rate, seed, kick=0.0, phi0=f64::NAN, exponent=f64::NAN,
+                        u=Vec::new(), g=Vec::new()))]
+    #[allow(clippy::too_many_arguments)]
     fn set_noise(
         &mut self,
         law: &str,
@@ -299,8 +302,10 @@ impl ChainEngine {
         kick: f64,
         phi0: f64,
         exponent: f64,
+        u: Vec<f64>,
+        g: Vec<f64>,
     ) -> PyResult<()> {
-        let law = NoiseLaw::new(law, rate, phi0, exponent).map_err(to_py)?;
+        let law = NoiseLaw::with_table(law, rate, phi0, exponent, &u, &g).map_err(to_py)?;
         self.inner.set_noise(law, kick, seed).map_err(to_py)
     }
 

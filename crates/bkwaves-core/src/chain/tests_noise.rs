@@ -63,6 +63,15 @@ fn first_slip_uniforms(law: &NoiseLaw, runs: u64, off: f64) -> Vec<f64> {
     out
 }
 
+/// A table law with a zero stretch, a flat piece, a steep step and kinks where the
+/// ramp's blocks are before their first spontaneous slip (x_i from 0.63-0.78 at the start,
+/// up by 0.02-0.09: every piece from 0.62 to 1 has first slips at rate 0.5).
+fn table_law(rate: f64) -> NoiseLaw {
+    let u = [0.62, 0.7, 0.75, 0.751, 0.8, 1.0];
+    let g = [0.0, 0.1, 0.1, 1.0, 2.0, 2.5];
+    NoiseLaw::with_table("table", rate, f64::NAN, f64::NAN, &u, &g).unwrap()
+}
+
 #[test]
 fn first_spontaneous_slips_on_a_loading_ramp_follow_the_law() {
     // rates such that the first slip comes long before any block reaches its threshold
@@ -70,6 +79,7 @@ fn first_spontaneous_slips_on_a_loading_ramp_follow_the_law() {
         NoiseLaw::new("constant", 0.05, f64::NAN, f64::NAN).unwrap(),
         NoiseLaw::new("exponential", 0.5, 0.1, f64::NAN).unwrap(),
         NoiseLaw::new("power", 0.1, f64::NAN, 3.0).unwrap(),
+        table_law(0.5),
     ] {
         let name = law.law.name();
         let p = ks_uniform(first_slip_uniforms(&law, 2000, 1.0));
@@ -152,12 +162,11 @@ fn spontaneous_slips_during_events_are_poisson_in_the_stuck_blocks() {
     assert!(cand >= kicks);
 }
 
-fn noisy_chain(u0: &[f64], method: integrator::Method) -> Chain<Coulomb> {
+fn noisy_chain(u0: &[f64], method: integrator::Method, law: &NoiseLaw) -> Chain<Coulomb> {
     let fr = Coulomb::new(0.3, 0.5).unwrap();
     let mut ch = Chain::new(cfg(0.2, 1e-2), fr, &Periodic, u0, None).unwrap();
     ch.set_integrator(method).unwrap();
-    let law = NoiseLaw::new("exponential", 0.05, 0.1, f64::NAN).unwrap();
-    ch.set_noise(law, 0.2, 11).unwrap();
+    ch.set_noise(law.clone(), 0.2, 11).unwrap();
     ch.add_trigger(Trigger {
         t: 5.0,
         block: 3,
@@ -174,13 +183,21 @@ fn a_noisy_chain_restored_from_a_checkpoint_continues_bit_for_bit() {
     let u0: Vec<f64> = (0..60)
         .map(|i| 0.5 + 0.3 * (i as f64 * 0.37).sin())
         .collect();
-    for method in [Method::Rk4, Method::Midpoint] {
-        let mut whole = noisy_chain(&u0, method);
+    let laws = [
+        NoiseLaw::new("exponential", 0.05, 0.1, f64::NAN).unwrap(),
+        table_law(0.05),
+    ];
+    for (law, method) in laws
+        .iter()
+        .flat_map(|l| [(l, Method::Rk4), (l, Method::Midpoint)])
+    {
+        let name = law.law.name();
+        let mut whole = noisy_chain(&u0, method, law);
         whole.run(150.0, usize::MAX, u64::MAX).unwrap();
         let (_, kicks) = whole.noise_counters().unwrap();
-        assert!(kicks >= 5, "{kicks} spontaneous slips");
+        assert!(kicks >= 5, "{name}: {kicks} spontaneous slips");
         // stop on the step budget (mid-event) several times, save, restore elsewhere
-        let mut part = noisy_chain(&u0, method);
+        let mut part = noisy_chain(&u0, method, law);
         let mut restarts = 0;
         loop {
             let stop = part.run(150.0, usize::MAX, 333).unwrap();
@@ -188,7 +205,7 @@ fn a_noisy_chain_restored_from_a_checkpoint_continues_bit_for_bit() {
                 break;
             }
             let bytes = part.checkpoint();
-            let mut other = noisy_chain(&[0.0; 60], method);
+            let mut other = noisy_chain(&[0.0; 60], method, law);
             other.restore(&bytes).unwrap();
             assert!(
                 other.checkpoint() == bytes,
@@ -198,10 +215,10 @@ fn a_noisy_chain_restored_from_a_checkpoint_continues_bit_for_bit() {
             restarts += 1;
         }
         assert!(restarts > 3);
-        assert!(whole.u() == part.u(), "{method:?}: u differs");
+        assert!(whole.u() == part.u(), "{name} {method:?}: u differs");
         assert!(
             whole.checkpoint() == part.checkpoint(),
-            "{method:?}: states differ"
+            "{name} {method:?}: states differ"
         );
         let spont = |c: &Chain<Coulomb>| {
             c.catalog
@@ -210,17 +227,22 @@ fn a_noisy_chain_restored_from_a_checkpoint_continues_bit_for_bit() {
                 .filter(|e| e.kind == Cause::Source(1))
                 .count()
         };
-        assert!(spont(&whole) >= 3);
-        // another seed differs; a noiseless chain refuses the noisy checkpoint
+        assert!(spont(&whole) >= 3, "{name}");
+        // another seed differs; a noiseless chain, or one with another law (a table
+        // with other values), refuses the noisy checkpoint
         let fr = Coulomb::new(0.3, 0.5).unwrap();
         let mut plain = Chain::new(cfg(0.2, 1e-2), fr, &Periodic, &u0, None).unwrap();
         plain.set_integrator(method).unwrap();
         assert!(plain.restore(&whole.checkpoint()).is_err());
-        let mut other = noisy_chain(&u0, method);
-        let law = NoiseLaw::new("exponential", 0.05, 0.1, f64::NAN).unwrap();
-        other.set_noise(law, 0.2, 12).unwrap();
+        let other_table =
+            NoiseLaw::with_table("table", 0.05, f64::NAN, f64::NAN, &[0.25, 1.0], &[0.0, 1.0])
+                .unwrap();
+        let mut another_law = noisy_chain(&u0, method, &other_table);
+        assert!(another_law.restore(&whole.checkpoint()).is_err(), "{name}");
+        let mut other = noisy_chain(&u0, method, law);
+        other.set_noise(law.clone(), 0.2, 12).unwrap();
         other.run(150.0, usize::MAX, u64::MAX).unwrap();
-        assert!(other.u() != whole.u());
+        assert!(other.u() != whole.u(), "{name}");
     }
 }
 

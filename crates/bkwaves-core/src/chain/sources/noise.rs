@@ -5,8 +5,9 @@
 //! lambda(x_i) = rate g(x_i), where x_i = 1 - (theta_i - phi_i) is its stress measured
 //! from its slip threshold (x_i = phi_i for the paper's threshold 1; the distance to the
 //! threshold is 1 - x_i) and g is one of the free boundary's laws
-//! ([`crate::noise::RateLaw`]: constant, exponential exp(-(1 - x)/phi0), power x^k), with
-//! g(1) = 1. A spontaneous slip is a forward kick of speed `kick` over the ground
+//! ([`crate::noise::RateLaw`]: constant, exponential exp(-(1 - x)/phi0), power x^k, a
+//! piecewise-linear table), with g(1) = 1. Both bounds below need g non-decreasing, which
+//! every law is (the table is refused otherwise). A spontaneous slip is a forward kick of speed `kick` over the ground
 //! (u_t -= kick), or with kick = 0 a release (the block starts sliding from rest).
 //!
 //! Times are exact, drawn by thinning a bounding process, never by stepping:
