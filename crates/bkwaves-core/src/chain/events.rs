@@ -71,12 +71,22 @@ impl Hermite {
     /// The first s in (0, 1] where the interpolant reaches g >= 0, the function being
     /// inside (g < 0, or g = 0 and decreasing) at s = 0. Returns the smallest s (to the
     /// last bit) at which the interpolant is >= 0.
+    ///
+    /// The cheap rejection is inlined into the caller (most calls end there: a stuck
+    /// neighbour far from its threshold); the root search is not.
+    #[inline(always)]
     pub fn first_crossing(&self, h: f64) -> Option<f64> {
         // cheap rejection: |h10|, |h11| <= 4/27 on [0, 1]
         let bound = self.g0.max(self.g1) + EXTREMUM_BOUND * h * (self.m0.abs() + self.m1.abs());
         if bound < 0.0 {
             return None;
         }
+        self.root_search(h)
+    }
+
+    /// [`Hermite::first_crossing`] past its cheap rejection.
+    #[inline(never)]
+    fn root_search(&self, h: f64) -> Option<f64> {
         let c = self.coefficients(h);
         let q = |s: f64| ((c[3] * s + c[2]) * s + c[1]) * s + c[0];
         // critical points: 3 c3 s^2 + 2 c2 s + c1 = 0

@@ -216,6 +216,22 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     event_slip_limit: usize,
     event_duration_limit: f64,
     chunk_work: u64,
+    /// Work lists reused from step to step (not part of the state).
+    scratch: Scratch,
+}
+
+/// Lists the step loop fills and empties again every step: kept so that no step
+/// allocates.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    /// Blocks of a run that may come to rest in the step.
+    cands: Vec<usize>,
+    /// The events at the earliest located time: (block, 0 rest / +1, -1 slip).
+    who: Vec<(usize, i8)>,
+    /// Settling: blocks to test, blocks back at rest, blocks that changed.
+    test: Vec<usize>,
+    rest: Vec<usize>,
+    changed: Vec<usize>,
 }
 
 impl<F: Friction> Chain<F, Uniform> {
@@ -354,6 +370,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             event_slip_limit: usize::MAX,
             event_duration_limit: f64::INFINITY,
             chunk_work: u64::MAX,
+            scratch: Scratch::default(),
             st,
         };
         for p in 1..=n {
@@ -652,10 +669,12 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     detail: format!("switches did not settle at t = {t}"),
                 });
             }
-            let mut changed: Vec<usize> = Vec::new();
+            let mut changed = std::mem::take(&mut self.scratch.changed);
+            changed.clear();
             // stuck blocks over a threshold: all of them on a full check, else the
             // neighbours of the runs
-            let mut cands: Vec<usize> = Vec::new();
+            let mut cands = std::mem::take(&mut self.scratch.test);
+            cands.clear();
             if self.full_check {
                 cands.extend((1..=self.st.n).filter(|&p| !self.st.sliding(p)));
             } else {
@@ -669,7 +688,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     }
                 }
             }
-            for p in cands {
+            for &p in &cands {
                 if self.st.sliding(p) {
                     continue;
                 }
@@ -682,8 +701,10 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     changed.push(p);
                 }
             }
+            self.scratch.test = cands;
             // sliding blocks back at rest
-            let mut rest: Vec<usize> = Vec::new();
+            let mut rest = std::mem::take(&mut self.scratch.rest);
+            rest.clear();
             for &(a, b) in &self.st.runs {
                 for p in a..b {
                     let g = self.st.dir[p] * (self.st.w[p] - self.cfg.v);
@@ -692,17 +713,20 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     }
                 }
             }
-            for p in rest {
+            for &p in &rest {
                 if self.st.sliding(p) && self.on_rest(p) {
                     changed.push(p);
                 }
             }
+            self.scratch.rest = rest;
             self.full_check = false;
-            if changed.is_empty() {
-                break;
-            }
-            for p in changed {
+            let done = changed.is_empty();
+            for &p in &changed {
                 self.refresh_around(p);
+            }
+            self.scratch.changed = changed;
+            if done {
+                break;
             }
         }
         if self.st.n_active == 0 {
@@ -778,12 +802,13 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
     }
 
-    /// Earliest event in the step just taken: (s in (0, 1], block).
-    fn detect(&self, t0: f64, h: f64) -> Option<(f64, Vec<(usize, i8)>)> {
+    /// Earliest event in the step just taken: its s in (0, 1] (infinity if none), the
+    /// events at that s left in `who` (`cands` is a work list).
+    fn detect(&self, t0: f64, h: f64, cands: &mut Vec<usize>, who: &mut Vec<(usize, i8)>) -> f64 {
         let v = self.cfg.v;
         let t1 = t0 + h;
         let mut best = f64::INFINITY;
-        let mut who: Vec<(usize, i8)> = Vec::new();
+        who.clear();
         let consider =
             |s: Option<f64>, p: (usize, i8), best: &mut f64, who: &mut Vec<(usize, i8)>| {
                 if let Some(s) = s {
@@ -796,7 +821,6 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     }
                 }
             };
-        let mut cands: Vec<usize> = Vec::new();
         for &(a, b) in &self.st.runs {
             // the blocks that may come to rest in the step (a vectorised cheap test)
             cands.clear();
@@ -808,9 +832,9 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 &self.a_end[a..b],
                 v,
                 h,
-                &mut cands,
+                cands,
             );
-            for &i in &cands {
+            for &i in cands.iter() {
                 let p = a + i;
                 let d = self.st.dir[p];
                 let g = Hermite {
@@ -819,7 +843,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     g1: d * (self.st.w[p] - v),
                     m1: d * self.a_end[p],
                 };
-                consider(g.first_crossing(h), (p, 0), &mut best, &mut who);
+                consider(g.first_crossing(h), (p, 0), &mut best, who);
             }
             for q in [a - 1, b] {
                 let Some(p) = self.st.resolve(q) else {
@@ -842,17 +866,20 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     g1: phi.g1 - hi,
                     m1: phi.m1,
                 };
-                consider(fwd.first_crossing(h), (p, 1), &mut best, &mut who);
+                consider(fwd.first_crossing(h), (p, 1), &mut best, who);
                 let bwd = Hermite {
                     g0: lo - phi.g0,
                     m0: -phi.m0,
                     g1: lo - phi.g1,
                     m1: -phi.m1,
                 };
-                consider(bwd.first_crossing(h), (p, -1), &mut best, &mut who);
+                consider(bwd.first_crossing(h), (p, -1), &mut best, who);
             }
         }
-        best.is_finite().then_some((best, who))
+        if !best.is_finite() {
+            who.clear();
+        }
+        best
     }
 
     /// Snapshots due in (t0, t0 + h] from the dense output of the last step.
@@ -1089,18 +1116,21 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
         let mut h = self.h.min(t_cap - t0);
         self.do_step(t0, h);
-        let mut events: Vec<(usize, i8)> = Vec::new();
-        if let Some((s, who)) = self.detect(t0, h) {
-            if s < 1.0 {
-                // redo the step up to the event
-                for &(a, b) in &self.st.runs {
-                    self.st.u[a..b].copy_from_slice(&self.u0[a..b]);
-                    self.st.w[a..b].copy_from_slice(&self.w0[a..b]);
-                }
-                h *= s;
-                self.do_step(t0, h);
+        let (mut cands, mut events) = (
+            std::mem::take(&mut self.scratch.cands),
+            std::mem::take(&mut self.scratch.who),
+        );
+        let s = self.detect(t0, h, &mut cands, &mut events);
+        self.scratch.cands = cands;
+        // (s = infinity: no event in the step; s = 1: at its end, nothing to redo)
+        if s < 1.0 {
+            // redo the step up to the event
+            for &(a, b) in &self.st.runs {
+                self.st.u[a..b].copy_from_slice(&self.u0[a..b]);
+                self.st.w[a..b].copy_from_slice(&self.w0[a..b]);
             }
-            events = who;
+            h *= s;
+            self.do_step(t0, h);
         }
         // the energy flows of the step taken, once (not in the stages, not for a redo)
         let integ = self.rk.books(&self.st, h);
@@ -1129,7 +1159,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         std::mem::swap(&mut self.a_start, &mut self.a_end);
         self.a_valid = true;
         if !events.is_empty() {
-            for (p, kind) in events {
+            for &(p, kind) in &events {
                 if kind == 0 {
                     if self.st.sliding(p) {
                         self.on_rest(p);
@@ -1141,6 +1171,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             }
             self.need_check = true;
         }
+        self.scratch.who = events;
         Ok(())
     }
 

@@ -126,6 +126,7 @@ pub(crate) fn accel_only_at_state<F: Friction, M: Medium>(
 /// Fill the stage displacement of the neighbours of every run (stuck blocks by their
 /// exact drift, ghosts by the boundary) at stage time ts. Sliding values in `su` must
 /// already be set.
+#[inline(always)]
 pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
     let n = st.n;
     for &(a, b) in &st.runs {
