@@ -14,6 +14,9 @@
 //! other jobs).
 //!
 //! cargo run --release -- [--repeat R] [--json FILE]
+//!
+//! `--engine-only front|loading R`: only that engine run, R times, and its CPU times (no
+//! reference: for a sampling profile of the engine, `perf record -g`).
 
 mod reference;
 
@@ -54,17 +57,29 @@ use reference::Reference;
 use std::path::PathBuf;
 use std::process::Command;
 
+/// Which code the Rust reference runs.
+#[derive(Clone, Copy)]
+enum Code {
+    Baseline,
+    Avx2,
+    Avx512,
+}
+
 /// Updates per second of the Rust reference over n blocks (about `work` updates).
-fn rust_reference(n: usize, dx: f64, gamma: f64, work: f64, avx2: bool) -> (f64, f64) {
+fn rust_reference(n: usize, dx: f64, gamma: f64, work: f64, code: Code) -> (f64, f64) {
     let steps = (work / n as f64).ceil() as u64;
     let mut r = Reference::new(n, dx, gamma, 0.05);
     r.run(10); // warm the caches
     let mut r = Reference::new(n, dx, gamma, 0.05);
     let t = Cpu::start();
-    if avx2 {
-        r.run(steps);
-    } else {
-        r.run_baseline(steps);
+    match code {
+        Code::Baseline => r.run_baseline(steps),
+        Code::Avx2 => r.run(steps),
+        Code::Avx512 => {
+            if r.run_avx512(steps).is_none() {
+                return (0.0, f64::NAN);
+            }
+        }
     }
     let s = t.elapsed();
     ((n as u64 * steps) as f64 / s, r.checksum())
@@ -171,6 +186,11 @@ fn engine_loading(n: usize, dx: f64, gamma: f64, v: f64, events: usize) -> Engin
     }
 }
 
+/// The front: (u_+, gamma, dx, blocks).
+const FRONT: (f64, f64, f64, usize) = (0.6, 0.45, 0.00625, 4000);
+/// The loading run: (blocks, dx, gamma, v, events).
+const LOAD: (usize, f64, f64, f64, usize) = (2000, 0.05, 0.3, 1e-4, 30);
+
 fn stats(x: &[f64]) -> (f64, f64, f64) {
     let mut s = x.to_vec();
     s.sort_by(f64::total_cmp);
@@ -188,11 +208,26 @@ fn main() {
                 repeat = args[k + 1].parse().expect("--repeat N");
                 k += 1;
             }
+            "--engine-only" => {
+                let which = args[k + 1].as_str();
+                let r: usize = args[k + 2].parse().expect("--engine-only front|loading R");
+                for _ in 0..r {
+                    let run = match which {
+                        "front" => engine_front(FRONT.0, FRONT.1, FRONT.2, FRONT.3),
+                        "loading" => engine_loading(LOAD.0, LOAD.1, LOAD.2, LOAD.3, LOAD.4),
+                        _ => panic!("--engine-only front|loading R"),
+                    };
+                    println!("{which}: {:.4} s", run.seconds);
+                }
+                return;
+            }
             "--json" => {
                 json = Some(args[k + 1].clone());
                 k += 1;
             }
-            a => panic!("unknown argument {a} (--repeat N, --json FILE)"),
+            a => panic!(
+                "unknown argument {a} (--repeat N, --json FILE, --engine-only front|loading R)"
+            ),
         }
         k += 1;
     }
@@ -203,8 +238,8 @@ fn main() {
         "reference_c_nofma",
     );
     let work = 1.5e8; // block updates per reference measurement
-    let (front_u, front_gamma, front_dx, front_n) = (0.6, 0.45, 0.00625, 4000);
-    let (load_n, load_dx, load_gamma, load_v, load_events) = (2000, 0.05, 0.3, 1e-4, 30);
+    let (front_u, front_gamma, front_dx, front_n) = FRONT;
+    let (load_n, load_dx, load_gamma, load_v, load_events) = LOAD;
     println!(
         "machine: {} cores; load average: {}",
         std::thread::available_parallelism().map_or(0, |n| n.get()),
@@ -212,28 +247,34 @@ fn main() {
             .unwrap_or_default()
             .trim()
     );
-    let mut rows: Vec<[f64; 10]> = Vec::new();
+    let mut rows: Vec<[f64; 12]> = Vec::new();
     for round in 0..repeat {
         let front = engine_front(front_u, front_gamma, front_dx, front_n);
         let load = engine_loading(load_n, load_dx, load_gamma, load_v, load_events);
         let nf = front.mean_sliding().max(1);
         let nl = load.mean_sliding().max(1);
-        let (rs_f, chk_rs) = rust_reference(nf, front_dx, front_gamma, work, false);
-        let (ra_f, chk_ra) = rust_reference(nf, front_dx, front_gamma, work, true);
+        let (rs_f, chk_rs) = rust_reference(nf, front_dx, front_gamma, work, Code::Baseline);
+        let (ra_f, chk_ra) = rust_reference(nf, front_dx, front_gamma, work, Code::Avx2);
+        let (r5_f, chk_r5) = rust_reference(nf, front_dx, front_gamma, work, Code::Avx512);
         let (c_f, _) = c_reference(&c_fast, nf, front_dx, front_gamma, work);
         let (_, chk_c) = c_reference(&c_exact, nf, front_dx, front_gamma, 1e6);
-        let (_, chk_r1) = rust_reference(nf, front_dx, front_gamma, 1e6, true);
-        assert_eq!(chk_rs, chk_ra, "the two Rust paths differ");
+        let (_, chk_r1) = rust_reference(nf, front_dx, front_gamma, 1e6, Code::Avx2);
+        assert_eq!(chk_rs, chk_ra, "the Rust baseline and AVX2 paths differ");
+        assert!(
+            chk_r5.is_nan() || chk_r5 == chk_rs,
+            "the Rust baseline and AVX-512 paths differ"
+        );
         assert_eq!(chk_c, chk_r1, "Rust and C (no contraction) differ");
-        let best_f = rs_f.max(ra_f).max(c_f);
-        let (rs_l, _) = rust_reference(nl, load_dx, load_gamma, work, false);
-        let (ra_l, _) = rust_reference(nl, load_dx, load_gamma, work, true);
+        let best_f = rs_f.max(ra_f).max(r5_f).max(c_f);
+        let (rs_l, _) = rust_reference(nl, load_dx, load_gamma, work, Code::Baseline);
+        let (ra_l, _) = rust_reference(nl, load_dx, load_gamma, work, Code::Avx2);
+        let (r5_l, _) = rust_reference(nl, load_dx, load_gamma, work, Code::Avx512);
         let (c_l, _) = c_reference(&c_fast, nl, load_dx, load_gamma, work);
-        let best_l = rs_l.max(ra_l).max(c_l);
+        let best_l = rs_l.max(ra_l).max(r5_l).max(c_l);
         println!(
             "round {round}: front: {nf} sliding on average, {} steps, {} switches, engine \
-             {:.3e}/s ({:.3} s); reference Rust sse2 {rs_f:.3e}, Rust avx2 {ra_f:.3e}, C \
-             -O3 -march=native {c_f:.3e}; engine/best {:.3}",
+             {:.3e}/s ({:.3} s); reference Rust sse2 {rs_f:.3e}, Rust avx2 {ra_f:.3e}, Rust \
+             avx512 {r5_f:.3e}, C -O3 -march=native {c_f:.3e}; engine/best {:.3}",
             front.steps,
             front.switches,
             front.rate(),
@@ -242,8 +283,8 @@ fn main() {
         );
         println!(
             "round {round}: loading: {nl} sliding on average, {} steps, {} switches, engine \
-             {:.3e}/s ({:.3} s); reference Rust sse2 {rs_l:.3e}, Rust avx2 {ra_l:.3e}, C \
-             {c_l:.3e}; engine/best {:.3}",
+             {:.3e}/s ({:.3} s); reference Rust sse2 {rs_l:.3e}, Rust avx2 {ra_l:.3e}, Rust \
+             avx512 {r5_l:.3e}, C {c_l:.3e}; engine/best {:.3}",
             load.steps,
             load.switches,
             load.rate(),
@@ -254,11 +295,13 @@ fn main() {
             front.rate(),
             rs_f,
             ra_f,
+            r5_f,
             c_f,
             front.rate() / best_f,
             load.rate(),
             rs_l,
             ra_l,
+            r5_l,
             c_l,
             load.rate() / best_l,
         ]);
@@ -267,11 +310,13 @@ fn main() {
         "front_engine_updates_per_s",
         "front_reference_rust_sse2",
         "front_reference_rust_avx2",
+        "front_reference_rust_avx512",
         "front_reference_c",
         "front_engine_over_best_reference",
         "loading_engine_updates_per_s",
         "loading_reference_rust_sse2",
         "loading_reference_rust_avx2",
+        "loading_reference_rust_avx512",
         "loading_reference_c",
         "loading_engine_over_best_reference",
     ];
@@ -288,9 +333,11 @@ fn main() {
         stats(&col)
     };
     for (label, a, b) in [
-        ("front: Rust avx2 / C", 2, 3),
-        ("front: Rust sse2 / C", 1, 3),
-        ("loading: Rust avx2 / C", 7, 8),
+        ("front: Rust avx512 / C", 3, 4),
+        ("front: Rust avx2 / C", 2, 4),
+        ("front: Rust sse2 / C", 1, 4),
+        ("loading: Rust avx512 / C", 9, 10),
+        ("loading: Rust avx2 / C", 8, 10),
     ] {
         let (m, lo, hi) = ratio(a, b);
         println!("  {label}: {m:.3} [{lo:.3}, {hi:.3}]");

@@ -101,6 +101,24 @@ impl Reference {
         self.steps_body(steps)
     }
 
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn steps_avx512(&mut self, steps: u64) {
+        self.steps_body(steps)
+    }
+
+    /// Advance `steps` RK4 steps with AVX-512 code (None when the CPU has none).
+    pub fn run_avx512(&mut self, steps: u64) -> Option<()> {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the feature was detected on this CPU.
+            unsafe { self.steps_avx512(steps) };
+            return Some(());
+        }
+        let _ = steps;
+        None
+    }
+
     /// Advance `steps` RK4 steps (AVX2 code where the CPU has it: Rust never fuses a
     /// multiply and an add, so both paths give the same bits).
     pub fn run(&mut self, steps: u64) {

@@ -7,6 +7,7 @@
 //! exactly: the cubic is split into monotone pieces at the roots of its derivative and
 //! the sign change is bisected to the last bit.
 
+use super::integrator::Simd;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -202,19 +203,53 @@ pub fn rest_candidates(
     h: f64,
     out: &mut Vec<usize>,
 ) {
-    #[cfg(target_arch = "x86_64")]
-    if crate::chain::integrator::rk4::has_avx2() {
-        // SAFETY: AVX2 was detected on this CPU.
-        unsafe { rest_candidates_avx2(dir, w0, w1, a0, a1, v, h, out) };
-        return;
+    rest_candidates_with(Simd::detect(), dir, w0, w1, a0, a1, v, h, out)
+}
+
+/// [`rest_candidates`] with the given vector code, which must be one this CPU runs
+/// ([`Simd::detect`] or one of [`Simd::available`]).
+#[allow(clippy::too_many_arguments)]
+fn rest_candidates_with(
+    simd: Simd,
+    dir: &[f64],
+    w0: &[f64],
+    w1: &[f64],
+    a0: &[f64],
+    a1: &[f64],
+    v: f64,
+    h: f64,
+    out: &mut Vec<usize>,
+) {
+    match simd {
+        // SAFETY (both): `simd` is a code this CPU runs.
+        #[cfg(target_arch = "x86_64")]
+        Simd::Avx512 => unsafe { rest_candidates_avx512(dir, w0, w1, a0, a1, v, h, out) },
+        #[cfg(target_arch = "x86_64")]
+        Simd::Avx2 => unsafe { rest_candidates_avx2(dir, w0, w1, a0, a1, v, h, out) },
+        _ => rest_candidates_body(dir, w0, w1, a0, a1, v, h, out),
     }
-    rest_candidates_body(dir, w0, w1, a0, a1, v, h, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
 unsafe fn rest_candidates_avx2(
+    dir: &[f64],
+    w0: &[f64],
+    w1: &[f64],
+    a0: &[f64],
+    a1: &[f64],
+    v: f64,
+    h: f64,
+    out: &mut Vec<usize>,
+) {
+    rest_candidates_body(dir, w0, w1, a0, a1, v, h, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn rest_candidates_avx512(
     dir: &[f64],
     w0: &[f64],
     w1: &[f64],
@@ -512,6 +547,12 @@ mod tests {
         let mut out = Vec::new();
         let [d, w0, w1, a0, a1] = &cols;
         rest_candidates(d, w0, w1, a0, a1, v, h, &mut out);
+        // every vector code this CPU runs keeps the same candidates
+        for simd in Simd::available() {
+            let mut other = Vec::new();
+            rest_candidates_with(simd, d, w0, w1, a0, a1, v, h, &mut other);
+            assert_eq!(other, out, "{simd:?}");
+        }
         let mut found = 0;
         for i in 0..n {
             let g = Hermite {

@@ -215,6 +215,46 @@ pub(crate) fn lane_sum(x: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
+/// The vector code the kernels run (the step, the accelerations, the books, the rest
+/// pre-test): on x86-64, code compiled for AVX2 or AVX-512F when the CPU has it, chosen
+/// at run time. Rust never fuses a multiply and an add (no FMA), so every choice gives
+/// the same bits (tested), and the engine's results do not depend on the CPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Simd {
+    /// Baseline code (SSE2 on x86-64).
+    Baseline,
+    /// AVX2 code (256-bit registers).
+    Avx2,
+    /// AVX-512F code (512-bit registers).
+    Avx512,
+}
+
+impl Simd {
+    /// The widest code this CPU runs (std caches the detection: a load and a test).
+    #[inline]
+    pub fn detect() -> Simd {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx512f") {
+                return Simd::Avx512;
+            }
+            if std::is_x86_feature_detected!("avx2") {
+                return Simd::Avx2;
+            }
+        }
+        Simd::Baseline
+    }
+
+    /// Every code this CPU runs, baseline first (for the bit-for-bit tests).
+    pub fn available() -> Vec<Simd> {
+        let best = Simd::detect();
+        [Simd::Baseline, Simd::Avx2, Simd::Avx512]
+            .into_iter()
+            .filter(|&s| s as u8 <= best as u8)
+            .collect()
+    }
+}
+
 /// The integrators by name (the registry).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Method {

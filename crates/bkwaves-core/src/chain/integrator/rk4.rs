@@ -3,12 +3,13 @@
 //! Each stage is one pass per run that evaluates the right-hand side at the stage values
 //! and, in the same loop, adds it to the RK4 sums and writes the next stage's values into
 //! a second buffer (two stage buffers, used in turn): no per-block branch and no
-//! reduction, so the compiler vectorises it. On x86-64 CPUs with AVX2 the step and the
-//! accelerations run as AVX2 code (detected at run time; Rust never fuses a multiply and
-//! an add, so both paths give the same bits).
+//! reduction, so the compiler vectorises it. On x86-64 CPUs with AVX2 or AVX-512F the
+//! step, the accelerations and the books run as code compiled for them ([`Simd`],
+//! detected at run time; Rust never fuses a multiply and an add, so every path gives the
+//! same bits).
 
 use super::{
-    accel_at_state, accel_only_at_state, fill_neighbours, lane_sum, Integrator, StageSums,
+    accel_at_state, accel_only_at_state, fill_neighbours, lane_sum, Integrator, Simd, StageSums,
     StepIntegrals,
 };
 use crate::chain::medium::{Blocks, Medium};
@@ -16,7 +17,7 @@ use crate::chain::state::State;
 use crate::friction::Friction;
 
 /// Classical fourth-order Runge-Kutta.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct Rk4 {
     su: Vec<f64>,
     sw: Vec<f64>,
@@ -32,6 +33,8 @@ pub struct Rk4 {
     /// Which of (bu, bd) the last step kept: the loader term is skipped at v = 0 (no
     /// loader work), the dry power for a law whose dry power is 0 (beta-free Coulomb).
     kept: (bool, bool),
+    /// The vector code the kernels run (the widest this CPU has).
+    simd: Simd,
 }
 
 impl Rk4 {
@@ -48,15 +51,9 @@ impl Rk4 {
             bd: vec![0.0; n + 2],
             bv: vec![0.0; n + 2],
             kept: (true, true),
+            simd: Simd::detect(),
         }
     }
-}
-
-/// True when the CPU runs AVX2 code.
-#[inline]
-#[cfg(target_arch = "x86_64")]
-pub(crate) fn has_avx2() -> bool {
-    std::is_x86_feature_detected!("avx2")
 }
 
 /// One RK4 stage over every run: the right-hand side at the stage values (cu, cw; the
@@ -191,6 +188,7 @@ impl Rk4 {
             bd,
             bv,
             kept,
+            simd: _,
         } = self;
         *kept = (LOAD, DRY);
         let v = st.v;
@@ -265,6 +263,22 @@ impl Rk4 {
         self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0)
     }
 
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn step_avx512<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
+        &mut self,
+        st: &mut State,
+        fr: &Blocks<F, M>,
+        t0: f64,
+        h: f64,
+        a0: &[f64],
+        u0: &mut [f64],
+        w0: &mut [f64],
+    ) {
+        self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0)
+    }
+
     /// The step with the books it needs: (loader term, dry power) kept or not.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
@@ -278,13 +292,17 @@ impl Rk4 {
         u0: &mut [f64],
         w0: &mut [f64],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if has_avx2() {
-            // SAFETY: AVX2 was detected on this CPU.
-            unsafe { self.step_avx2::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0) };
-            return;
+        match self.simd {
+            // SAFETY (both): `simd` is a code this CPU runs (Simd::detect, or a test's
+            // choice among Simd::available).
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx512 => unsafe {
+                self.step_avx512::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0)
+            },
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx2 => unsafe { self.step_avx2::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0) },
+            _ => self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0),
         }
-        self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -300,8 +318,26 @@ impl Rk4 {
     }
 
     #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn accel_avx512<F: Friction, M: Medium>(
+        &mut self,
+        st: &State,
+        fr: &Blocks<F, M>,
+        t: f64,
+        acc: &mut [f64],
+    ) {
+        accel_only_at_state(st, fr, &mut self.su, t, acc)
+    }
+
+    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn books_avx2(&mut self, st: &State, h: f64) -> StepIntegrals {
+        self.books_body(st, h)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn books_avx512(&mut self, st: &State, h: f64) -> StepIntegrals {
         self.books_body(st, h)
     }
 
@@ -354,13 +390,14 @@ impl Integrator for Rk4 {
         t: f64,
         acc: &mut [f64],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if has_avx2() {
-            // SAFETY: AVX2 was detected on this CPU.
-            unsafe { self.accel_avx2(st, fr, t, acc) };
-            return;
+        match self.simd {
+            // SAFETY (both): `simd` is a code this CPU runs.
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx512 => unsafe { self.accel_avx512(st, fr, t, acc) },
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx2 => unsafe { self.accel_avx2(st, fr, t, acc) },
+            _ => accel_only_at_state(st, fr, &mut self.su, t, acc),
         }
-        accel_only_at_state(st, fr, &mut self.su, t, acc)
     }
 
     fn step<F: Friction, M: Medium>(
@@ -383,16 +420,18 @@ impl Integrator for Rk4 {
     }
 
     fn books(&mut self, st: &State, h: f64) -> StepIntegrals {
-        #[cfg(target_arch = "x86_64")]
-        if has_avx2() {
-            // SAFETY: AVX2 was detected on this CPU.
-            return unsafe { self.books_avx2(st, h) };
+        match self.simd {
+            // SAFETY (both): `simd` is a code this CPU runs.
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx512 => unsafe { self.books_avx512(st, h) },
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx2 => unsafe { self.books_avx2(st, h) },
+            _ => self.books_body(st, h),
         }
-        self.books_body(st, h)
     }
 }
 
-#[cfg(all(test, target_arch = "x86_64"))]
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::boundary::Ghost;
@@ -400,8 +439,10 @@ mod tests {
     use crate::friction::Coulomb;
 
     #[test]
-    fn the_avx2_step_is_the_baseline_step_bit_for_bit() {
-        // two runs of sliding blocks (one backward) between stuck ones, on a ring
+    fn every_vector_code_gives_the_baseline_step_bit_for_bit() {
+        // two runs of sliding blocks (one backward) between stuck ones, on a ring; the
+        // step, the end accelerations and the books with each code this CPU runs
+        // (baseline, AVX2, AVX-512F) give the same bits
         let n = 40;
         let u0: Vec<f64> = (0..n).map(|i| 0.5 + 0.1 * (0.3 * i as f64).sin()).collect();
         let mut st = State::new(&u0, 0.01, 0.1, Ghost::Wrap, Ghost::Wrap);
@@ -415,29 +456,26 @@ mod tests {
             fr: Coulomb::new(0.3, 0.5).unwrap(),
             med: Uniform,
         };
-        let run = |avx2: bool| {
+        let run = |simd: Simd| {
             let mut st = st.clone();
             let mut rk = Rk4::new(n);
+            rk.simd = simd;
             let (mut a0, mut u0, mut w0) = (vec![0.0; n + 2], vec![0.0; n + 2], vec![0.0; n + 2]);
-            let mut books = Vec::new();
+            let mut out = Vec::new();
             for k in 0..50 {
                 let t0 = 0.005 * k as f64;
                 rk.accel_only(&mut st, &fr, t0, &mut a0);
-                if avx2 {
-                    rk.step(&mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0);
-                    books.push(rk.books(&st, 0.005));
-                } else {
-                    rk.step_body::<_, _, true, true>(
-                        &mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0,
-                    );
-                    books.push(rk.books_body(&st, 0.005));
-                }
+                rk.step(&mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0);
+                out.push((rk.books(&st, 0.005), a0.clone()));
             }
-            (st.u, st.w, books)
+            (st.u, st.w, out)
         };
-        if !has_avx2() {
-            return;
+        let codes = Simd::available();
+        assert_eq!(codes[0], Simd::Baseline);
+        assert_eq!(codes.last(), Some(&Simd::detect()));
+        let baseline = run(Simd::Baseline);
+        for &simd in &codes[1..] {
+            assert_eq!(run(simd), baseline, "{simd:?}");
         }
-        assert_eq!(run(true), run(false));
     }
 }
