@@ -125,3 +125,37 @@ def test_chain_ruptures_splits_an_event_at_the_fronts_meeting_points():
     assert math.isclose(rup.moment.sum(), res.catalog.moment.sum(), rel_tol=1e-12)
     with pytest.raises(bk.ParameterError, match="boundary"):
         ns.chain_ruptures(res, "ring")
+
+
+def test_a_law_steeper_than_the_lattice_patterns_nucleates_the_chain_at_them():
+    """A rate that steps from 0 to its full value over 1e-4 in phi at 0.95: the free
+    boundary nucleates at u = 0.95 exactly, several pairs per loading (sizes of all
+    kinds); the chain nucleates where the kick that started the last rupture left a
+    lattice-scale pattern (phi - u ~ 0.02, 4-5 length units from that kick), at a
+    background ~0.02 lower, one ring-wide rupture per loading. The disagreement is the
+    chain's phi != u at the scale of the law, not a calibration error."""
+    step, rate, t_end = 0.95, 2.8e-3, 1e6
+    chain_noise = {
+        "law": "table",
+        "rate": rate,
+        "u": [step, step + 1e-4],
+        "g": [0.0, 1.0],
+        "kick": 0.5,
+    }
+    ch = bk.Chain(N, P, "periodic", np.full(N, 0.9), noise=chain_noise, seed=1)
+    res = ch.run(t_end=t_end, progress=False, max_event_duration=1e9)
+    per = ns.chain_ruptures(res, "periodic")
+    fb_noise = ns.calibrated_noise(chain_noise, DX, GAMMA)
+    x = np.arange(200) * 0.1
+    fb = bk.FreeBoundary(P, x, np.full(x.size, 0.9), "periodic", noise=fb_noise, seed=2)
+    fb_result = fb.run(t_end=t_end)
+    rup = ns.ruptures(fb_result)
+    assert len(fb_result.events) >= 10 and len(rup) > 1.2 * len(fb_result.events)
+    assert np.all(np.abs(rup.u_start - step) <= 1e-4)
+    per = per[per.event >= 1]  # after the first loading, which starts from a flat ring
+    assert len(per) >= 9 and per.spontaneous.all() and (per.n_blocks == N).all()
+    assert per.u_start.max() < step - 0.01
+    b = per.block.to_numpy()
+    from_birth = np.minimum((b[1:] - b[:-1]) % N, (b[:-1] - b[1:]) % N) * DX
+    # uniform nucleation would put 1/8 of them in this band; the pattern puts most there
+    assert np.mean((from_birth >= 3.5) & (from_birth <= 4.8)) >= 0.7

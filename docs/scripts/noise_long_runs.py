@@ -8,6 +8,8 @@
 2. Re-sticking under load: one kicked pulse on the ring at gamma = 0.85, against v.
 3. The comparison at gamma = 0.85, v = 1e-5 (t = 3e7): recurrences, moments, and the
    exact recurrence given the state a rupture leaves in each engine.
+4. Ruptures of many sizes: a ring of length 1000 (20000 blocks) at v = 1e-4, where
+   several ruptures share a loading: rate, size-frequency, b-value (about a minute).
 """
 
 import math
@@ -121,7 +123,47 @@ def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
     )
 
 
+def sizes(length=1000.0, t_end=1e6, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96):
+    """Several ruptures per loading: L >> c phi0 / v. Rate per block at phi = 1 set so
+    that one nucleation is expected by the time a uniform ring reaches u_star."""
+    n = round(length / DX)
+    rate = DX * v / (length * phi0 * math.exp(-(1 - u_star) / phi0))
+    chain_noise = {"law": "exponential", "rate": rate, "phi0": phi0, "kick": KICK}
+    p = bk.Params(gamma=gamma, v=v, dx=DX, beta=math.inf)
+    ch = bk.Chain(n, p, "periodic", np.full(n, 0.9), noise=chain_noise, seed=1)
+    chain_result = ch.run(t_end=t_end, progress=False, max_event_duration=1e9)
+    per = ns.chain_ruptures(chain_result, "periodic")
+    fb_noise = ns.calibrated_noise(chain_noise, DX, gamma)
+    x = np.arange(round(length / 0.1)) * 0.1
+    fb = bk.FreeBoundary(p, x, np.full(x.size, 0.9), "periodic", noise=fb_noise, seed=2)
+    rup = ns.ruptures(fb.run(t_end=t_end))
+    burn = 2 * (u_star + 0.1) / v  # two loadings
+    per, rup = per[per.t_start > burn], rup[rup.t_start > burn]
+    mags = {
+        k: bk.stats.magnitudes(r.moment.to_numpy(), "moment")
+        for k, r in (("chain", per), ("fb", rup))
+    }
+    m_c = float(np.median(np.concatenate(list(mags.values()))))
+    print(f"ring of length {length} ({n} blocks), gamma = {gamma}, v = {v}, t = {burn:g}-{t_end:g}")
+    print(f"  open chain events: {chain_result.catalog.t_end.isna().sum()}")
+    for name, r, m in (("chain", per, mags["chain"]), ("free boundary", rup, mags["fb"])):
+        b = bk.stats.b_value(m, m_c)
+        q = np.percentile(r.swept, [10, 50, 90])
+        print(
+            f"  {name}: {len(r)} ruptures ({r.spontaneous.mean():.2f} spontaneous), rate "
+            f"{len(r) / (t_end - burn):.3e} +- {math.sqrt(len(r)) / (t_end - burn):.1e}; u_start "
+            f"{r.u_start.mean():.4f} (sd {r.u_start.std():.4f}); swept 10/50/90 % "
+            f"{q[0]:.0f}/{q[1]:.0f}/{q[2]:.0f}, mean {r.swept.mean():.1f}; mean slip "
+            f"{(r.moment / r.swept).mean() * DX:.4f}; b (M >= {m_c:.2f}) = {b.b:.2f} "
+            f"+- {b.sigma_aki:.2f}"
+        )
+    for col in ("swept", "moment"):
+        print(f"  KS two-sample, {col}: p = {stats.ks_2samp(per[col], rup[col]).pvalue:.2f}")
+    print(f"  KS two-sample, u_start: p = {stats.ks_2samp(per.u_start, rup.u_start).pvalue:.2g}")
+
+
 if __name__ == "__main__":
     rupture_map()
     resticking()
     comparison()
+    sizes()
