@@ -1176,6 +1176,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     }
 
     fn do_step(&mut self, t0: f64, h: f64) {
+        // the step writes the end accelerations too (in its last pass, for RK4)
         self.rk.step(
             &mut self.st,
             &self.blk,
@@ -1184,10 +1185,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             &self.a_start,
             &mut self.u0,
             &mut self.w0,
+            &mut self.a_end,
         );
-        let mut a = std::mem::take(&mut self.a_end);
-        self.rk.accel_only(&mut self.st, &self.blk, t0 + h, &mut a);
-        self.a_end = a;
         self.counters.steps += 1;
         self.counters.block_steps += self.st.n_active as u64;
     }

@@ -78,6 +78,7 @@ impl Integrator for Midpoint {
         a0: &[f64],
         u0: &mut [f64],
         w0: &mut [f64],
+        a1: &mut [f64],
     ) {
         let Midpoint {
             su,
@@ -132,6 +133,7 @@ impl Integrator for Midpoint {
             dry: h * sums.dry,
             visc: h * sums.visc,
         };
+        accel_only_at_state(st, fr, su, t0 + h, a1);
     }
 
     fn books(&mut self, _st: &State, _h: f64) -> StepIntegrals {

@@ -75,7 +75,8 @@ pub trait Integrator: std::fmt::Debug + Send {
         Self: Sized;
     /// Advance the sliding blocks from t0 to t0 + h. `a0` holds the accelerations at
     /// t0 (from [`Integrator::accel`] or the last step); the start state is saved in
-    /// `u0`, `w0` for the dense output and for a redo.
+    /// `u0`, `w0` for the dense output and for a redo; the accelerations at t0 + h of the
+    /// new state go to `a1` (the same bits as [`Integrator::accel_only`] there).
     #[allow(clippy::too_many_arguments)]
     fn step<F: Friction, M: Medium>(
         &mut self,
@@ -86,6 +87,7 @@ pub trait Integrator: std::fmt::Debug + Send {
         a0: &[f64],
         u0: &mut [f64],
         w0: &mut [f64],
+        a1: &mut [f64],
     ) where
         Self: Sized;
     /// The energy flows of the last step taken (of length h): called once per step
@@ -156,17 +158,32 @@ pub(crate) fn stage_accel<F: Friction, M: Medium>(
     sw: &[f64],
     acc: &mut [f64],
 ) {
-    let (v, k) = (st.v, st.inv_dx2);
     for &(a, b) in &st.runs {
-        let len = b - a;
-        let (ul, uc, ur) = (&su[a - 1..b - 1], &su[a..b], &su[a + 1..b + 1]);
-        let (sw, dir, th) = (&sw[a..b], &st.dir[a..b], &st.onset[a..b]);
-        let acc = &mut acc[a..b];
-        assert!(ul.len() == len && ur.len() == len && sw.len() == len && dir.len() == len);
-        assert!(th.len() == len && acc.len() == len);
-        for i in 0..len {
-            acc[i] = fr.accel(a + i, ul[i], uc[i], ur[i], v - sw[i], dir[i], th[i], k);
-        }
+        accel_range(st, fr, su, sw, a, b, acc);
+    }
+}
+
+/// Accelerations of the sliding blocks a..b (within one run) from stage values su (a - 1
+/// to b), sw: one loop over equal-length slices (no bounds checks, no branch).
+#[inline(always)]
+pub(crate) fn accel_range<F: Friction, M: Medium>(
+    st: &State,
+    fr: &Blocks<F, M>,
+    su: &[f64],
+    sw: &[f64],
+    a: usize,
+    b: usize,
+    acc: &mut [f64],
+) {
+    let (v, k) = (st.v, st.inv_dx2);
+    let len = b - a;
+    let (ul, uc, ur) = (&su[a - 1..b - 1], &su[a..b], &su[a + 1..b + 1]);
+    let (sw, dir, th) = (&sw[a..b], &st.dir[a..b], &st.onset[a..b]);
+    let acc = &mut acc[a..b];
+    assert!(ul.len() == len && ur.len() == len && sw.len() == len && dir.len() == len);
+    assert!(th.len() == len && acc.len() == len);
+    for i in 0..len {
+        acc[i] = fr.accel(a + i, ul[i], uc[i], ur[i], v - sw[i], dir[i], th[i], k);
     }
 }
 
@@ -363,10 +380,11 @@ impl Stepper {
         a0: &[f64],
         u0: &mut [f64],
         w0: &mut [f64],
+        a1: &mut [f64],
     ) {
         match self {
-            Stepper::Rk4(m) => m.step(st, fr, t0, h, a0, u0, w0),
-            Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, u0, w0),
+            Stepper::Rk4(m) => m.step(st, fr, t0, h, a0, u0, w0, a1),
+            Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, u0, w0, a1),
         }
     }
     /// See [`Integrator::books`].

@@ -9,8 +9,8 @@
 //! same bits).
 
 use super::{
-    accel_at_state, accel_only_at_state, fill_neighbours, lane_sum, Integrator, Simd, StageSums,
-    StepIntegrals,
+    accel_at_state, accel_only_at_state, fill_neighbours, lane_sum, stage_accel, Integrator, Simd,
+    StageSums, StepIntegrals,
 };
 use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
@@ -111,7 +111,10 @@ fn stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
 }
 
 /// The last stage: its right-hand side completes the sums and the new state
-/// u = u0 + h/6 ku, u_t = w0 + h/6 kw is written into `st`.
+/// u = u0 + h/6 ku, u_t = w0 + h/6 kw is written into `st`, u also into `nu`; then the
+/// accelerations of the new state at t1 = t0 + h go to `a1` (the run neighbours of `nu`
+/// filled at t1: the same formula on the same values as [`Integrator::accel_only`], so
+/// the same bits, without its copy of the state).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn last_stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
@@ -123,8 +126,11 @@ fn last_stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
     w0: &[f64],
     ku: &[f64],
     kw: &[f64],
+    nu: &mut [f64],
     books: [&mut [f64]; 3],
     h6: f64,
+    t1: f64,
+    a1: &mut [f64],
 ) {
     let [bu, bd, bv] = books;
     let (v, k) = (st.v, st.inv_dx2);
@@ -135,22 +141,23 @@ fn last_stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
         onset,
         runs,
         ..
-    } = st;
+    } = &mut *st;
     for &(a, b) in runs.iter() {
         let len = b - a;
         let (ul, uc, ur) = (&cu[a - 1..b - 1], &cu[a..b], &cu[a + 1..b + 1]);
         let (cw, dir, th) = (&cw[a..b], &dir[a..b], &onset[a..b]);
         let (u0, w0, ku, kw) = (&u0[a..b], &w0[a..b], &ku[a..b], &kw[a..b]);
-        let (su, sw) = (&mut su[a..b], &mut sw[a..b]);
+        let (su, sw, nu) = (&mut su[a..b], &mut sw[a..b], &mut nu[a..b]);
         let (bu, bd, bv) = (&mut bu[a..b], &mut bd[a..b], &mut bv[a..b]);
         assert!(ul.len() == len && ur.len() == len && cw.len() == len && dir.len() == len);
         assert!(th.len() == len && u0.len() == len && w0.len() == len && ku.len() == len);
         assert!(kw.len() == len && su.len() == len && sw.len() == len && bu.len() == len);
-        assert!(bd.len() == len && bv.len() == len);
+        assert!(bd.len() == len && bv.len() == len && nu.len() == len);
         for i in 0..len {
             let w = cw[i];
             let acc = fr.accel(a + i, ul[i], uc[i], ur[i], v - w, dir[i], th[i], k);
             su[i] = u0[i] + h6 * (ku[i] + w);
+            nu[i] = su[i];
             sw[i] = w0[i] + h6 * (kw[i] + acc);
             let (pd, pv) = fr.fr.power(v - w, dir[i], th[i]);
             if LOAD {
@@ -162,6 +169,8 @@ fn last_stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
             bv[i] += pv;
         }
     }
+    fill_neighbours(st, nu, t1);
+    stage_accel(st, fr, nu, &st.w, a1);
 }
 
 impl Rk4 {
@@ -176,6 +185,7 @@ impl Rk4 {
         a0: &[f64],
         u0: &mut [f64],
         w0: &mut [f64],
+        a1: &mut [f64],
     ) {
         let Rk4 {
             su,
@@ -243,8 +253,23 @@ impl Rk4 {
         );
         fill_neighbours(st, tu, tm);
         stage::<F, M, LOAD, DRY>(st, fr, tu, tw, u0, w0, ku, kw, su, sw, [bu, bd, bv], 2.0, h);
-        fill_neighbours(st, su, t0 + h);
-        last_stage::<F, M, LOAD, DRY>(st, fr, su, sw, u0, w0, ku, kw, [bu, bd, bv], h / 6.0);
+        let t1 = t0 + h;
+        fill_neighbours(st, su, t1);
+        last_stage::<F, M, LOAD, DRY>(
+            st,
+            fr,
+            su,
+            sw,
+            u0,
+            w0,
+            ku,
+            kw,
+            tu,
+            [bu, bd, bv],
+            h / 6.0,
+            t1,
+            a1,
+        );
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -259,8 +284,9 @@ impl Rk4 {
         a0: &[f64],
         u0: &mut [f64],
         w0: &mut [f64],
+        a1: &mut [f64],
     ) {
-        self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0)
+        self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -275,8 +301,9 @@ impl Rk4 {
         a0: &[f64],
         u0: &mut [f64],
         w0: &mut [f64],
+        a1: &mut [f64],
     ) {
-        self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0)
+        self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
     }
 
     /// The step with the books it needs: (loader term, dry power) kept or not.
@@ -291,17 +318,20 @@ impl Rk4 {
         a0: &[f64],
         u0: &mut [f64],
         w0: &mut [f64],
+        a1: &mut [f64],
     ) {
         match self.simd {
             // SAFETY (both): `simd` is a code this CPU runs (Simd::detect, or a test's
             // choice among Simd::available).
             #[cfg(target_arch = "x86_64")]
             Simd::Avx512 => unsafe {
-                self.step_avx512::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0)
+                self.step_avx512::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
             },
             #[cfg(target_arch = "x86_64")]
-            Simd::Avx2 => unsafe { self.step_avx2::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0) },
-            _ => self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0),
+            Simd::Avx2 => unsafe {
+                self.step_avx2::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+            },
+            _ => self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1),
         }
     }
 
@@ -409,13 +439,14 @@ impl Integrator for Rk4 {
         a0: &[f64],
         u0: &mut [f64],
         w0: &mut [f64],
+        a1: &mut [f64],
     ) {
         // no loader work at v = 0; no dry power for beta-free Coulomb friction
         match (st.v != 0.0, !fr.fr.dry_power_is_zero()) {
-            (true, true) => self.step_with::<F, M, true, true>(st, fr, t0, h, a0, u0, w0),
-            (true, false) => self.step_with::<F, M, true, false>(st, fr, t0, h, a0, u0, w0),
-            (false, true) => self.step_with::<F, M, false, true>(st, fr, t0, h, a0, u0, w0),
-            (false, false) => self.step_with::<F, M, false, false>(st, fr, t0, h, a0, u0, w0),
+            (true, true) => self.step_with::<F, M, true, true>(st, fr, t0, h, a0, u0, w0, a1),
+            (true, false) => self.step_with::<F, M, true, false>(st, fr, t0, h, a0, u0, w0, a1),
+            (false, true) => self.step_with::<F, M, false, true>(st, fr, t0, h, a0, u0, w0, a1),
+            (false, false) => self.step_with::<F, M, false, false>(st, fr, t0, h, a0, u0, w0, a1),
         }
     }
 
@@ -440,13 +471,14 @@ mod tests {
 
     #[test]
     fn every_vector_code_gives_the_baseline_step_bit_for_bit() {
-        // two runs of sliding blocks (one backward) between stuck ones, on a ring; the
-        // step, the end accelerations and the books with each code this CPU runs
-        // (baseline, AVX2, AVX-512F) give the same bits
-        let n = 40;
+        // two runs of sliding blocks (one block backward) on a ring: one from block 1,
+        // whose left neighbour is the ghost of the sliding block n; the step, the end
+        // accelerations and the books with each code this CPU runs (baseline, AVX2,
+        // AVX-512F) give the same bits
+        let n = 170;
         let u0: Vec<f64> = (0..n).map(|i| 0.5 + 0.1 * (0.3 * i as f64).sin()).collect();
         let mut st = State::new(&u0, 0.01, 0.1, Ghost::Wrap, Ghost::Wrap);
-        for p in (3..20).chain(25..=n) {
+        for p in (1..20).chain(25..=n) {
             st.dir[p] = if p == 30 { -1.0 } else { 1.0 };
             st.onset[p] = 1.0;
             st.w[p] = 0.01 - 0.2 * (0.7 * p as f64).cos();
@@ -461,12 +493,16 @@ mod tests {
             let mut rk = Rk4::new(n);
             rk.simd = simd;
             let (mut a0, mut u0, mut w0) = (vec![0.0; n + 2], vec![0.0; n + 2], vec![0.0; n + 2]);
+            let mut a1 = vec![0.0; n + 2];
             let mut out = Vec::new();
+            rk.accel_only(&mut st, &fr, 0.0, &mut a0);
             for k in 0..50 {
                 let t0 = 0.005 * k as f64;
-                rk.accel_only(&mut st, &fr, t0, &mut a0);
-                rk.step(&mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0);
-                out.push((rk.books(&st, 0.005), a0.clone()));
+                rk.step(&mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0, &mut a1);
+                out.push((rk.books(&st, 0.005), a1.clone()));
+                // the step's end accelerations are those of the new state at t0 + h
+                rk.accel_only(&mut st, &fr, t0 + 0.005, &mut a0);
+                assert_eq!(a1, a0, "{simd:?}, step {k}");
             }
             (st.u, st.w, out)
         };
