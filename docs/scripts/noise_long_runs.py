@@ -1,15 +1,16 @@
 """Long runs of the noisy chain against the calibrated free boundary (docs/noise.md,
 "Long runs compared: a chain that cycles").
 
-    python docs/scripts/noise_long_runs.py          # about a minute on one core
+    python docs/scripts/noise_long_runs.py          # about five minutes on one core
 
 1. The rupture map: the background u at which a ring is next fired by its own pattern,
    after a ring-wide rupture at u_+ (kick 0.5, as the noise), against gamma.
 2. Re-sticking under load: one kicked pulse on the ring at gamma = 0.85, against v.
 3. The comparison at gamma = 0.85, v = 1e-5 (t = 3e7): recurrences, moments, and the
    exact recurrence given the state a rupture leaves in each engine.
-4. Ruptures of many sizes: a ring of length 1000 (20000 blocks) at v = 1e-4, where
-   several ruptures share a loading: rate, size-frequency, b-value (about a minute).
+4. Ruptures of many sizes: rings of length 1000 (20000 blocks) at v = 1e-4 and 3000
+   (60000 blocks) at v = 3e-5, where several ruptures share a loading: rate,
+   size-frequency, b-value (about four minutes).
 """
 
 import math
@@ -131,7 +132,9 @@ def sizes(length=1000.0, t_end=1e6, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96):
     chain_noise = {"law": "exponential", "rate": rate, "phi0": phi0, "kick": KICK}
     p = bk.Params(gamma=gamma, v=v, dx=DX, beta=math.inf)
     ch = bk.Chain(n, p, "periodic", np.full(n, 0.9), noise=chain_noise, seed=1)
-    chain_result = ch.run(t_end=t_end, progress=False, max_event_duration=1e9)
+    chain_result = ch.run(
+        t_end=t_end, progress=False, max_event_duration=1e9, max_event_slips=10**9
+    )
     per = ns.chain_ruptures(chain_result, "periodic")
     fb_noise = ns.calibrated_noise(chain_noise, DX, gamma)
     x = np.arange(round(length / 0.1)) * 0.1
@@ -157,6 +160,16 @@ def sizes(length=1000.0, t_end=1e6, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96):
             f"{(r.moment / r.swept).mean() * DX:.4f}; b (M >= {m_c:.2f}) = {b.b:.2f} "
             f"+- {b.sigma_aki:.2f}"
         )
+        # the k-th rupture of its loading (a new loading after a gap of over 0.3 u_star / v)
+        t = r.t_start.to_numpy()
+        group = np.cumsum(np.r_[True, np.diff(t) > 0.3 * u_star / v])
+        k = np.arange(len(t)) - np.searchsorted(group, group)
+        by_order = ", ".join(
+            f"{r.u_start[k == j].mean():.4f} (n = {np.sum(k == j)})"
+            for j in range(3)
+            if np.any(k == j)
+        )
+        print(f"    u_start of the 1st, 2nd, 3rd rupture of a loading: {by_order}")
     for col in ("swept", "moment"):
         print(f"  KS two-sample, {col}: p = {stats.ks_2samp(per[col], rup[col]).pvalue:.2f}")
     print(f"  KS two-sample, u_start: p = {stats.ks_2samp(per.u_start, rup.u_start).pvalue:.2g}")
@@ -167,3 +180,4 @@ if __name__ == "__main__":
     resticking()
     comparison()
     sizes()
+    sizes(length=3000.0, t_end=1.926e6, v=3e-5)
