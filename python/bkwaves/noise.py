@@ -45,6 +45,7 @@ __all__ = [
     "nucleates",
     "nucleation_probability",
     "release_stress",
+    "deferred_stress",
 ]
 
 #: Kick-size distributions of :func:`nucleation_probability`.
@@ -163,6 +164,40 @@ def release_stress(dx: float, gamma: float) -> float:
     dx, gamma = _check(dx, gamma)
     _, wd = _swing(dx, gamma)
     return (2.0 + dx**2) / (3.0 + dx**2 + math.exp(-math.pi * gamma / wd))
+
+
+def deferred_stress(u, kick: float, dx: float, gamma: float):
+    """The background stress at which a kick that does not nucleate at once nucleates
+    later, on a chain loading uniformly (docs/noise.md, "Deferred nucleation"). The kicked
+    block's first swing (amplitude w_max < (1 - u) dx^2) leaves it u - w_max behind and
+    raises both neighbours to phi = u + w_max/dx^2 < 1; everything then loads at v, so the
+    two neighbours reach the threshold together when the background reaches
+
+        u_b = 1 - w_max/dx^2,
+
+    and, released at phi = 1 beside a block at the background stress, start a pair (if the
+    background is excitable, u_b > u_f). A release (kick = 0) at 0 < u < u_r has
+    w_max = (1 + exp(-pi gamma/omega_d)) u/Omega^2 exactly, so u_b = 1 - c u with
+    c = (1 + exp(-pi gamma/omega_d))/(2 + dx^2) (-> 1 - u as dx -> 0: the mirror stress).
+    Returns u where the kick nucleates at once (kick >= K_c(u)); 1 where the block does
+    not move (a release at u <= 0); for a kick at u <= 0 whose swing trips the neighbours
+    at once (no pair: nothing ahead is excitable), nan. Vectorised in u."""
+    dx, gamma = _check(dx, gamma)
+    kick = V.number("kick", kick, lo=0.0)
+    om2, wd = _swing(dx, gamma)
+
+    def one(x):
+        if kick >= _threshold_one(x, dx, gamma):
+            return x
+        if x >= 1.0:
+            return x
+        w = max(_first_swing_max(kick, x / om2, om2, wd, gamma), 0.0)
+        u_b = 1.0 - w / dx**2
+        return u_b if u_b > x else math.nan
+
+    u = V.array("u", u)
+    out = np.vectorize(lambda x: one(float(x)), otypes=[float])(u)
+    return out.item() if out.ndim == 0 else out
 
 
 def _first_swing_max(kick, w_star, om2, wd, gamma):

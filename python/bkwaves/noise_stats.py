@@ -20,7 +20,9 @@ docs/noise.md, "What noise does to the wave statistics".
 
 The calibrated rate: :func:`calibrated_noise` turns a chain's ``[noise]`` table (law
 lambda(phi) and kick, ``bk.Chain(noise=...)``) into the free boundary's Lambda(u) =
-lambda(u) P(u) / dx (docs/noise.md, "The calibrated rate").
+lambda(u) P(u) / dx (docs/noise.md, "The calibrated rate"), and with ``deferred=True``
+(releases) adds the pairs that failed releases start later, when the loading brings their
+neighbours to the threshold (docs/noise.md, "Deferred nucleation").
 """
 
 from __future__ import annotations
@@ -391,6 +393,7 @@ def calibrated_noise(
     *,
     distribution: str = "fixed",
     grid: int = 2001,
+    deferred: bool = False,
 ) -> dict:
     """The free boundary noise that stands for a chain's noise (docs/noise.md, "The
     calibrated rate"). In the chain (``chain_noise``, the ``[noise]`` table of
@@ -412,7 +415,21 @@ def calibrated_noise(
     (a fixed kick or a release: P = 1 where K_c(u) <= kick) is placed at its stress u*
     (bisected to the last bit) as a ramp 1e-12 wide; above u = 1 the table is constant
     (stuck points stay at u <= 1). Valid above the lattice's propagation-failure stress
-    u_f (docs/noise.md)."""
+    u_f (docs/noise.md).
+
+    P(u) counts only the pairs a kick starts at once. On a loading chain a kick that
+    fails is not lost: it leaves its neighbours closer to the threshold, and they start a
+    pair when the background reaches :func:`bkwaves.noise.deferred_stress` u_b(u).
+    ``deferred=True`` counts those pairs too, for a release (kick = 0), where u_b = 1 - c u
+    (0 < u < u_r) sends the failed releases of (0, u_r) onto (u_r, 1):
+
+        Lambda(u) = [lambda(u) + lambda((1 - u)/c)/c] / dx   (u_r <= u <= 1), 0 below,
+
+    exact for points that have loaded from u <= 0 without a rupture since (every failed
+    release of (0, u_r) then lies behind them; after a rupture, u_- <= 0 at the creep
+    rule ``"zero"``), while the deferred pairs are not pre-empted. The engines need a
+    non-decreasing law: that holds for the constant law, not for the exponential or power
+    laws (lambda((1 - u)/c) falls as u rises), which are refused."""
     from .noise import kick_threshold, nucleation_probability
 
     chain_noise = _noise.check_noise(chain_noise, "chain_noise", model="chain")
@@ -420,6 +437,8 @@ def calibrated_noise(
     grid = V.integer("grid", grid, lo=3)
     kick = chain_noise["kick"]
     law = {k: val for k, val in chain_noise.items() if k != "kick"}
+    if deferred:
+        return _deferred_release_noise(law, kick, dx, gamma, grid)
     u = np.linspace(0.0, 1.0, grid)
     kc = np.asarray(kick_threshold(u, dx, gamma), dtype=float)
     if kick > 0:
@@ -448,4 +467,41 @@ def calibrated_noise(
         "rate": law["rate"] * float(p[-1]) / dx,
         "u": u.tolist(),
         "g": (g * p / p[-1]).tolist(),
+    }
+
+
+def _deferred_release_noise(law: dict, kick: float, dx: float, gamma: float, grid: int) -> dict:
+    """``calibrated_noise(..., deferred=True)``: releases that start a pair at once
+    (u >= u_r) or later, at u_b = 1 - c u (the failed ones of 0 < u < u_r)."""
+    from .noise import release_stress
+
+    if kick != 0:
+        V._fail(
+            "chain_noise.kick",
+            kick,
+            "0 (a release) with deferred=True (a failed kick's deferred stress depends on "
+            "where the loading started)",
+        )
+    u_r = release_stress(dx, gamma)
+    c = (1.0 - u_r) / u_r  # u_b(u_r) = u_r: 1 - c u_r = u_r
+    u = np.linspace(u_r, 1.0, grid)
+    g1 = {**law, "rate": 1.0}
+    g = (
+        np.asarray(_noise.rate_density(u, g1), dtype=float)
+        + np.asarray(_noise.rate_density((1.0 - u) / c, g1), dtype=float) / c
+    )
+    if np.any(np.diff(g) < -1e-12 * g.max()):
+        V._fail(
+            "chain_noise.law",
+            law["law"],
+            "a law whose deferred rate lambda(u) + lambda((1 - u)/c)/c does not fall above "
+            "u_r (the constant law; the engines bound the rate by its value at the largest "
+            "stress)",
+        )
+    g = np.maximum.accumulate(g)  # round-off
+    return {
+        "law": "table",
+        "rate": law["rate"] * float(g[-1]) / dx,
+        "u": [u_r - 1e-12, *u.tolist()],
+        "g": [0.0, *(g / g[-1]).tolist()],
     }
