@@ -104,7 +104,7 @@ impl Integrator for Midpoint {
                 }
             }
             fill_neighbours(st, su, tm);
-            stage_accel(st, fr, su, sw, acc);
+            stage_accel::<F, M, false>(st, fr, su, sw, acc);
             sums = stage_sums(st, fr, su, sw);
             let mut diff: f64 = 0.0;
             let mut scale: f64 = 1.0;

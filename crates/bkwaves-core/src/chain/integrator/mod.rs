@@ -122,7 +122,7 @@ pub(crate) fn accel_only_at_state<F: Friction, M: Medium>(
         su[a..b].copy_from_slice(&st.u[a..b]);
     }
     fill_neighbours(st, su, t);
-    stage_accel(st, fr, su, &st.w, acc);
+    stage_accel::<F, M, false>(st, fr, su, &st.w, acc);
 }
 
 /// Fill the stage displacement of the neighbours of every run (stuck blocks by their
@@ -149,42 +149,38 @@ pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
 }
 
 /// Accelerations of all sliding blocks from stage values su, sw: one pass per run with
-/// no branch and no reduction, which the compiler vectorises.
+/// no branch and no reduction, which the compiler vectorises. `FWD`: every sliding block
+/// slides forward (dir = 1, which is then not read: the same bits).
 #[inline(always)]
-pub(crate) fn stage_accel<F: Friction, M: Medium>(
+pub(crate) fn stage_accel<F: Friction, M: Medium, const FWD: bool>(
     st: &State,
     fr: &Blocks<F, M>,
     su: &[f64],
     sw: &[f64],
-    acc: &mut [f64],
-) {
-    for &(a, b) in &st.runs {
-        accel_range(st, fr, su, sw, a, b, acc);
-    }
-}
-
-/// Accelerations of the sliding blocks a..b (within one run) from stage values su (a - 1
-/// to b), sw: one loop over equal-length slices (no bounds checks, no branch).
-#[inline(always)]
-pub(crate) fn accel_range<F: Friction, M: Medium>(
-    st: &State,
-    fr: &Blocks<F, M>,
-    su: &[f64],
-    sw: &[f64],
-    a: usize,
-    b: usize,
     acc: &mut [f64],
 ) {
     let (v, k) = (st.v, st.inv_dx2);
-    let len = b - a;
-    let (ul, uc, ur) = (&su[a - 1..b - 1], &su[a..b], &su[a + 1..b + 1]);
-    let (sw, dir, th) = (&sw[a..b], &st.dir[a..b], &st.onset[a..b]);
-    let acc = &mut acc[a..b];
-    assert!(ul.len() == len && ur.len() == len && sw.len() == len && dir.len() == len);
-    assert!(th.len() == len && acc.len() == len);
-    for i in 0..len {
-        acc[i] = fr.accel(a + i, ul[i], uc[i], ur[i], v - sw[i], dir[i], th[i], k);
+    for &(a, b) in &st.runs {
+        let len = b - a;
+        let (ul, uc, ur) = (&su[a - 1..b - 1], &su[a..b], &su[a + 1..b + 1]);
+        let (sw, dir, th) = (&sw[a..b], &st.dir[a..b], &st.onset[a..b]);
+        let acc = &mut acc[a..b];
+        assert!(ul.len() == len && ur.len() == len && sw.len() == len && dir.len() == len);
+        assert!(th.len() == len && acc.len() == len);
+        for i in 0..len {
+            let d = if FWD { 1.0 } else { dir[i] };
+            acc[i] = fr.accel(a + i, ul[i], uc[i], ur[i], v - sw[i], d, th[i], k);
+        }
     }
+}
+
+/// True when every sliding block slides forward (dir = 1): an and over the blocks
+/// without a branch, which the compiler vectorises.
+#[inline(always)]
+pub(crate) fn all_forward(st: &State) -> bool {
+    st.runs.iter().fold(true, |all, &(a, b)| {
+        all & st.dir[a..b].iter().fold(true, |all, &d| all & (d == 1.0))
+    })
 }
 
 /// The stage sums (loader displacement, dry and viscous power) of the sliding blocks at
