@@ -22,7 +22,7 @@ use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 use crate::friction::Friction;
 
-const MAGIC: &[u8; 8] = b"BKCHAIN5";
+const MAGIC: &[u8; 8] = b"BKCHAIN6";
 
 /// A value of the state, written and read by one code path.
 pub(crate) trait Field {
@@ -162,9 +162,6 @@ macro_rules! chain_state {
             $($r)+ $c.need_check,
             $($r)+ $c.full_check,
             $($r)+ $c.a_valid,
-            $($r)+ $c.s_start.u,
-            $($r)+ $c.s_start.dry,
-            $($r)+ $c.s_start.visc,
             $($r)+ $c.a_start,
             // (its entries of stuck blocks are stale values that a swap carries into
             // a_start: kept, so a restored run's checkpoints equal the uninterrupted one's)
@@ -245,8 +242,17 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     /// configuration. On error the chain is unchanged.
     pub fn restore(&mut self, bytes: &[u8]) -> Result<()> {
         let mut r = R { b: bytes, i: 0 };
-        if r.take(8)? != MAGIC {
-            return Err(bad(0, "bytes written by Chain::checkpoint"));
+        let magic = r.take(8)?;
+        if magic != MAGIC {
+            return Err(bad(
+                0,
+                if magic.starts_with(b"BKCHAIN") {
+                    "a checkpoint of this engine's format (BKCHAIN6); these bytes are of \
+                     another format, written by another bkwaves version"
+                } else {
+                    "bytes written by Chain::checkpoint"
+                },
+            ));
         }
         let mut fp = W(Vec::new());
         self.fingerprint(&mut fp);

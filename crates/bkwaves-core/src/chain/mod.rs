@@ -38,7 +38,7 @@ use crate::noise::NoiseLaw;
 use catalog::Catalog;
 use energy::Ledger;
 use events::{Hermite, SlipQueue};
-use integrator::{Method, StageSums, Stepper};
+use integrator::{Method, Stepper};
 use medium::{Blocks, Medium, Uniform};
 use sources::{Cause, Source, View};
 use state::State;
@@ -185,9 +185,6 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     h: f64,
     a_start: Vec<f64>,
     a_end: Vec<f64>,
-    /// Stage sums at the last fresh start of the accelerations (kept in checkpoints; the
-    /// books are summed per step by the integrator).
-    s_start: StageSums,
     a_valid: bool,
     u0: Vec<f64>,
     w0: Vec<f64>,
@@ -350,7 +347,6 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             h,
             a_start: vec![0.0; n + 2],
             a_end: vec![0.0; n + 2],
-            s_start: StageSums::default(),
             a_valid: false,
             u0: vec![0.0; n + 2],
             w0: vec![0.0; n + 2],
@@ -1110,7 +1106,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         let t0 = self.t;
         if !self.a_valid {
             let mut a = std::mem::take(&mut self.a_start);
-            self.s_start = self.rk.accel(&mut self.st, &self.blk, t0, &mut a);
+            self.rk.accel_only(&mut self.st, &self.blk, t0, &mut a);
             self.a_start = a;
             self.a_valid = true;
         }

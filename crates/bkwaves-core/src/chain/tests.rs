@@ -473,6 +473,15 @@ fn a_restored_checkpoint_continues_bit_for_bit() {
         assert!(wrong.restore(&bytes).is_err());
         assert!(wrong.restore(&bytes[..bytes.len() - 3]).is_err());
         assert!(wrong.checkpoint() == before);
+        // bytes of another format version are refused, naming the format
+        let mut old = bytes.clone();
+        old[..8].copy_from_slice(b"BKCHAIN5");
+        let e = other.restore(&old).unwrap_err().to_string();
+        assert!(
+            e.contains("BKCHAIN6") && e.contains("another format"),
+            "{e}"
+        );
+        assert!(other.checkpoint() == whole.checkpoint());
     }
 }
 
