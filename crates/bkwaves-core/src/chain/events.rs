@@ -146,7 +146,8 @@ impl Hermite {
 }
 
 /// Most Newton steps [`locate`] takes before it hands the bracket to [`bisect`] (from the
-/// secant point, the steps converge quadratically: 3 to 5 on the engine's cubics).
+/// secant point, the steps converge quadratically: 3.7 on average on the loading run of
+/// docs/benchmarks.md, then two bisection passes).
 const NEWTON_STEPS: u32 = 12;
 
 /// The sign change of q on [lo, hi] (q(lo) = `q_lo` < 0 or lo the inside start, q(hi) =
