@@ -387,7 +387,7 @@ CONFIG = {
             "g",
             "reals",
             lo=0.0,
-            doc="table law only: g at the nodes (>= 0, non-decreasing, > 0 at u = 1)",
+            doc="table law only: g at the nodes (>= 0, > 0 at u = 1)",
         ),
         Spec(
             "kick",

@@ -34,7 +34,7 @@ Schema (all sections optional except those marked)::
                 with [physical]); docs/free_boundary.md, "Threshold field"
 
     [noise]     law = "constant" | "exponential" (phi0) | "power" (exponent) |
-                "table" (u = [...], g = [...]: piecewise linear, non-decreasing),
+                "table" (u = [...], g = [...]: piecewise linear, g >= 0),
                 rate; seeded by the config's seed (bk.noise, docs/noise.md).
                 free boundary: spontaneous pair nucleation at Lambda(u) = rate g(u)
                 (rate: Lambda at u = 1, per unit length and time; 1/(m s) with [physical]);

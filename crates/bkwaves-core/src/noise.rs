@@ -2,8 +2,7 @@
 //! question of the paper's Sec. VI).
 //!
 //! A rate law gives the nucleation rate density Lambda(u) = rate * g(u), with g(1) = 1 for
-//! every law, so `rate` is the rate at the slip threshold and Lambda(u) <= rate wherever
-//! blocks are stuck (u <= 1):
+//! every law, so `rate` is the rate at the slip threshold:
 //!
 //! | law | g(u) | parameter |
 //! |---|---|---|
@@ -16,14 +15,23 @@
 //! interpolant positive at u = 1 (it is divided by that value, so g(1) = 1). Outside the
 //! nodes g is constant: g_first below the first node, g_last above the last (a table
 //! with g_first = 0 never nucleates below its first node). Its primitive is piecewise
-//! quadratic and inverted exactly piece by piece.
+//! quadratic and inverted exactly piece by piece. g may fall (a peaked table).
+//!
+//! Engines draw by thinning under the envelope G(u) = max_{y <= u} g(y), the running
+//! maximum ([`NoiseLaw::envelope`]): where every stress present is <= U, rate G(U) bounds
+//! each point's rate and a candidate at u is kept with probability g(u)/G(U), exactly. G = g
+//! for a non-decreasing g (every closed-form law); for a table G is a table too (flat at
+//! the maximum so far, with a node where a rising piece crosses it). Where a stress is
+//! only known to be below the threshold the bound is G(1) = max_{u < 1} g
+//! ([`NoiseLaw::sup_below_threshold`]), which may exceed g(1) = 1.
 //!
 //! A law is one small struct implementing [`RateLaw`] (g, its primitive and the primitive's
 //! inverse) and one line of [`law_from_name`].
 //!
 //! Between engine events a stuck point loads at rate v, u = U0 + v tau, so the integrated
 //! rate is known in closed form, `rate (G(U0 + v tau) - G(U0))/v` with G the primitive of
-//! g, and so is the time at which it reaches a given value ([`NoiseLaw::time_to_mass`]).
+//! g, and so is the time at which it reaches a given value ([`NoiseLaw::time_to_mass`]);
+//! the same for the envelope ([`NoiseLaw::envelope_time_to_mass`]).
 //! Engines draw exact inhomogeneous Poisson times from it (the time at which the integrated
 //! rate reaches an exponential variate), never stepping in time. [`Rng`] (xoshiro256**,
 //! seeded through splitmix64) is the generator; its four words go into checkpoints.
@@ -31,7 +39,8 @@
 use crate::checkpoint_bytes::{Reader, Writer};
 use crate::error::{Error, Result};
 
-/// A nucleation rate law, normalised to g(1) = 1.
+/// A nucleation rate law, normalised to g(1) = 1 (not necessarily monotone: see
+/// [`RateLaw::envelope`]).
 pub trait RateLaw: std::fmt::Debug + Send + Sync {
     /// The law's name in configs (`[noise] law`).
     fn name(&self) -> &'static str;
@@ -46,6 +55,16 @@ pub trait RateLaw: std::fmt::Debug + Send + Sync {
     fn inverse_primitive(&self, p: f64) -> f64;
     /// A boxed copy.
     fn boxed(&self) -> Box<dyn RateLaw>;
+    /// The thinning envelope G(u) = max_{y <= u} g(y) (the running maximum, non-decreasing)
+    /// when it differs from g; None for a non-decreasing g (then G = g).
+    fn envelope(&self) -> Option<&dyn RateLaw> {
+        None
+    }
+    /// sup of g below the threshold, max_{u < 1} g(u) = G(1) (>= g(1) = 1): the bound of
+    /// the rate of a stuck block whose stress has no closed form (below its threshold).
+    fn sup_below_threshold(&self) -> f64 {
+        1.0
+    }
 }
 
 /// `constant`: g = 1.
@@ -148,6 +167,10 @@ pub struct Table {
     cum: Vec<f64>,
     /// The nodes as given (for fingerprints): u then g.
     raw: Vec<f64>,
+    /// The running maximum of g as a table (None where g is non-decreasing: G = g).
+    envelope: Option<Box<Table>>,
+    /// max over u < 1 of g (1 where g is non-decreasing).
+    sup: f64,
 }
 
 impl Table {
@@ -173,23 +196,8 @@ impl Table {
         if let Some(&x) = g.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
             return Err(bad("g", x, "finite values >= 0"));
         }
-        // The engines draw by thinning under the rate at the largest stress present (the
-        // free boundary: Lambda(U(t)), the chain: rate at x = 1), a bound only for a
-        // non-decreasing g; a decreasing piece would be under-sampled without a sign.
-        if let Some(w) = g.windows(2).find(|w| w[1] < w[0]) {
-            return Err(bad(
-                "g",
-                w[1],
-                "non-decreasing values (the engines bound the rate by its value at the \
-                 largest stress present)",
-            ));
-        }
-        let mut t = Table {
-            u: u.to_vec(),
-            g: g.to_vec(),
-            cum: Vec::new(),
-            raw: u.iter().chain(g).copied().collect(),
-        };
+        let mut t = Table::normalised(u.to_vec(), g.to_vec());
+        t.raw = u.iter().chain(g).copied().collect();
         let at_one = t.g(1.0);
         if at_one <= 0.0 {
             return Err(bad(
@@ -198,16 +206,65 @@ impl Table {
                 "a table positive at u = 1 (g is divided by g(1))",
             ));
         }
-        for x in t.g.iter_mut() {
-            *x /= at_one;
-        }
-        let mut c = 0.0;
-        t.cum.push(c);
-        for k in 0..u.len() - 1 {
-            c += 0.5 * (t.g[k] + t.g[k + 1]) * (u[k + 1] - u[k]);
-            t.cum.push(c);
+        let g: Vec<f64> = t.g.iter().map(|x| x / at_one).collect();
+        let mut t = Table {
+            raw: t.raw,
+            ..Table::normalised(t.u, g)
+        };
+        if t.g.windows(2).any(|w| w[1] < w[0]) {
+            // g(1) = 1 is the interpolant at 1, so the sup below 1 is the larger of 1 and
+            // the nodes below 1 (a linear piece peaks at an end)
+            t.sup =
+                t.u.iter()
+                    .zip(&t.g)
+                    .filter(|(&x, _)| x < 1.0)
+                    .fold(1.0, |m, (_, &y)| f64::max(m, y));
+            t.envelope = Some(Box::new(t.running_max()));
         }
         Ok(t)
+    }
+
+    /// The table through nodes already normalised (no checks), with its primitive.
+    fn normalised(u: Vec<f64>, g: Vec<f64>) -> Self {
+        let mut cum = vec![0.0];
+        let mut c = 0.0;
+        for k in 0..u.len() - 1 {
+            c += 0.5 * (g[k] + g[k + 1]) * (u[k + 1] - u[k]);
+            cum.push(c);
+        }
+        Table {
+            u,
+            g,
+            cum,
+            raw: Vec::new(),
+            envelope: None,
+            sup: 1.0,
+        }
+    }
+
+    /// G(u) = max_{y <= u} g(y) as a table: piecewise linear too, flat at the maximum so
+    /// far m where g is below it, and with one more node where a rising piece crosses m
+    /// (G follows g from there). Constant outside the nodes like g (below the first: g_0;
+    /// above the last: the overall maximum, which the last node holds).
+    fn running_max(&self) -> Table {
+        let (nu, ng) = (&self.u, &self.g);
+        let (mut u, mut g) = (vec![nu[0]], vec![ng[0]]);
+        let mut m = ng[0];
+        for k in 0..nu.len() - 1 {
+            let (a, b) = (ng[k], ng[k + 1]);
+            if b > m && a < m {
+                // the rising piece crosses the plateau m at u*
+                let x = nu[k] + (m - a) / (b - a) * (nu[k + 1] - nu[k]);
+                if x > u[u.len() - 1] && x < nu[k + 1] {
+                    u.push(x);
+                    g.push(m);
+                }
+            }
+            m = m.max(b);
+            u.push(nu[k + 1]);
+            g.push(m);
+        }
+        Table::normalised(u, g)
     }
 }
 
@@ -220,6 +277,12 @@ impl RateLaw for Table {
     }
     fn params(&self) -> Vec<f64> {
         self.raw.clone()
+    }
+    fn envelope(&self) -> Option<&dyn RateLaw> {
+        self.envelope.as_deref().map(|t| t as &dyn RateLaw)
+    }
+    fn sup_below_threshold(&self) -> f64 {
+        self.sup
     }
     fn g(&self, u: f64) -> f64 {
         let (nu, last) = (&self.u, self.u.len() - 1);
@@ -359,27 +422,61 @@ impl NoiseLaw {
 
     /// The integral over tau in [0, tau] of `length` Lambda(u0 + v tau).
     pub fn mass(&self, u0: f64, v: f64, tau: f64, length: f64) -> f64 {
-        if tau <= 0.0 {
-            return 0.0;
-        }
-        if v == 0.0 {
-            return length * self.lambda(u0) * tau;
-        }
-        let g = &self.law;
-        length * self.rate * (g.primitive(u0 + v * tau) - g.primitive(u0)) / v
+        self.ramp_mass(&*self.law, u0, v, tau, length)
     }
 
     /// The tau >= 0 at which [`Self::mass`] reaches `e` > 0 (infinite if never).
     pub fn time_to_mass(&self, u0: f64, v: f64, e: f64, length: f64) -> f64 {
+        self.ramp_time_to_mass(&*self.law, u0, v, e, length)
+    }
+
+    /// The thinning envelope G(u) = max_{y <= u} g(y): where every stress present is
+    /// <= U, rate G(U) bounds the rate of each, and a candidate at u is kept with
+    /// probability g(u)/G(U). G = g for a non-decreasing g (every closed-form law).
+    pub fn envelope(&self) -> &dyn RateLaw {
+        self.law.envelope().unwrap_or(&*self.law)
+    }
+
+    /// G(u), the envelope's value (see [`Self::envelope`]).
+    pub fn envelope_g(&self, u: f64) -> f64 {
+        self.envelope().g(u)
+    }
+
+    /// [`Self::mass`] of the envelope: the integral of `length` rate G(u0 + v tau).
+    pub fn envelope_mass(&self, u0: f64, v: f64, tau: f64, length: f64) -> f64 {
+        self.ramp_mass(self.envelope(), u0, v, tau, length)
+    }
+
+    /// [`Self::time_to_mass`] of the envelope.
+    pub fn envelope_time_to_mass(&self, u0: f64, v: f64, e: f64, length: f64) -> f64 {
+        self.ramp_time_to_mass(self.envelope(), u0, v, e, length)
+    }
+
+    /// max_{u < 1} g(u) = G(1) >= 1: bounds g wherever the stress is below the
+    /// threshold and not otherwise known.
+    pub fn sup_below_threshold(&self) -> f64 {
+        self.law.sup_below_threshold()
+    }
+
+    fn ramp_mass(&self, g: &dyn RateLaw, u0: f64, v: f64, tau: f64, length: f64) -> f64 {
+        if tau <= 0.0 {
+            return 0.0;
+        }
+        if v == 0.0 {
+            return length * (self.rate * g.g(u0)) * tau;
+        }
+        length * self.rate * (g.primitive(u0 + v * tau) - g.primitive(u0)) / v
+    }
+
+    fn ramp_time_to_mass(&self, g: &dyn RateLaw, u0: f64, v: f64, e: f64, length: f64) -> f64 {
         let scale = length * self.rate;
         if scale.is_nan() || scale <= 0.0 {
             return f64::INFINITY;
         }
         if v == 0.0 {
-            let l = scale * self.law.g(u0);
+            let l = scale * g.g(u0);
             return if l > 0.0 { e / l } else { f64::INFINITY };
         }
-        let g = &self.law;
         let u1 = g.inverse_primitive(g.primitive(u0) + e * v / scale);
         if u1.is_finite() {
             ((u1 - u0) / v).max(0.0)
@@ -624,9 +721,69 @@ mod tests {
         assert_eq!(name(&[0.0, 1.0], &[-1.0, 1.0]), "g");
         assert_eq!(name(&[0.0, 1.0], &[1.0, f64::INFINITY]), "g");
         assert_eq!(name(&[0.0, 1.0, 2.0], &[1.0, 0.0, 1.0]), "g"); // zero at u = 1
-                                                                   // decreasing: thinning under the rate at the largest stress would under-sample it
-        assert_eq!(name(&[0.0, 0.5, 1.0], &[0.0, 2.0, 1.0]), "g");
+                                                                   // a decreasing g is a law (the engines thin under its running maximum)
+        assert_eq!(name(&[0.0, 0.5, 1.0], &[0.0, 2.0, 1.0]), "");
         assert_eq!(name(&[0.0, 1.0], &[0.5, 2.0]), "");
+    }
+
+    /// The running maximum of g on a fine grid (numerically, from the definition).
+    fn running_max_on(law: &dyn RateLaw, xs: &[f64]) -> Vec<f64> {
+        let mut m = f64::NEG_INFINITY;
+        xs.iter()
+            .map(|&x| {
+                m = m.max(law.g(x));
+                m
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_envelope_of_a_peaked_table_is_its_running_maximum() {
+        // rise to 3, fall to 0.5, rise through the plateau 3 again (a crossing node at
+        // u = 0.8 + 0.2 * 2.5/3.5), fall, and a zero stretch: g(1) = 1 after division
+        let u = [-0.2, 0.0, 0.3, 0.5, 0.8, 1.0, 1.2, 1.5];
+        let g = [0.0, 0.0, 3.0, 0.5, 0.5, 1.0, 4.0, 2.0];
+        let l = table(&u, &g);
+        let env = l.envelope();
+        assert!(l.law.envelope().is_some());
+        assert_eq!(l.sup_below_threshold(), 3.0); // the peak at 0.3, g(1) = 1
+        let xs: Vec<f64> = (0..=400_000).map(|k| -0.5 + 2.5 * k as f64 / 4e5).collect();
+        let want = running_max_on(&*l.law, &xs);
+        for (&x, &m) in xs.iter().zip(&want) {
+            assert!((env.g(x) - m).abs() < 1e-12, "G({x}) = {} vs {m}", env.g(x));
+        }
+        // G(1) = sup below 1 = 3 > g(1) = 1; above the last node the overall maximum 4
+        assert!((env.g(1.0) - 3.0).abs() < 1e-12);
+        assert_eq!(env.g(7.0), 4.0);
+        assert_eq!(l.law.g(1.0), 1.0);
+        // its primitive integrates it (trapezoid on the grid, exact but for the kinks)
+        let h = xs[1] - xs[0];
+        let q: f64 = want.windows(2).map(|w| 0.5 * (w[0] + w[1]) * h).sum();
+        let p = env.primitive(2.0) - env.primitive(-0.5);
+        assert!((p - q).abs() < 1e-9, "{p} vs {q}");
+        // and the inverse undoes it
+        let mut rng = Rng::new(4);
+        for _ in 0..20_000 {
+            let x = -0.2 + 2.0 * rng.uniform();
+            let y = env.inverse_primitive(env.primitive(x));
+            assert!((y - x).abs() < 1e-12 || env.g(x) == 0.0, "{x}: {y}");
+        }
+        // the envelope's ramp integral is G's, and the law's own stays g's
+        let (mg, mu) = (
+            l.envelope_mass(0.0, 0.01, 50.0, 1.0),
+            l.mass(0.0, 0.01, 50.0, 1.0),
+        );
+        assert!((mg - (env.primitive(0.5) - env.primitive(0.0)) / 0.01).abs() < 1e-12);
+        assert!((mu - (l.law.primitive(0.5) - l.law.primitive(0.0)) / 0.01).abs() < 1e-12);
+        assert!(mg > mu);
+        // a non-decreasing table and every closed-form law: G = g, sup 1
+        let mono = table(&[0.0, 0.5, 1.0], &[0.0, 0.5, 1.0]);
+        assert!(mono.law.envelope().is_none());
+        assert_eq!(mono.sup_below_threshold(), 1.0);
+        for l in laws() {
+            assert!(l.law.envelope().is_none());
+            assert_eq!(l.sup_below_threshold(), 1.0);
+        }
     }
 
     #[test]

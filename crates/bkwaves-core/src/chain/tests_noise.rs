@@ -72,6 +72,17 @@ fn table_law(rate: f64) -> NoiseLaw {
     NoiseLaw::with_table("table", rate, f64::NAN, f64::NAN, &u, &g).unwrap()
 }
 
+/// A peaked table (rising, then falling, then rising to g(1) = 1) whose peak g = 4 at
+/// x = 0.5 lies among the ramp's blocks (x_i from -0.07 to 0.78 at the start; 0.36 and
+/// 0.49 below the peak, four blocks on the fall): the thinning bound must be the running
+/// maximum G (4 from x = 0.5 on), not g at the largest stress (0.62 at 0.78), or the
+/// blocks near the peak are under-sampled.
+fn peaked_law(rate: f64) -> NoiseLaw {
+    let u = [0.1, 0.5, 0.65, 1.0];
+    let g = [0.0, 4.0, 0.4, 1.0];
+    NoiseLaw::with_table("table", rate, f64::NAN, f64::NAN, &u, &g).unwrap()
+}
+
 #[test]
 fn first_spontaneous_slips_on_a_loading_ramp_follow_the_law() {
     // rates such that the first slip comes long before any block reaches its threshold
@@ -80,6 +91,7 @@ fn first_spontaneous_slips_on_a_loading_ramp_follow_the_law() {
         NoiseLaw::new("exponential", 0.5, 0.1, f64::NAN).unwrap(),
         NoiseLaw::new("power", 0.1, f64::NAN, 3.0).unwrap(),
         table_law(0.5),
+        peaked_law(0.05),
     ] {
         let name = law.law.name();
         let p = ks_uniform(first_slip_uniforms(&law, 2000, 1.0));
@@ -186,6 +198,7 @@ fn a_noisy_chain_restored_from_a_checkpoint_continues_bit_for_bit() {
     let laws = [
         NoiseLaw::new("exponential", 0.05, 0.1, f64::NAN).unwrap(),
         table_law(0.05),
+        peaked_law(0.05),
     ];
     for (law, method) in laws
         .iter()

@@ -10,11 +10,14 @@
 //!
 //! Event times are drawn exactly by thinning, never by stepping. Between engine events
 //! every eligible point has u <= U(t) = M + v (t - epoch), M the largest cell maximum
-//! (the birth tree), so the candidate process of rate L Lambda(U(t)) (L the domain length)
-//! bounds the nucleation rate everywhere, and its integrated rate is in closed form
-//! ([`crate::noise::NoiseLaw::mass`]). A candidate falls when that integral, counted from
-//! `t_mark`, reaches the unit exponential `e_left`; its place is uniform on the domain and
-//! it becomes a pair with probability Lambda(u(x))/Lambda(U) (0 outside eligible cells).
+//! (the birth tree), so Lambda(u) <= rate G(U(t)), G(u) = max_{y <= u} g(y) the running
+//! maximum of the law ([`crate::noise::NoiseLaw::envelope`]; G = g for a non-decreasing
+//! g): the candidate process of rate L rate G(U(t)) (L the domain length) bounds the
+//! nucleation rate everywhere, and its integrated rate is in closed form
+//! ([`crate::noise::NoiseLaw::envelope_mass`]). A candidate falls when that integral,
+//! counted from `t_mark`, reaches the unit exponential `e_left`; its place is uniform on
+//! the domain and it becomes a pair with probability g(u(x))/G(U) (0 outside eligible
+//! cells).
 //! After every engine event the integral up to now is subtracted from `e_left` and the
 //! bound is taken anew (memorylessness makes this exact). The generator's state and the
 //! clock (`e_left`, `t_mark`, `u_mark`) are in the checkpoint, so a restored run draws the
@@ -125,9 +128,12 @@ impl FreeBoundary {
     pub(super) fn noise_time(&self) -> f64 {
         match &self.noise {
             Some(nz) if !nz.u_mark.is_nan() => {
-                let tau =
-                    nz.law
-                        .time_to_mass(nz.u_mark, self.field.v, nz.e_left, self.domain_length());
+                let tau = nz.law.envelope_time_to_mass(
+                    nz.u_mark,
+                    self.field.v,
+                    nz.e_left,
+                    self.domain_length(),
+                );
                 nz.t_mark + tau
             }
             _ => f64::INFINITY,
@@ -147,7 +153,7 @@ impl FreeBoundary {
         );
         let nz = self.noise.as_mut().expect("checked above");
         if !nz.u_mark.is_nan() {
-            nz.e_left -= nz.law.mass(nz.u_mark, v, now - nz.t_mark, len);
+            nz.e_left -= nz.law.envelope_mass(nz.u_mark, v, now - nz.t_mark, len);
         }
         nz.e_left = nz.e_left.max(0.0);
         nz.t_mark = now;
@@ -155,7 +161,7 @@ impl FreeBoundary {
     }
 
     /// A candidate of the bound process, now: a pair at a uniform place with probability
-    /// Lambda(u)/Lambda(U). The draws (cell, place in it, acceptance, next exponential)
+    /// g(u)/G(U) (G the envelope). The draws (cell, place in it, acceptance, next exponential)
     /// are made in this order whatever happens, so the stream depends on the seed alone.
     pub(super) fn noise_candidate(&mut self) -> Result<()> {
         let nc = self.field.n_cells();
@@ -168,7 +174,7 @@ impl FreeBoundary {
         let a = nz.rng.uniform();
         nz.e_left = nz.rng.exponential();
         nz.t_mark = now;
-        let g_bound = nz.law.law.g(u_bound);
+        let g_bound = nz.law.envelope_g(u_bound);
         if !self.cellmax[j].value.is_finite() {
             return Ok(());
         }

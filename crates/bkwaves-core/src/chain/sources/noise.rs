@@ -6,21 +6,24 @@
 //! from its slip threshold (x_i = phi_i for the paper's threshold 1; the distance to the
 //! threshold is 1 - x_i) and g is one of the free boundary's laws
 //! ([`crate::noise::RateLaw`]: constant, exponential exp(-(1 - x)/phi0), power x^k, a
-//! piecewise-linear table), with g(1) = 1. Both bounds below need g non-decreasing, which
-//! every law is (the table is refused otherwise). A spontaneous slip is a forward kick of speed `kick` over the ground
+//! piecewise-linear table), with g(1) = 1; g may fall (a table), so the bounds below use
+//! its running maximum G(x) = max_{y <= x} g(y) ([`crate::noise::NoiseLaw::envelope`];
+//! G = g for a non-decreasing g). A spontaneous slip is a forward kick of speed `kick` over the ground
 //! (u_t -= kick), or with kick = 0 a release (the block starts sliding from rest).
 //!
 //! Times are exact, drawn by thinning a bounding process, never by stepping:
 //! - while every block is stuck (a quiet stretch), x_i rises at k_p,i v exactly, so every
 //!   x_i <= X(t) = X0 + r (t - t0), X0 the largest x_i when the stretch began (or at the
-//!   last candidate) and r = v max k_p,i; candidates fall at the rate n lambda(X(t)), whose
-//!   integral is in closed form ([`crate::noise::NoiseLaw::mass`]);
+//!   last candidate) and r = v max k_p,i, so g(x_i) <= G(X(t)); candidates fall at the
+//!   rate n rate G(X(t)), whose integral is in closed form
+//!   ([`crate::noise::NoiseLaw::envelope_mass`]);
 //! - while blocks slide, the stuck blocks next to them move with their neighbours, but a
-//!   stuck block has x_i < 1 (it would slip otherwise) and g(x) <= g(1) = 1 there, so
-//!   candidates fall at the constant rate n rate.
+//!   stuck block has x_i < 1 (it would slip otherwise) and g(x) <= G(1) = max_{x < 1} g
+//!   there (1 for a non-decreasing g), so candidates fall at the constant rate
+//!   n rate G(1).
 //!
 //! A candidate picks a block uniformly; it slips if stuck with probability
-//! g(x_i)/g(bound) (x_i exact at that instant). When the bound changes (blocks start or
+//! g(x_i)/G(bound) (x_i exact at that instant). When the bound changes (blocks start or
 //! stop sliding) the integral of the old bound so far is subtracted from the exponential
 //! variate left and the new bound taken from now: exact, because the process is
 //! memoryless. The generator (xoshiro256**, seeded through splitmix64), the variate left,
@@ -45,7 +48,7 @@ enum Bound {
     Stale,
     /// Everything stuck: x_i <= x0 + r (t - t_mark).
     Quiet { x0: f64, r: f64 },
-    /// Blocks slide: g(x_i) <= 1.
+    /// Blocks slide: g(x_i) <= G(1) (stuck blocks are below their threshold).
     Sliding,
 }
 
@@ -112,8 +115,8 @@ impl Noise {
     fn mass(&self, n: f64, tau: f64) -> f64 {
         match self.bound {
             Bound::Stale => 0.0,
-            Bound::Quiet { x0, r } => self.law.mass(x0, r, tau, n),
-            Bound::Sliding => n * self.law.rate * tau.max(0.0),
+            Bound::Quiet { x0, r } => self.law.envelope_mass(x0, r, tau, n),
+            Bound::Sliding => n * self.law.rate * self.law.sup_below_threshold() * tau.max(0.0),
         }
     }
 
@@ -121,9 +124,9 @@ impl Noise {
     fn delay(&self, n: f64) -> f64 {
         match self.bound {
             Bound::Stale => f64::INFINITY,
-            Bound::Quiet { x0, r } => self.law.time_to_mass(x0, r, self.e_left, n),
+            Bound::Quiet { x0, r } => self.law.envelope_time_to_mass(x0, r, self.e_left, n),
             Bound::Sliding => {
-                let l = n * self.law.rate;
+                let l = n * self.law.rate * self.law.sup_below_threshold();
                 if l > 0.0 {
                     self.e_left / l
                 } else {
@@ -179,9 +182,9 @@ impl Source for Noise {
             Bound::Quiet { x0, r } => {
                 let x = x0 + r * (now - self.t_mark);
                 self.bound = Bound::Quiet { x0: x, r };
-                self.law.law.g(x)
+                self.law.envelope_g(x)
             }
-            _ => 1.0,
+            _ => self.law.sup_below_threshold(),
         };
         self.t_mark = now;
         self.candidates += 1;
