@@ -300,3 +300,81 @@ fn quiet_stretches_are_jumped_not_stepped() {
         ch.counters
     );
 }
+
+/// A chain seen by the noise source: fixed stresses, block 1 sliding (the sliding
+/// bound: candidates at n rate G(1), kept with g(x_i)/G(1)).
+struct FixedView {
+    t: f64,
+    x: Vec<f64>,
+}
+
+impl super::sources::View for FixedView {
+    fn time(&self) -> f64 {
+        self.t
+    }
+    fn n(&self) -> usize {
+        self.x.len()
+    }
+    fn n_sliding(&self) -> usize {
+        1
+    }
+    fn sliding(&self, p: usize) -> bool {
+        p == 1
+    }
+    fn stress(&self, p: usize) -> f64 {
+        self.x[p - 1]
+    }
+    fn max_loading_rate(&self) -> f64 {
+        0.0
+    }
+    fn switches(&self) -> u64 {
+        0
+    }
+}
+
+/// While blocks slide the stuck ones are only known to be below their threshold, so the
+/// bound is G(1) = max_{x < 1} g: 4 for the peaked table (whose g(1) = 1). Stuck blocks
+/// at its peak slip at rate 4 rate each, the others at rate g(x): over t = 2e4 the
+/// spontaneous slips of each kind are Poisson with those means (the bound 1, g(1), would
+/// keep at most rate per block: 4 times too few at the peak).
+#[test]
+fn while_blocks_slide_the_bound_is_the_largest_rate_below_the_threshold() {
+    use super::sources::{noise::Noise, Source};
+    let law = peaked_law(0.01);
+    assert_eq!(law.sup_below_threshold(), 4.0);
+    // block 1 slides; blocks 2-5 at the peak (g = 4), 6-10 at x = 0.8 (g = 0.4 + 0.6 *
+    // 0.15/0.35 = 0.657)
+    let mut x = vec![0.9; 1];
+    x.extend([0.5; 4]);
+    x.extend([0.8; 5]);
+    let mut view = FixedView { t: 0.0, x };
+    let mut noise = Noise::new(law.clone(), 0.0, 21, 0.0).unwrap();
+    let t_end = 2e4;
+    let mut slips = [0u64; 11];
+    loop {
+        let t = noise.next_time(&view);
+        if t > t_end {
+            break;
+        }
+        view.t = t;
+        if let Some(trig) = noise.fire(&view) {
+            slips[trig.block + 1] += 1;
+        }
+    }
+    assert_eq!(slips[1], 0, "a sliding block has no rate");
+    let peak: u64 = slips[2..6].iter().sum();
+    let low: u64 = slips[6..].iter().sum();
+    let mu_peak = 4.0 * 4.0 * 0.01 * t_end;
+    let mu_low = 5.0 * law.law.g(0.8) * 0.01 * t_end;
+    for (n, mu) in [(peak, mu_peak), (low, mu_low)] {
+        let z = (n as f64 - mu) / mu.sqrt();
+        assert!(z.abs() < 4.0, "{n} slips, expected {mu} (z = {z})");
+    }
+    // candidates at n rate G(1)
+    let cand = noise.candidates as f64;
+    let mu = 10.0 * 0.01 * 4.0 * t_end;
+    assert!(
+        (cand - mu).abs() < 4.0 * mu.sqrt(),
+        "{cand} candidates vs {mu}"
+    );
+}
