@@ -119,6 +119,27 @@ struct EngineRun {
     block_steps: u64,
     steps: u64,
     switches: u64,
+    /// The bits of the final u, u_t and energy books folded together: a change that
+    /// should keep trajectories bit for bit must keep it.
+    fingerprint: u64,
+}
+
+/// A fingerprint of a chain's final state (the bits of u, u_t, the time and the energy
+/// books).
+fn fingerprint(ch: &Chain<Coulomb>) -> u64 {
+    let l = &ch.ledger;
+    let books = [
+        ch.time(),
+        l.load,
+        l.dry,
+        l.viscous,
+        l.projection,
+        l.injected,
+    ];
+    let vals = ch.u().into_iter().chain(ch.u_t()).chain(books);
+    vals.fold(0xcbf29ce484222325u64, |f, x| {
+        (f ^ x.to_bits()).wrapping_mul(0x100000001b3)
+    })
 }
 
 impl EngineRun {
@@ -156,6 +177,7 @@ fn engine_front(u_plus: f64, gamma: f64, dx: f64, n: usize) -> EngineRun {
         block_steps: ch.counters.block_steps,
         steps: ch.counters.steps,
         switches: ch.counters.switches,
+        fingerprint: fingerprint(&ch),
     }
 }
 
@@ -183,6 +205,7 @@ fn engine_loading(n: usize, dx: f64, gamma: f64, v: f64, events: usize) -> Engin
         block_steps: ch.counters.block_steps,
         steps: ch.counters.steps,
         switches: ch.counters.switches,
+        fingerprint: fingerprint(&ch),
     }
 }
 
@@ -217,7 +240,10 @@ fn main() {
                         "loading" => engine_loading(LOAD.0, LOAD.1, LOAD.2, LOAD.3, LOAD.4),
                         _ => panic!("--engine-only front|loading R"),
                     };
-                    println!("{which}: {:.4} s", run.seconds);
+                    println!(
+                        "{which}: {:.4} s, state fingerprint {:016x}",
+                        run.seconds, run.fingerprint
+                    );
                 }
                 return;
             }
@@ -273,22 +299,25 @@ fn main() {
         let best_l = rs_l.max(ra_l).max(r5_l).max(c_l);
         println!(
             "round {round}: front: {nf} sliding on average, {} steps, {} switches, engine \
-             {:.3e}/s ({:.3} s); reference Rust sse2 {rs_f:.3e}, Rust avx2 {ra_f:.3e}, Rust \
-             avx512 {r5_f:.3e}, C -O3 -march=native {c_f:.3e}; engine/best {:.3}",
+             {:.3e}/s ({:.3} s, state fingerprint {:016x}); reference Rust sse2 {rs_f:.3e}, \
+             Rust avx2 {ra_f:.3e}, Rust avx512 {r5_f:.3e}, C -O3 -march=native {c_f:.3e}; \
+             engine/best {:.3}",
             front.steps,
             front.switches,
             front.rate(),
             front.seconds,
+            front.fingerprint,
             front.rate() / best_f
         );
         println!(
             "round {round}: loading: {nl} sliding on average, {} steps, {} switches, engine \
-             {:.3e}/s ({:.3} s); reference Rust sse2 {rs_l:.3e}, Rust avx2 {ra_l:.3e}, Rust \
-             avx512 {r5_l:.3e}, C {c_l:.3e}; engine/best {:.3}",
+             {:.3e}/s ({:.3} s, state fingerprint {:016x}); reference Rust sse2 {rs_l:.3e}, \
+             Rust avx2 {ra_l:.3e}, Rust avx512 {r5_l:.3e}, C {c_l:.3e}; engine/best {:.3}",
             load.steps,
             load.switches,
             load.rate(),
             load.seconds,
+            load.fingerprint,
             load.rate() / best_l
         );
         rows.push([

@@ -174,15 +174,6 @@ pub(crate) fn stage_accel<F: Friction, M: Medium, const FWD: bool>(
     }
 }
 
-/// True when every sliding block slides forward (dir = 1): an and over the blocks
-/// without a branch, which the compiler vectorises.
-#[inline(always)]
-pub(crate) fn all_forward(st: &State) -> bool {
-    st.runs.iter().fold(true, |all, &(a, b)| {
-        all & st.dir[a..b].iter().fold(true, |all, &d| all & (d == 1.0))
-    })
-}
-
 /// The stage sums (loader displacement, dry and viscous power) of the sliding blocks at
 /// stage values su, sw, summed block by block in order within each run.
 pub(crate) fn stage_sums<F: Friction, M: Medium>(

@@ -9,8 +9,8 @@
 //! same bits).
 
 use super::{
-    accel_at_state, accel_only_at_state, all_forward, fill_neighbours, lane_sum, stage_accel,
-    Integrator, Simd, StageSums, StepIntegrals,
+    accel_at_state, accel_only_at_state, fill_neighbours, lane_sum, stage_accel, Integrator, Simd,
+    StageSums, StepIntegrals,
 };
 use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
@@ -58,16 +58,27 @@ impl Rk4 {
 
 /// One RK4 stage over every run: the right-hand side at the stage values (cu, cw; the
 /// neighbours of the runs filled in), added with weight `wt` to the sums (ku, kw); the
-/// next stage's values u0 + ch cw, w0 + ch a go to (nu, nw).
+/// next stage's values u0 + ch cw, w0 + ch a go to (nu, nw). `FIRST` (stage 2): the sums
+/// start from stage 1's values (w0, a0 and the books' rates at the start state), computed
+/// here rather than stored by stage 1 and read back (the same operations on the same
+/// values, so the same bits).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool, const FWD: bool>(
+fn stage<
+    F: Friction,
+    M: Medium,
+    const LOAD: bool,
+    const DRY: bool,
+    const FWD: bool,
+    const FIRST: bool,
+>(
     st: &State,
     fr: &Blocks<F, M>,
     cu: &[f64],
     cw: &[f64],
     u0: &[f64],
     w0: &[f64],
+    a0: &[f64],
     ku: &mut [f64],
     kw: &mut [f64],
     nu: &mut [f64],
@@ -83,29 +94,36 @@ fn stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool, const FWD: b
         let len = b - a;
         let (ul, uc, ur) = (&cu[a - 1..b - 1], &cu[a..b], &cu[a + 1..b + 1]);
         let (cw, dir, th) = (&cw[a..b], &st.dir[a..b], &st.onset[a..b]);
-        let (u0, w0) = (&u0[a..b], &w0[a..b]);
+        let (u0, w0, a0) = (&u0[a..b], &w0[a..b], &a0[a..b]);
         let (ku, kw) = (&mut ku[a..b], &mut kw[a..b]);
         let (nu, nw) = (&mut nu[a..b], &mut nw[a..b]);
         let (bu, bd, bv) = (&mut bu[a..b], &mut bd[a..b], &mut bv[a..b]);
         assert!(ul.len() == len && ur.len() == len && cw.len() == len && dir.len() == len);
         assert!(th.len() == len && u0.len() == len && w0.len() == len && ku.len() == len);
         assert!(kw.len() == len && nu.len() == len && nw.len() == len && bu.len() == len);
-        assert!(bd.len() == len && bv.len() == len);
+        assert!(bd.len() == len && bv.len() == len && a0.len() == len);
         for i in 0..len {
             let (w, d) = (cw[i], if FWD { 1.0 } else { dir[i] });
             let acc = fr.accel(a + i, ul[i], uc[i], ur[i], v - w, d, th[i], k);
-            ku[i] += wt * w;
-            kw[i] += wt * acc;
+            // stage 1's terms (weight 1) or the sums so far
+            let (ku0, kw0, bu0, bd0, bv0) = if FIRST {
+                let (pd, pv) = fr.fr.power(v - w0[i], d, th[i]);
+                (w0[i], a0[i], fr.med.loader(a + i) * u0[i], pd, pv)
+            } else {
+                (ku[i], kw[i], bu[i], bd[i], bv[i])
+            };
+            ku[i] = ku0 + wt * w;
+            kw[i] = kw0 + wt * acc;
             nu[i] = u0[i] + ch * w;
             nw[i] = w0[i] + ch * acc;
             let (pd, pv) = fr.fr.power(v - w, d, th[i]);
             if LOAD {
-                bu[i] += wt * (fr.med.loader(a + i) * uc[i]);
+                bu[i] = bu0 + wt * (fr.med.loader(a + i) * uc[i]);
             }
             if DRY {
-                bd[i] += wt * pd;
+                bd[i] = bd0 + wt * pd;
             }
-            bv[i] += wt * pv;
+            bv[i] = bv0 + wt * pv;
         }
     }
 }
@@ -187,55 +205,33 @@ impl Rk4 {
         w0: &mut [f64],
         a1: &mut [f64],
     ) {
-        let Rk4 {
-            su,
-            sw,
-            ku,
-            kw,
-            bu,
-            bd,
-            bv,
-            kept,
-            ..
-        } = self;
+        let Rk4 { su, sw, kept, .. } = self;
         *kept = (LOAD, DRY);
-        let v = st.v;
-        // stage 1 (at t0): derivatives (w, a0); set stage 2 values
+        // stage 1 (at t0): the derivatives are (w, a0); save the start state, set stage
+        // 2's values, and find whether every block slides forward (an and without a
+        // branch); stage 2 starts the RK4 sums and the books
         let hh = 0.5 * h;
+        let mut forward = true;
         for &(a, b) in &st.runs {
             let len = b - a;
             let (u, w, acc) = (&st.u[a..b], &st.w[a..b], &a0[a..b]);
             let (u0, w0) = (&mut u0[a..b], &mut w0[a..b]);
-            let (ku, kw) = (&mut ku[a..b], &mut kw[a..b]);
-            let (su, sw) = (&mut su[a..b], &mut sw[a..b]);
-            let (dir, th) = (&st.dir[a..b], &st.onset[a..b]);
-            let (bu, bd, bv) = (&mut bu[a..b], &mut bd[a..b], &mut bv[a..b]);
+            let (su, sw, dir) = (&mut su[a..b], &mut sw[a..b], &st.dir[a..b]);
             assert!(u.len() == len && w.len() == len && acc.len() == len && u0.len() == len);
-            assert!(w0.len() == len && ku.len() == len && kw.len() == len && su.len() == len);
-            assert!(sw.len() == len && dir.len() == len && th.len() == len && bu.len() == len);
-            assert!(bd.len() == len && bv.len() == len);
+            assert!(w0.len() == len && su.len() == len && sw.len() == len && dir.len() == len);
             for i in 0..len {
-                let (pd, pv) = fr.fr.power(v - w[i], dir[i], th[i]);
-                if LOAD {
-                    bu[i] = fr.med.loader(a + i) * u[i];
-                }
-                if DRY {
-                    bd[i] = pd;
-                }
-                bv[i] = pv;
                 u0[i] = u[i];
                 w0[i] = w[i];
-                ku[i] = w[i];
-                kw[i] = acc[i];
                 su[i] = u[i] + hh * w[i];
                 sw[i] = w[i] + hh * acc[i];
+                forward &= dir[i] == 1.0;
             }
         }
         // stages 2 to 4, with dir read only if some block slides backward
-        if all_forward(st) {
-            self.stages_2_to_4::<F, M, LOAD, DRY, true>(st, fr, t0, h, u0, w0, a1)
+        if forward {
+            self.stages_2_to_4::<F, M, LOAD, DRY, true>(st, fr, t0, h, a0, u0, w0, a1)
         } else {
-            self.stages_2_to_4::<F, M, LOAD, DRY, false>(st, fr, t0, h, u0, w0, a1)
+            self.stages_2_to_4::<F, M, LOAD, DRY, false>(st, fr, t0, h, a0, u0, w0, a1)
         }
     }
 
@@ -249,6 +245,7 @@ impl Rk4 {
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
+        a0: &[f64],
         u0: &[f64],
         w0: &[f64],
         a1: &mut [f64],
@@ -268,13 +265,14 @@ impl Rk4 {
         let hh = 0.5 * h;
         let tm = t0 + 0.5 * h;
         fill_neighbours(st, su, tm);
-        stage::<F, M, LOAD, DRY, FWD>(
+        stage::<F, M, LOAD, DRY, FWD, true>(
             st,
             fr,
             su,
             sw,
             u0,
             w0,
+            a0,
             ku,
             kw,
             tu,
@@ -284,7 +282,22 @@ impl Rk4 {
             hh,
         );
         fill_neighbours(st, tu, tm);
-        stage::<F, M, LOAD, DRY, FWD>(st, fr, tu, tw, u0, w0, ku, kw, su, sw, [bu, bd, bv], 2.0, h);
+        stage::<F, M, LOAD, DRY, FWD, false>(
+            st,
+            fr,
+            tu,
+            tw,
+            u0,
+            w0,
+            a0,
+            ku,
+            kw,
+            su,
+            sw,
+            [bu, bd, bv],
+            2.0,
+            h,
+        );
         let t1 = t0 + h;
         fill_neighbours(st, su, t1);
         last_stage::<F, M, LOAD, DRY, FWD>(
@@ -574,6 +587,8 @@ mod tests {
             both.w[p] = 0.01 - 0.2 * (0.7 * p as f64).cos();
             both.add_to_runs(p);
         }
+        let all_forward =
+            |st: &State| (st.runs.iter()).all(|&(a, b)| st.dir[a..b].iter().all(|&d| d == 1.0));
         assert!(all_forward(&st) && !all_forward(&both));
         let run = |mut st: State| {
             let mut rk = Rk4::new(n);
