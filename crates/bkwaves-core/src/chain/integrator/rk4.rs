@@ -3,7 +3,12 @@
 //! Each stage is one pass per run that evaluates the right-hand side at the stage values
 //! and, in the same loop, adds it to the RK4 sums and writes the next stage's values into
 //! a second buffer (two stage buffers, used in turn): no per-block branch and no
-//! reduction, so the compiler vectorises it. On x86-64 CPUs with AVX2 or AVX-512F the
+//! reduction, so the compiler vectorises it. Stage 1 (at the start state, whose
+//! accelerations the last step left) only saves the state and sets stage 2's values;
+//! stage 2 starts the sums; the last stage writes the new state, and one more pass its
+//! accelerations (the next step's stage 1). When every sliding block slides forward the
+//! stages do not read the direction (it is passed as the constant 1: the same bits).
+//! On x86-64 CPUs with AVX2 or AVX-512F the
 //! step, the accelerations and the books run as code compiled for them ([`Simd`],
 //! detected at run time; Rust never fuses a multiply and an add, so every path gives the
 //! same bits).
