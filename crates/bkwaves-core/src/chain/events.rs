@@ -262,24 +262,10 @@ fn pick(c: bool, a: f64, b: f64) -> f64 {
 /// the cubic (a valid bound, so no root is missed). Appends their
 /// offsets in the run to `out`. Blocks are tested eight at a time without a branch (the
 /// compiler vectorises the test), a group with no candidate costs no branch per block.
+/// `simd` is the vector code to run, one this CPU runs ([`Simd::detect`], detected once
+/// by the caller, or one of [`Simd::available`]).
 #[allow(clippy::too_many_arguments)]
 pub fn rest_candidates(
-    dir: &[f64],
-    w0: &[f64],
-    w1: &[f64],
-    a0: &[f64],
-    a1: &[f64],
-    v: f64,
-    h: f64,
-    out: &mut Vec<usize>,
-) {
-    rest_candidates_with(Simd::detect(), dir, w0, w1, a0, a1, v, h, out)
-}
-
-/// [`rest_candidates`] with the given vector code, which must be one this CPU runs
-/// ([`Simd::detect`] or one of [`Simd::available`]).
-#[allow(clippy::too_many_arguments)]
-fn rest_candidates_with(
     simd: Simd,
     dir: &[f64],
     w0: &[f64],
@@ -689,11 +675,11 @@ mod tests {
         cols[2][77] = f64::NAN;
         let mut out = Vec::new();
         let [d, w0, w1, a0, a1] = &cols;
-        rest_candidates(d, w0, w1, a0, a1, v, h, &mut out);
+        rest_candidates(Simd::detect(), d, w0, w1, a0, a1, v, h, &mut out);
         // every vector code this CPU runs keeps the same candidates
         for simd in Simd::available() {
             let mut other = Vec::new();
-            rest_candidates_with(simd, d, w0, w1, a0, a1, v, h, &mut other);
+            rest_candidates(simd, d, w0, w1, a0, a1, v, h, &mut other);
             assert_eq!(other, out, "{simd:?}");
         }
         let mut found = 0;

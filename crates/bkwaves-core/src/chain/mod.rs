@@ -38,7 +38,7 @@ use crate::noise::NoiseLaw;
 use catalog::Catalog;
 use energy::Ledger;
 use events::{Hermite, SlipQueue};
-use integrator::{Method, Stepper};
+use integrator::{Method, Simd, Stepper};
 use medium::{Blocks, Medium, Uniform};
 use sources::{Cause, Source, View};
 use state::State;
@@ -180,6 +180,8 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     boundary_name: &'static str,
     st: State,
     rk: Stepper,
+    /// The vector code of the event pre-test (the widest this CPU runs, detected once).
+    simd: Simd,
     queue: SlipQueue,
     t: f64,
     h: f64,
@@ -342,6 +344,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             },
             boundary_name: boundary.name(),
             rk: Stepper::new(Method::Rk4, n),
+            simd: Simd::detect(),
             queue: SlipQueue::new(n + 2),
             t: 0.0,
             h,
@@ -821,6 +824,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             // the blocks that may come to rest in the step (a vectorised cheap test)
             cands.clear();
             events::rest_candidates(
+                self.simd,
                 &self.st.dir[a..b],
                 &self.w0[a..b],
                 &self.st.w[a..b],

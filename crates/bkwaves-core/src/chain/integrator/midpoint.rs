@@ -9,8 +9,8 @@
 //! with factor about (h/dx)^2 + h gamma, iterated to round-off.
 
 use super::{
-    accel_at_state, accel_only_at_state, fill_neighbours, stage_accel, stage_sums, Integrator,
-    StageSums, StepIntegrals,
+    accel_only_at_state, fill_neighbours, stage_accel, stage_sums, Integrator, StageSums,
+    StepIntegrals,
 };
 use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
@@ -47,16 +47,6 @@ impl Integrator for Midpoint {
     }
     fn order(&self) -> u32 {
         2
-    }
-
-    fn accel<F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State,
-        fr: &Blocks<F, M>,
-        t: f64,
-        acc: &mut [f64],
-    ) -> StageSums {
-        accel_at_state(st, fr, &mut self.su, t, acc)
     }
 
     fn accel_only<F: Friction, M: Medium>(

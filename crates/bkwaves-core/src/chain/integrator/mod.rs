@@ -52,19 +52,7 @@ pub trait Integrator: std::fmt::Debug + Send {
     fn name(&self) -> &'static str;
     /// Order of convergence.
     fn order(&self) -> u32;
-    /// Acceleration of every sliding block at the state's current time t into `acc`,
-    /// returning the stage sums there.
-    fn accel<F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State,
-        fr: &Blocks<F, M>,
-        t: f64,
-        acc: &mut [f64],
-    ) -> StageSums
-    where
-        Self: Sized;
-    /// Acceleration of every sliding block at the state's current time t into `acc`
-    /// (as [`Integrator::accel`], without the stage sums).
+    /// Acceleration of every sliding block at the state's current time t into `acc`.
     fn accel_only<F: Friction, M: Medium>(
         &mut self,
         st: &mut State,
@@ -74,7 +62,7 @@ pub trait Integrator: std::fmt::Debug + Send {
     ) where
         Self: Sized;
     /// Advance the sliding blocks from t0 to t0 + h. `a0` holds the accelerations at
-    /// t0 (from [`Integrator::accel`] or the last step); the start state is saved in
+    /// t0 (from [`Integrator::accel_only`] or the last step); the start state is saved in
     /// `u0`, `w0` for the dense output and for a redo; the accelerations at t0 + h of the
     /// new state go to `a1` (the same bits as [`Integrator::accel_only`] there).
     #[allow(clippy::too_many_arguments)]
@@ -96,20 +84,7 @@ pub trait Integrator: std::fmt::Debug + Send {
 }
 
 /// Accelerations of the sliding blocks at the present state, time t, using `su` as the
-/// stage buffer (the first stage of every integrator), and the stage sums there.
-pub(crate) fn accel_at_state<F: Friction, M: Medium>(
-    st: &State,
-    fr: &Blocks<F, M>,
-    su: &mut [f64],
-    t: f64,
-    acc: &mut [f64],
-) -> StageSums {
-    accel_only_at_state(st, fr, su, t, acc);
-    stage_sums(st, fr, su, &st.w)
-}
-
-/// Accelerations of the sliding blocks at the present state (as [`accel_at_state`]),
-/// without the stage sums.
+/// stage buffer.
 #[inline(always)]
 pub(crate) fn accel_only_at_state<F: Friction, M: Medium>(
     st: &State,
@@ -328,19 +303,6 @@ impl Stepper {
         match self {
             Stepper::Rk4(m) => m.name(),
             Stepper::Midpoint(m) => m.name(),
-        }
-    }
-    /// See [`Integrator::accel`].
-    pub fn accel<F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State,
-        fr: &Blocks<F, M>,
-        t: f64,
-        acc: &mut [f64],
-    ) -> StageSums {
-        match self {
-            Stepper::Rk4(m) => m.accel(st, fr, t, acc),
-            Stepper::Midpoint(m) => m.accel(st, fr, t, acc),
         }
     }
     /// See [`Integrator::accel_only`].

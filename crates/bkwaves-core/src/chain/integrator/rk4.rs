@@ -14,8 +14,7 @@
 //! same bits).
 
 use super::{
-    accel_at_state, accel_only_at_state, fill_neighbours, lane_sum, stage_accel, Integrator, Simd,
-    StageSums, StepIntegrals,
+    accel_only_at_state, fill_neighbours, lane_sum, stage_accel, Integrator, Simd, StepIntegrals,
 };
 use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
@@ -451,16 +450,6 @@ impl Integrator for Rk4 {
     }
     fn order(&self) -> u32 {
         4
-    }
-
-    fn accel<F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State,
-        fr: &Blocks<F, M>,
-        t: f64,
-        acc: &mut [f64],
-    ) -> StageSums {
-        accel_at_state(st, fr, &mut self.su, t, acc)
     }
 
     fn accel_only<F: Friction, M: Medium>(
