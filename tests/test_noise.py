@@ -119,3 +119,32 @@ def test_noise_table_laws_and_errors():
     for table, key in bad:
         with pytest.raises(bk.ParameterError, match=rf"invalid {key} ="):
             bk.noise.check_noise(table)
+
+
+@pytest.mark.parametrize("dx", [6.5e-285, 1e-200, 1e300, 1e7])
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda dx: bk.noise.deferred_stress(0.2, 0.01, dx, 0.3),
+        lambda dx: bk.noise.kick_threshold(0.2, dx, 0.3),
+        lambda dx: bk.noise.release_stress(dx, 0.3),
+        lambda dx: bk.noise_stats.calibrated_noise({"law": "constant", "rate": 1.0}, dx, 0.3),
+    ],
+)
+def test_a_dx_whose_square_under_or_overflows_is_refused_naming_dx(call, dx):
+    """Fuzz finding: dx = 6.5e-285 (dx^2 underflows to 0) raised ZeroDivisionError and
+    dx = 1e300 OverflowError in the kicked block's oscillator Omega^2 = 1 + 2/dx^2."""
+    with pytest.raises(
+        bk.ParameterError, match=r"invalid dx = .*: allowed 1e-150 <= dx <= 1000000"
+    ):
+        call(dx)
+
+
+@pytest.mark.parametrize("dx", [1e-150, 1e6])
+def test_the_ends_of_the_dx_range_give_finite_answers(dx):
+    u_r = bk.noise.release_stress(dx, 0.3)
+    assert 0.5 <= u_r < 1
+    kc = bk.noise.kick_threshold([0.1, 0.4, 0.9], dx, 0.3)
+    assert np.all(np.isfinite(kc)) and np.all(kc >= 0)
+    u_b = bk.noise.deferred_stress([0.1, 0.4], 0.0, dx, 0.3)
+    assert np.all((u_b >= [0.1, 0.4]) | np.isnan(u_b))

@@ -137,8 +137,13 @@ def rate_density(u, noise: dict):
     return out.item() if out.ndim == 0 else out
 
 
+#: The lattice spacings the kick response accepts: dx^2 and 2/dx^2 (the kicked block's
+#: Omega^2 = 1 + 2/dx^2) must be finite normal numbers; Params allows dx <= 1e6 too.
+DX_RANGE = (1e-150, 1e6)
+
+
 def _check(dx, gamma):
-    dx = V.number("dx", dx, lo=0.0, lo_open=True)
+    dx = V.number("dx", dx, lo=DX_RANGE[0], hi=DX_RANGE[1])
     gamma = V.number("gamma", gamma, lo=0.0, hi=1.0, hi_open=True)
     return dx, gamma
 

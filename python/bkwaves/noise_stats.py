@@ -434,7 +434,7 @@ def calibrated_noise(
     from .noise import kick_threshold, nucleation_probability
 
     chain_noise = _noise.check_noise(chain_noise, "chain_noise", model="chain")
-    dx = V.number("dx", dx, lo=0.0, lo_open=True)
+    dx, gamma = _noise._check(dx, gamma)
     grid = V.integer("grid", grid, lo=3)
     kick = chain_noise["kick"]
     law = {k: val for k, val in chain_noise.items() if k != "kick"}
