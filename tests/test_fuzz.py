@@ -356,6 +356,108 @@ def fuzz_api(n: int) -> list[dict]:
     return bad
 
 
+def fuzz_noise(n: int) -> list[dict]:
+    """Today's noise APIs: table laws (zeros, plateaus, falls, tiny and huge nodes) in
+    both engines, chain noise tables with typos, deferred_stress at its edges,
+    calibrated_noise for every law x kick x deferred, chain_ruptures of short runs.
+    Rates stay small (g at most 10 times g(1)): a table whose running maximum is huge
+    against g(1) makes a run of very many candidates, a cost no estimate warns of."""
+    import numpy as np
+    from hypothesis import given
+    from hypothesis import strategies as st
+
+    import bkwaves as bk
+    from bkwaves import noise_stats
+
+    edges = st.sampled_from([0.0, 1e-300, 1e-12, 0.5, 1.0, 1 - 1e-16, 1e300, -1.0, math.nan])
+    x = np.linspace(0.0, 10.0, 41)
+
+    @st.composite
+    def tables(draw):
+        u = sorted(set(draw(st.lists(st.floats(-0.5, 1.5), min_size=2, max_size=6))))
+        scale = draw(st.sampled_from([1.0, 1.0, 1e-300, 1e300]))
+        u = [scale * a for a in u] + ([1.0] if draw(st.booleans()) else [])
+        u = sorted(set(u))
+        g = draw(st.lists(st.sampled_from([0.0, 0.0, 0.1, 1.0, 2.0, 10.0]), min_size=len(u),
+                          max_size=len(u)))  # fmt: skip
+        return {"law": "table", "rate": 0.05, "u": u, "g": g}
+
+    def laws(draw):
+        law = draw(st.sampled_from(["constant", "exponential", "power", "table"]))
+        if law == "table":
+            return draw(tables())
+        own = {"exponential": {"phi0": 0.1}, "power": {"exponent": 2.0}}.get(law, {})
+        return {"law": law, "rate": 0.05, **own}
+
+    def chain_run(noise):
+        p = bk.Params(gamma=0.3, v=0.05, dx=0.1)
+        ch = bk.Chain(12, p, u0=np.linspace(0.5, 0.9, 12), noise=noise, seed=5)
+        return ch.run(t_end=2.0)
+
+    def fb_run(noise):
+        p = bk.Params(gamma=0.3, v=1e-2, dx=1e-2)
+        fb = bk.FreeBoundary(p, x, 0.5 + 0.005 * x, "periodic", noise=noise, seed=5)
+        return fb.run(t_end=10.0, max_events=3)
+
+    bad: list[dict] = []
+
+    @_fuzz_settings(n)
+    @given(st.data())
+    def one(data):
+        what = data.draw(st.sampled_from(["engines", "typo", "deferred", "calibrated", "ruptures"]))
+        if what == "engines":
+            noise = laws(data.draw)
+            if data.draw(st.booleans()):
+                noise["kick"] = data.draw(st.sampled_from([0.0, 0.02, 0.5, 1e6]))
+                call = lambda: chain_run(noise)  # noqa: E731
+            else:
+                call = lambda: fb_run(noise)  # noqa: E731
+            keys = ["noise"]
+        elif what == "typo":
+            noise = laws(data.draw)
+            key = data.draw(st.sampled_from(["kik", "Phi0", "u", "g", "rate", "law", "kick"]))
+            noise[key] = data.draw(st.one_of(edges, st.sampled_from(["x", None, [], [1.0]])))
+            call, keys = (lambda: chain_run(noise)), ["noise"]
+        elif what == "deferred":
+            u = data.draw(st.one_of(edges, st.lists(edges, max_size=3)))
+            args = (u, data.draw(edges), data.draw(edges), data.draw(edges))
+            noise = repr(args)
+            call, keys = (lambda: bk.noise.deferred_stress(*args)), ["u", "kick", "dx", "gamma"]
+        elif what == "calibrated":
+            noise = {**laws(data.draw), "kick": data.draw(st.sampled_from([0.0, 0.02, 0.5]))}
+            kw = {
+                "dx": data.draw(st.sampled_from([0.05, 0.5, 3.0, 1e-300])),
+                "gamma": data.draw(st.sampled_from([0.0, 0.3, 1 - 1e-16, 1.0])),
+                "deferred": data.draw(st.booleans()),
+                "distribution": data.draw(st.sampled_from(["fixed", "exponential"])),
+                "grid": data.draw(st.sampled_from([3, 11, 201])),
+            }
+
+            def call():
+                return fb_run(noise_stats.calibrated_noise(noise, **kw))
+
+            keys = ["chain_noise", "dx", "gamma", "grid"]
+        else:
+            blocks = data.draw(st.sampled_from([1, 2, 5]))
+            boundary = data.draw(st.sampled_from(["free", "fixed", "periodic"]))
+            kicked = data.draw(st.booleans())
+            t_end = data.draw(st.sampled_from([1e-9, 0.05, 2.0]))
+            noise = repr((blocks, boundary, kicked, t_end))
+
+            def call():
+                p = bk.Params(gamma=0.3, v=0.05, dx=0.1)
+                ch = bk.Chain(blocks, p, u0=0.6, boundary=boundary)
+                if kicked:
+                    ch.kick(0, -2.0)
+                return noise_stats.chain_ruptures(ch.run(t_end=t_end), boundary)
+
+            keys = ["boundary"]
+        _check(call, keys, bad, {"api": what, "noise": repr(noise)[:300]})
+
+    one()
+    return bad
+
+
 # ------------------------------------------------------------------ the tests
 def _p(**kw):
     import bkwaves as bk
@@ -450,7 +552,13 @@ def test_hostile_api_calls_give_a_clean_error_or_a_valid_result():
     assert not bad, json.dumps(bad[:10], indent=1)
 
 
+def test_the_noise_apis_give_a_clean_error_or_a_valid_result():
+    pytest.importorskip("hypothesis")
+    bad = _drive("noise", 200, timeout=300)
+    assert not bad, json.dumps(bad[:10], indent=1)
+
+
 if __name__ == "__main__":
     kind, count = sys.argv[1], int(sys.argv[2])
-    found = fuzz_configs(count) if kind == "configs" else fuzz_api(count)
+    found = {"configs": fuzz_configs, "api": fuzz_api, "noise": fuzz_noise}[kind](count)
     print(json.dumps(found))

@@ -442,3 +442,25 @@ def test_the_deferred_calibration_of_an_activated_law_has_the_chains_first_ruptu
     )
     assert stats.kstest(survival_uniforms(fb_t), "uniform").pvalue > 0.01
     assert stats.ks_2samp(chain_t, fb_t).pvalue > 0.01
+
+
+def test_chain_ruptures_of_a_run_stopped_mid_event_leave_the_open_rupture_without_an_end():
+    """Fuzz finding: a run stopped while blocks slide has slips with t_end = NaN, and
+    chain_ruptures warned 'invalid value encountered in maximum' (RuntimeWarning). The
+    open rupture's t_end is NaN (as the catalog's open event), without a warning, and its
+    moment was NaN: it is the sum of the finished slips, as the catalog's."""
+    ch = bk.Chain(40, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6, boundary="free")
+    ch.kick(0, -2.0)
+    r = ch.run(t_end=0.5)  # the front is still running
+    assert r.slips.t_end.isna().any()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cat = bk.noise_stats.chain_ruptures(r, "free")
+    assert len(cat) == 1 and math.isnan(cat.t_end.iloc[0])
+    assert cat.n_blocks.iloc[0] == r.slips.block.nunique()
+    # its moment is the finished slips so far, the catalog's moment of the open event (was NaN)
+    assert r.catalog.moment.iloc[0] > 0
+    assert cat.moment.iloc[0] == pytest.approx(r.catalog.moment.iloc[0], rel=1e-12)
+    done = bk.Chain(40, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6).kick(0, -2.0).run(max_events=1)
+    full = bk.noise_stats.chain_ruptures(done, "free")
+    assert len(full) == 1 and full.t_end.iloc[0] == done.slips.t_end.max()

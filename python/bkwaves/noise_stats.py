@@ -158,7 +158,8 @@ def chain_ruptures(result, boundary: str):
     rupture; any other slip belongs to the rupture of the neighbour whose latest slip
     started last (the front that loaded it). One row per rupture: ``t_start``,
     ``x_start``, ``block``, ``spontaneous``, ``u_start`` (the starting block's u),
-    ``t_end`` (its last slip's end), ``n_blocks`` (distinct blocks), ``swept``
+    ``t_end`` (its last slip's end; NaN while one of its slips runs, a run stopped
+    mid-event), ``n_blocks`` (distinct blocks), ``swept``
     (n_blocks dx), ``moment`` (sum of its slips, the free boundary's ``moment``),
     ``event`` (the catalog event it belongs to). ``boundary``: the chain's (``periodic``
     wraps the neighbours)."""
@@ -214,9 +215,12 @@ def chain_ruptures(result, boundary: str):
     s = slips.iloc[order]
     first = s.iloc[starts]
     m = len(starts)
-    moment = np.bincount(rid, weights=s.slip.to_numpy(), minlength=m)
+    # a slip still running (a run stopped mid-event) has no slip yet: the finished ones
+    # count, as in the catalog's moment of an open event
+    moment = np.bincount(rid, weights=np.nan_to_num(s.slip.to_numpy(), nan=0.0), minlength=m)
     t_end = np.full(m, -np.inf)
-    np.maximum.at(t_end, rid, s.t_end.to_numpy())
+    with np.errstate(invalid="ignore"):  # a slip still running (t_end NaN): NaN, no warning
+        np.maximum.at(t_end, rid, s.t_end.to_numpy())
     distinct = pd.DataFrame({"r": rid, "b": blk}).drop_duplicates()
     count = np.bincount(distinct.r.to_numpy(), minlength=m)
     return pd.DataFrame(
