@@ -211,6 +211,12 @@ def test_bad_noise_tables_name_the_key():
         ({"u": [0.0, 1.0], "g": [1.0, 1.0, 1.0]}, r"noise\.g = .*one per node"),
         ({"u": [0.0, 1.0, 2.0], "g": [1.0, 0.0, 1.0]}, r"noise\.g = .*> 0 at u = 1"),
         ({"u": [0.0, 1.0], "g": [1.0, 1.0], "phi0": 0.1}, r"noise\.phi0"),
+        # fuzz findings: a node far from the stresses made the primitive (from the first
+        # node) too large to resolve a candidate's increment: the free boundary spun at
+        # one instant (a hang); g/g(1) overflowing to inf broke the primitive
+        ({"u": [-8.3e287, 9.4e298], "g": [2.0, 10.0]}, r"noise\.u = .*\|u\| <= 1000"),
+        ({"u": [0.0, 1.0, 2e3], "g": [1.0, 1.0, 1.0]}, r"noise\.u = .*\|u\| <= 1000"),
+        ({"u": [0.0, 1.0], "g": [1e300, 1e-300]}, r"noise\.g = .*g/g\(1\) finite"),
     ]
     # the chain (law in x = 1 - (threshold - phi)) refuses the same tables alike
     chain_p = bk.Params(gamma=0.3, v=1e-2, dx=0.1)
@@ -230,10 +236,16 @@ def test_bad_noise_tables_name_the_key():
             eng.set_noise("table", 1.0, 1, u=[0.0, 1.0], g=[1.0])
         with pytest.raises(bk.ParameterError, match=r"invalid g = .*positive at u = 1"):
             eng.set_noise("table", 1.0, 1, u=[0.0, 0.5, 1.0], g=[1.0, 2.0, 0.0])
+        with pytest.raises(bk.ParameterError, match=r"invalid u = .*\|u\| <= 1000"):
+            eng.set_noise("table", 1.0, 1, u=[-8.3e287, 9.4e298], g=[2.0, 10.0])
+        with pytest.raises(bk.ParameterError, match=r"invalid g = .*g/g\(1\) finite"):
+            eng.set_noise("table", 1.0, 1, u=[0.0, 1.0], g=[1e300, 1e-300])
         assert build({**table, "u": [0.0, 1.0], "g": [1.0, 2.0]}).noise["law"] == "table", model
         # a falling table is a law (the engines thin under its running maximum)
         peaked = {**table, "u": [0.0, 0.5, 1.0], "g": [0.0, 2.0, 1.0]}
         assert build(peaked).noise["g"] == [0.0, 2.0, 1.0], model
+        wide = {**table, "u": [-1e3, 1.0, 1e3], "g": [0.0, 1.0, 1e6]}
+        assert build(wide).noise["u"] == [-1e3, 1.0, 1e3], model
 
 
 def test_seed_is_drawn_and_recorded_when_not_given():

@@ -381,7 +381,9 @@ CONFIG = {
         Spec("phi0", "real", lo=0.0, lo_open=True, doc="exponential law only: stress scale"),
         Spec("exponent", "real", lo=0.0, doc="power law only: the exponent"),
         Spec(
-            "u", "reals", doc="table law only: the nodes, strictly increasing (stress u; chain: x)"
+            "u",
+            "reals",
+            doc="table law only: the nodes, strictly increasing, |u| <= 1000 (stress u; chain: x)",
         ),
         Spec(
             "g",

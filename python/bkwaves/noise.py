@@ -94,16 +94,34 @@ def check_noise(table, where: str = "noise", model: str = "free_boundary") -> di
     return out
 
 
+#: The largest |u| of a ``table`` node (the core's ``TABLE_NODE_MAX``).
+TABLE_NODE_MAX = 1e3
+
+
 def _check_table(out: dict, where: str) -> None:
     """The ``table`` law's nodes (the core checks the same): as lists of floats."""
     u = np.atleast_1d(np.asarray(out["u"], dtype=float))
     g = np.atleast_1d(np.asarray(out["g"], dtype=float))
     if u.ndim != 1 or u.size < 2 or np.any(np.diff(u) <= 0):
         V._fail(f"{where}.u", out["u"], "at least two strictly increasing nodes")
+    if np.any(np.abs(u) > TABLE_NODE_MAX):
+        # the engines' primitive runs from the first node: a node far from every stress
+        # makes it too large to resolve a candidate's increment near u = 1
+        V._fail(f"{where}.u", out["u"], "nodes with |u| <= 1000")
     if g.shape != u.shape:
         V._fail(f"{where}.g", out["g"], f"{u.size} values >= 0 (one per node of u)")
-    if not np.interp(1.0, u, g) > 0:
+    at_one = np.interp(1.0, u, g)
+    if not at_one > 0:
         V._fail(f"{where}.g", out["g"], "values >= 0 whose interpolant is > 0 at u = 1")
+    with np.errstate(over="ignore", invalid="ignore"):
+        ratio = g / at_one
+        integral = np.sum(0.5 * (ratio[1:] + ratio[:-1]) * np.diff(u))
+    if not (np.all(np.isfinite(ratio)) and np.isfinite(integral)):
+        V._fail(
+            f"{where}.g",
+            out["g"],
+            "values >= 0 with g/g(1) finite (and its integral over the nodes)",
+        )
     out["u"], out["g"] = u.tolist(), g.tolist()
 
 

@@ -155,6 +155,10 @@ impl RateLaw for Power {
     }
 }
 
+/// The largest |u| of a table's node (the primitive from the first node must resolve
+/// increments near u = 1; stresses are O(1)).
+pub const TABLE_NODE_MAX: f64 = 1e3;
+
 /// `table`: g piecewise linear through the nodes (u_k, g_k), constant outside them,
 /// normalised to g(1) = 1 (see the module docs).
 #[derive(Debug, Clone)]
@@ -193,6 +197,11 @@ impl Table {
         if let Some(w) = u.windows(2).find(|w| w[1] <= w[0]) {
             return Err(bad("u", w[1], "strictly increasing nodes"));
         }
+        // the primitive runs from the first node: a node far from every stress makes it
+        // too large to resolve a candidate's increment near u = 1
+        if let Some(&x) = u.iter().find(|x| x.abs() > TABLE_NODE_MAX) {
+            return Err(bad("u", x, "nodes with |u| <= 1000"));
+        }
         if let Some(&x) = g.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
             return Err(bad("g", x, "finite values >= 0"));
         }
@@ -211,6 +220,13 @@ impl Table {
             raw: t.raw,
             ..Table::normalised(t.u, g)
         };
+        if !t.cum[t.cum.len() - 1].is_finite() {
+            return Err(bad(
+                "g",
+                at_one,
+                "values >= 0 with g/g(1) finite (and its integral over the nodes)",
+            ));
+        }
         if t.g.windows(2).any(|w| w[1] < w[0]) {
             // g(1) = 1 is the interpolant at 1, so the sup below 1 is the larger of 1 and
             // the nodes below 1 (a linear piece peaks at an end)
@@ -724,6 +740,13 @@ mod tests {
                                                                    // a decreasing g is a law (the engines thin under its running maximum)
         assert_eq!(name(&[0.0, 0.5, 1.0], &[0.0, 2.0, 1.0]), "");
         assert_eq!(name(&[0.0, 1.0], &[0.5, 2.0]), "");
+        // a node far from every stress: the primitive from the first node cannot resolve
+        // a candidate's increment (the free boundary spun at one instant: a fuzz finding)
+        assert_eq!(name(&[-8.3e287, 9.4e298], &[2.0, 10.0]), "u");
+        assert_eq!(name(&[0.0, 1.0, 1001.0], &[1.0; 3]), "u");
+        assert_eq!(name(&[-1e3, 1.0, 1e3], &[0.0, 1.0, 1e6]), "");
+        // g/g(1) must be finite (1e300/1e-300 overflows)
+        assert_eq!(name(&[0.0, 1.0], &[1e300, 1e-300]), "g");
     }
 
     /// The running maximum of g on a fine grid (numerically, from the definition).
