@@ -495,6 +495,17 @@ HOSTILE_CALLS = [
 ]
 
 
+def test_the_curvature_map_of_a_huge_curvature_is_finite():
+    """Fuzz finding: iterate_map(a0=1e308) overflowed in eq. (ap) and refused its own
+    a = nan without naming a0; a' is finite (-a kappa + O(sqrt a)) for any finite a."""
+    import numpy as np
+
+    import bkwaves as bk
+
+    out = bk.theory.iterate_map(1e308, 1e-2, 0.3, 3)
+    assert out[0] == 1e308 and out[1] < 0 and np.isfinite(out[1])
+
+
 @pytest.mark.parametrize("call, words", HOSTILE_CALLS)
 def test_hostile_api_calls_are_refused_naming_the_argument(call, words):
     import bkwaves as bk

@@ -285,7 +285,10 @@ def a_prime(a, v, gamma):
     a = V.array("a", a, lo=0.0, lo_open=True)
     v = V.number("v", v, lo=0.0)
     k = kappa(gamma)
-    return _out(-a * k + 2.0 * a * v * (1.0 + k) / (v + np.sqrt(v * v + 8.0 * a)))
+    # a / (v + sqrt(v^2 + 8a)) first, and sqrt(v^2 + 8a) = sqrt(a) sqrt(v^2/a + 8): no
+    # overflow for any finite a (a = 1e308 gave nan, a fuzz finding)
+    root = np.sqrt(a) * np.sqrt(v * v / a + 8.0)
+    return _out(-a * k + 2.0 * v * (1.0 + k) * (a / (v + root)))
 
 
 def a_max(v, gamma):
