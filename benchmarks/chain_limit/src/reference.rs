@@ -19,9 +19,12 @@ pub struct Reference {
     b: [Vec<f64>; 8],
 }
 
+/// One RK4 stage over blocks 1..=n of the given slices (0 and n + 1 are the held
+/// neighbours): the right-hand side at (su, sw), added with weight wt into (uo, wo), and
+/// the next stage's values u0 + cn su_t, w0 + cn a into (nu, nw).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn stage(
+pub(crate) fn stage(
     n: usize,
     su: &[f64],
     sw: &[f64],
@@ -139,5 +142,11 @@ impl Reference {
     /// Sum of u and u_t over the blocks (the checksum printed by reference.c).
     pub fn checksum(&self) -> f64 {
         (1..=self.n).map(|i| self.b[0][i] + self.b[1][i]).sum()
+    }
+
+    /// u and u_t, held ends included.
+    #[cfg(test)]
+    pub fn state(&self) -> (&[f64], &[f64]) {
+        (&self.b[0], &self.b[1])
     }
 }
