@@ -10,11 +10,12 @@ engines' long runs can be compared, rupture by rupture."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
-from scipy import integrate, stats
+from scipy import stats
 
 import bkwaves as bk
 from bkwaves import noise_stats as ns
@@ -29,17 +30,11 @@ U0, T_END = GAMMA + 0.01, 1e7
 P = bk.Params(gamma=GAMMA, v=V, dx=DX, beta=math.inf)
 
 
-def mean_recurrence(u_after, rate):
-    """Exact mean time from a ring-wide rupture to the next: all stuck blocks at phi_i
-    rising at v, each slipping (and nucleating: P = 1 for this kick) at rate
-    rate exp(-(1 - phi)/phi0); exp(u_after/phi0) is the mean of exp(phi_i/phi0)."""
-    k = N * rate * PHI0 / V * math.exp(-(1 - u_after) / PHI0)
-
-    def survival(t):
-        return np.exp(-k * np.expm1(V * np.asarray(t) / PHI0))
-
-    t_typ = (0.94 - u_after) / V
-    return integrate.quad(survival, 0, 2 * t_typ, limit=200, points=[t_typ])[0], survival
+def mean_recurrence(phi, rate):
+    """Exact recurrence law from a rupture to the next (``ns.first_slip``): the ring's
+    stuck blocks at phi rising at v, each slipping (and nucleating: P = 1 for this kick)
+    at rate rate exp(-(1 - phi)/phi0)."""
+    return ns.first_slip(phi, {"law": "exponential", "rate": rate, "phi0": PHI0}, V)
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +60,7 @@ def test_the_chain_cycles_through_separate_ring_wide_ruptures(runs):
     assert abs(len(fb_events) - len(cat)) <= 2  # recurrences with a CV of 1.4 %
     # the chain's ruptures: all spontaneous, each event's moment shared out among them; at
     # this noise (nu_R << 1) a second nucleation during a sweep is rare (one in 107 here)
-    per = ns.chain_ruptures(chain_result, "periodic")
+    per = ns.chain_ruptures(chain_result)
     assert per.spontaneous.all() and len(cat) <= len(per) <= 1.05 * len(cat)
     shared = per.groupby("event").moment.sum().to_numpy()
     assert np.allclose(shared, cat.moment.to_numpy(), rtol=1e-12)
@@ -89,7 +84,7 @@ def test_long_run_rupture_rates_agree_and_the_gap_is_the_chains_own_u_minus(runs
     u_start = float(rup.u_start.mean())
     # free boundary: the ring sits at u_-(u_+) after each rupture, Lambda = rate P / dx
     u_minus = float(theory.u_minus(u_start, theory.c_exact(u_start), GAMMA))
-    fb_mean, fb_surv = mean_recurrence(u_minus, fb_noise["rate"] * DX)
+    fb_mean, fb_surv = mean_recurrence(np.full(N, u_minus), fb_noise["rate"] * DX)
     assert abs(df.mean() - fb_mean) < 3 * se_f
     assert stats.kstest(df, lambda t: 1 - fb_surv(t)).pvalue > 0.01
 
@@ -101,11 +96,11 @@ def test_long_run_rupture_rates_agree_and_the_gap_is_the_chains_own_u_minus(runs
     phi = ring.phi
     u_after = PHI0 * math.log(np.mean(np.exp(phi / PHI0)))
     assert u_after < u_minus - 1e-3  # the chain's ring is left lower than u_-
-    ch_mean, ch_surv = mean_recurrence(u_after, CHAIN_NOISE["rate"])
+    ch_mean, ch_surv = mean_recurrence(phi, CHAIN_NOISE["rate"])
     assert abs(dc.mean() - ch_mean) < 3 * se_c
     assert stats.kstest(dc, lambda t: 1 - ch_surv(t)).pvalue > 0.01
     # and the calibration matters: forgetting the 1/dx (Lambda = rate P) is rejected
-    wrong = mean_recurrence(u_minus, fb_noise["rate"] * DX * DX)[1]
+    wrong = mean_recurrence(np.full(N, u_minus), fb_noise["rate"] * DX * DX)[1]
     assert stats.kstest(df, lambda t: 1 - wrong(t)).pvalue < 1e-6
 
 
@@ -117,7 +112,7 @@ def test_chain_ruptures_splits_an_event_at_the_fronts_meeting_points():
     ch = bk.Chain(N, p, "periodic", np.full(N, 0.93))
     res = ch.kick(0, -0.5, 0.0).kick(200, -0.5, 0.5).run(t_end=100.0, progress=False)
     assert len(res.catalog) == 1
-    rup = ns.chain_ruptures(res, "periodic")
+    rup = ns.chain_ruptures(res)
     assert rup.block.tolist() == [0, 200] and rup.t_start.tolist() == [0.0, 0.5]
     c = bk.front_speed(0.93, dx=DX, gamma=GAMMA)
     assert abs(rup.n_blocks[0] - (L / 2 + 0.5 * c) / DX) <= 4  # the births' start-up lag
@@ -125,6 +120,15 @@ def test_chain_ruptures_splits_an_event_at_the_fronts_meeting_points():
     assert math.isclose(rup.moment.sum(), res.catalog.moment.sum(), rel_tol=1e-12)
     with pytest.raises(bk.ParameterError, match="boundary"):
         ns.chain_ruptures(res, "ring")
+    # the result records its boundary: another one is refused (it would mis-assign the
+    # slips at the ring's wrap), and a result without it needs the argument
+    assert res.boundary == "periodic"
+    with pytest.raises(bk.ParameterError, match=r"boundary = 'free'.*'periodic'"):
+        ns.chain_ruptures(res, "free")
+    bare = dataclasses.replace(res, boundary=None)
+    with pytest.raises(bk.ParameterError, match="boundary"):
+        ns.chain_ruptures(bare)
+    assert ns.chain_ruptures(bare, "periodic").equals(rup)
 
 
 def test_a_law_steeper_than_the_lattice_patterns_nucleates_the_chain_at_them():
@@ -144,7 +148,7 @@ def test_a_law_steeper_than_the_lattice_patterns_nucleates_the_chain_at_them():
     }
     ch = bk.Chain(N, P, "periodic", np.full(N, 0.9), noise=chain_noise, seed=1)
     res = ch.run(t_end=t_end, progress=False, max_event_duration=1e9)
-    per = ns.chain_ruptures(res, "periodic")
+    per = ns.chain_ruptures(res)
     fb_noise = ns.calibrated_noise(chain_noise, DX, GAMMA)
     x = np.arange(200) * 0.1
     fb = bk.FreeBoundary(P, x, np.full(x.size, 0.9), "periodic", noise=fb_noise, seed=2)

@@ -17,7 +17,7 @@ import math
 import warnings
 
 import numpy as np
-from scipy import integrate, stats
+from scipy import stats
 
 import bkwaves as bk
 from bkwaves import noise_stats as ns
@@ -64,7 +64,7 @@ def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
     ch = bk.Chain(N, p, "periodic", np.full(N, gamma + 0.01), noise=chain_noise, seed=1)
     chain_result = ch.run(t_end=t_end, progress=False, max_event_duration=1e9)
     cat = chain_result.catalog
-    per = ns.chain_ruptures(chain_result, "periodic")
+    per = ns.chain_ruptures(chain_result)
     fb_noise = ns.calibrated_noise(chain_noise, DX, gamma)
     x = np.arange(200) * 0.1
     fb = bk.FreeBoundary(p, x, np.full(x.size, gamma + 0.01), "periodic", noise=fb_noise, seed=2)
@@ -75,14 +75,8 @@ def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
     after, _ = ring_after_rupture(u_start, gamma)
     u_eff = phi0 * math.log(np.mean(np.exp(after.phi / phi0)))
 
-    def exact(u_after, rate):
-        k = N * rate * phi0 / v * math.exp(-(1 - u_after) / phi0)
-
-        def survival(t):
-            return np.exp(-k * np.expm1(v * np.asarray(t) / phi0))
-
-        t_typ = (0.94 - u_after) / v
-        return integrate.quad(survival, 0, 2 * t_typ, limit=200, points=[t_typ])[0], survival
+    def exact(phi, rate):
+        return ns.first_slip(phi, {"law": "exponential", "rate": rate, "phi0": phi0}, v)
 
     print(f"gamma = {gamma}, v = {v}, t = {t_end:g}; free boundary noise {fb_noise}")
     print(
@@ -103,12 +97,12 @@ def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
         f" hazard-weighted phi {u_eff:.5f}"
     )
     rows = (
-        ("chain", cat.t_start.to_numpy(), per.moment, exact(u_eff, chain_noise["rate"])),
+        ("chain", cat.t_start.to_numpy(), per.moment, exact(after.phi, chain_noise["rate"])),
         (
             "free boundary",
             fb_result.events.t_start.to_numpy(),
             rup.moment,
-            exact(u_minus, fb_noise["rate"] * DX),
+            exact(np.full(N, u_minus), fb_noise["rate"] * DX),
         ),
     )
     for name, t, moment, (mean, survival) in rows:
@@ -135,7 +129,7 @@ def sizes(length=1000.0, t_end=1e6, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96):
     chain_result = ch.run(
         t_end=t_end, progress=False, max_event_duration=1e9, max_event_slips=10**9
     )
-    per = ns.chain_ruptures(chain_result, "periodic")
+    per = ns.chain_ruptures(chain_result)
     fb_noise = ns.calibrated_noise(chain_noise, DX, gamma)
     x = np.arange(round(length / 0.1)) * 0.1
     fb = bk.FreeBoundary(p, x, np.full(x.size, 0.9), "periodic", noise=fb_noise, seed=2)

@@ -130,6 +130,7 @@ class ChainResult:
     stop: why the run ended: "time", "events", "interrupted" or "long_event" (an event
     exceeded ``max_event_slips`` or ``max_event_duration``: see
     :class:`RunawayEventWarning`).
+    boundary: the chain's boundary condition (one of ``BOUNDARIES``).
     """
 
     params: Params
@@ -145,6 +146,7 @@ class ChainResult:
     seed: int | None = None
     u: np.ndarray = field(default=None, repr=False)
     u_t: np.ndarray = field(default=None, repr=False)
+    boundary: str | None = None
 
     def first_slip_times(self, event: int | None = None) -> np.ndarray:
         """First slip time of every block (NaN if it did not slip), optionally within
@@ -520,6 +522,7 @@ class Chain:
             seed=self.seed,
             u=eng.u(),
             u_t=eng.u_t(),
+            boundary=self.boundary,
         )
 
     def _counters(self) -> dict:

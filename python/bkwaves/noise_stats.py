@@ -45,6 +45,7 @@ __all__ = [
     "ring_statistics",
     "statistics_vs_strength",
     "calibrated_noise",
+    "first_slip",
 ]
 
 ORIGINS = ("initial", "birth", "nucleation")
@@ -61,6 +62,104 @@ def noise_strength(noise: dict, length: float, v: float) -> float:
     lam = np.asarray(_noise.rate_density(u, noise), dtype=float)
     integral = float(np.sum(0.5 * (lam[1:] + lam[:-1]) * np.diff(u)))
     return length * integral / v
+
+
+def _law_primitive(noise: dict, lo: float):
+    """x -> int_lo^x Lambda(u) du for the laws other than the exponential (vectorised)."""
+    rate, law = noise["rate"], noise["law"]
+    if law == "constant":
+        return lambda x: rate * (np.asarray(x, dtype=float) - lo)
+    if law == "power":
+        q = noise["exponent"] + 1.0
+
+        def prim(y):
+            return np.maximum(y, 0.0) ** q / q
+
+        return lambda x: rate * (prim(np.asarray(x, dtype=float)) - prim(lo))
+    # table: Lambda is piecewise linear in u between the nodes (constant beyond them), so
+    # the trapezoid rule on a grid holding every node is exact at the grid points;
+    # between them the primitive is interpolated linearly (error <= max|Lambda'| d^2 / 8)
+    nodes = np.asarray(noise["u"], dtype=float)
+    inner = nodes[(nodes > lo) & (nodes < 1.0)]
+    grid = np.unique(np.concatenate([np.linspace(lo, 1.0, 200001), inner]))
+    lam = np.asarray(_noise.rate_density(grid, noise), dtype=float)
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (lam[1:] + lam[:-1]) * np.diff(grid))])
+    return lambda x: np.interp(x, grid, cum)
+
+
+def first_slip(phi, noise: dict, v: float):
+    """The waiting time to the first slip of stuck blocks loaded at rate ``v`` from the
+    stresses ``phi``: each slips by noise, independently, at the rate
+    Lambda(phi_i + v t) of the ``[noise]`` table (``bk.noise.rate_density``; a chain's
+    ``kick`` is accepted and ignored), until the first reaches the threshold 1 at
+    t_1 = (1 - max phi) / v and slips for sure.
+
+    Returns ``(mean, survival)``: survival(t) = P(no slip by t) = exp(-H(t)) for t < t_1
+    (0 from t_1 on), H(t) = sum_i int_0^t Lambda(phi_i + v s) ds, in closed form for the
+    constant, exponential and power laws and for the piecewise-linear table (up to the
+    interpolation of its primitive between grid points 5e-6 apart); mean = int_0^t_1
+    survival(t) dt. With v = 0 the hazard is constant: mean = 1 / sum_i Lambda(phi_i).
+
+    When every noise slip starts a rupture (a kick above ``bk.noise.kick_threshold`` at
+    these stresses), this is the recurrence law of the ruptures of a ring that the last
+    one left at ``phi`` (docs/noise.md, "Long runs compared"): e.g. ``phi = chain.phi``
+    after a noiseless rupture, or ``np.full(n, u_minus)`` for the free boundary's n cells
+    of length dx with the per-cell rate Lambda dx."""
+    noise = _noise.check_noise(noise, "noise", model="chain")
+    noise.pop("kick")  # the rate law alone
+    phi = V.array("phi", phi, hi=1.0)
+    if phi.size == 0:
+        V._fail("phi", phi, "at least one stuck block's stress")
+    v = V.number("v", v, lo=0.0)
+    if v == 0.0:
+        total = float(np.sum(_noise.rate_density(phi, noise)))
+
+        def survival(t):
+            return np.exp(-total * np.asarray(t, dtype=float))
+
+        return (math.inf if total == 0.0 else 1.0 / total), survival
+    t_1 = (1.0 - float(phi.max())) / v
+    if noise["law"] == "exponential":
+        phi0 = noise["phi0"]
+        # sum_i exp(-(1 - phi_i) / phi0), its exponent shifted by its largest term
+        top = float(phi.max())
+        weight = float(np.sum(np.exp((phi - top) / phi0)))
+        k = noise["rate"] * phi0 / v * weight * math.exp(-(1.0 - top) / phi0)
+
+        def hazard(t):
+            return k * np.expm1(v * t / phi0)
+    else:
+        prim = _law_primitive(noise, float(phi.min()))
+        base = np.sum(prim(phi))
+
+        def hazard(t):
+            x = phi[None, :] + v * np.atleast_1d(t)[:, None]
+            return (np.sum(prim(x), axis=1) - base) / v
+
+    def survival(t):
+        t = np.asarray(t, dtype=float)
+        tt = np.clip(np.atleast_1d(t), 0.0, t_1)
+        out = np.where(np.atleast_1d(t) < t_1, np.exp(-hazard(tt)), 0.0)
+        return out.reshape(t.shape) if t.ndim else float(out[0])
+
+    # the time scale where H = 1 (S = 1/e) as a break point of the quadrature
+    h_end = float(np.atleast_1d(hazard(np.array([t_1])))[0])
+    t_e = t_1
+    if h_end > 1.0:
+        from scipy import optimize
+
+        t_e = optimize.brentq(
+            lambda t: float(np.atleast_1d(hazard(np.array([t])))[0]) - 1.0,
+            0.0,
+            t_1,
+            xtol=1e-12 * t_1,
+            rtol=1e-12,
+        )
+    from scipy import integrate
+
+    points = [t_e] if 0.0 < t_e < t_1 else None
+    mean = integrate.quad(survival, 0.0, t_1, limit=400, points=points)[0]
+    return mean, survival
 
 
 def _resets(result):
@@ -150,7 +249,7 @@ def ruptures(result, h: float | None = None, dx: float | None = None):
     return out
 
 
-def chain_ruptures(result, boundary: str):
+def chain_ruptures(result, boundary: str | None = None):
     """Per-rupture catalog of a chain result, the counterpart of :func:`ruptures`. The
     chain's catalog merges ruptures that overlap in time into one event; here every slip
     is given to the rupture that caused it: a spontaneous (``noise``) slip, or a
@@ -162,10 +261,18 @@ def chain_ruptures(result, boundary: str):
     mid-event), ``n_blocks`` (distinct blocks), ``swept``
     (n_blocks dx), ``moment`` (sum of its slips, the free boundary's ``moment``),
     ``event`` (the catalog event it belongs to). ``boundary``: the chain's (``periodic``
-    wraps the neighbours)."""
+    wraps the neighbours); by default the one the result records, and refused if it
+    differs from it."""
     import pandas as pd
 
+    kept = getattr(result, "boundary", None)
+    if boundary is None:
+        if kept is None:
+            V._fail("boundary", None, "the chain's boundary: free, fixed or periodic")
+        boundary = kept
     boundary = V.choice("boundary", boundary, ("free", "fixed", "periodic"))
+    if kept is not None and boundary != kept:
+        V._fail("boundary", boundary, f"the boundary the result was run with, {kept!r}")
     cols = [
         "t_start",
         "x_start",
