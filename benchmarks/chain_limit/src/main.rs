@@ -6,9 +6,10 @@
 //!    block updates per second of each and their ratios.
 //! 2. The regression benchmark (not timed in CI): the engine's sliding-block updates per
 //!    second on one front (u_+ = 0.6, gamma = 0.45, dx = 0.00625, beta = inf) and on a
-//!    loading run (2000 blocks, dx = 0.05, gamma = 0.3, v = 1e-4, 30 events), each as a
-//!    ratio to the best reference over the engine's mean number of sliding blocks,
-//!    measured in the same round. Rounds are repeated; medians and spreads are printed.
+//!    loading run (2000 blocks, dx = 0.05, gamma = 0.3, v = 1e-4, 30 events), and on the
+//!    same loading run on a four times finer lattice (8000 blocks, dx = 0.0125: the
+//!    paper's continuum regime, wide pulses), each as a ratio to the best reference over
+//!    the engine's mean number of sliding blocks, measured in the same round. Rounds are repeated; medians and spreads are printed.
 //! 3. A diagnostic (not the goal's reference): the replay reference (src/replay.rs and the
 //!    `replay` mode of reference.c): the same stencil over the run structure the engine
 //!    steps on the loading run (recorded once, step by step: the lengths of the runs of
@@ -535,6 +536,18 @@ fn replay_rates(
 const FRONT: (f64, f64, f64, usize) = (0.6, 0.45, 0.00625, 4000);
 /// The loading run: (blocks, dx, gamma, v, events).
 const LOAD: (usize, f64, f64, f64, usize) = (2000, 0.05, 0.3, 1e-4, 30);
+/// The same loading run on a four times finer lattice (the same length, the same initial
+/// stress): the paper's continuum regime dx << 1, where the pulses are wide in blocks.
+const LOAD_FINE: (usize, f64, f64, f64, usize) = (8000, 0.0125, 0.3, 1e-4, 30);
+
+/// The contiguous reference's rates over n blocks (Rust baseline, AVX2, AVX-512F, C).
+fn contiguous_rates(n: usize, dx: f64, gamma: f64, work: f64, c_fast: &PathBuf) -> [f64; 4] {
+    let (rs, _) = rust_reference(n, dx, gamma, work, Code::Baseline);
+    let (ra, _) = rust_reference(n, dx, gamma, work, Code::Avx2);
+    let (r5, _) = rust_reference(n, dx, gamma, work, Code::Avx512);
+    let (c, _) = c_reference(c_fast, n, dx, gamma, work);
+    [rs, ra, r5, c]
+}
 
 fn stats(x: &[f64]) -> (f64, f64, f64) {
     let mut s = x.to_vec();
@@ -623,12 +636,18 @@ fn main() {
             }
             "--engine-only" => {
                 let which = args[k + 1].as_str();
-                let r: usize = args[k + 2].parse().expect("--engine-only front|loading R");
+                let r: usize = args[k + 2]
+                    .parse()
+                    .expect("--engine-only front|loading|loading_fine R");
                 for _ in 0..r {
                     let run = match which {
                         "front" => engine_front(FRONT.0, FRONT.1, FRONT.2, FRONT.3),
                         "loading" => engine_loading(LOAD.0, LOAD.1, LOAD.2, LOAD.3, LOAD.4),
-                        _ => panic!("--engine-only front|loading R"),
+                        "loading_fine" => {
+                            let (n, dx, g, v, e) = LOAD_FINE;
+                            engine_loading(n, dx, g, v, e)
+                        }
+                        _ => panic!("--engine-only front|loading|loading_fine R"),
                     };
                     println!(
                         "{which}: {:.4} s, state fingerprint {:016x}",
@@ -646,8 +665,8 @@ fn main() {
                 k += 1;
             }
             a => panic!(
-                "unknown argument {a} (--repeat N, --json FILE, --engine-only front|loading R, \
-                 --replay-only R)"
+                "unknown argument {a} (--repeat N, --json FILE, --engine-only \
+                 front|loading|loading_fine R, --replay-only R)"
             ),
         }
         k += 1;
@@ -707,7 +726,8 @@ fn main() {
         time_by_class(&rec, fastest, &runs_file, &c_fast, &c_exact, replay_work);
         return;
     }
-    let mut rows: Vec<[f64; 17]> = Vec::new();
+    let (fine_n, fine_dx, fine_gamma, fine_v, fine_events) = LOAD_FINE;
+    let mut rows: Vec<[f64; 23]> = Vec::new();
     for round in 0..repeat {
         let front = engine_front(front_u, front_gamma, front_dx, front_n);
         let load = engine_loading(load_n, load_dx, load_gamma, load_v, load_events);
@@ -727,11 +747,12 @@ fn main() {
         );
         assert_eq!(chk_c, chk_r1, "Rust and C (no contraction) differ");
         let best_f = rs_f.max(ra_f).max(r5_f).max(c_f);
-        let (rs_l, _) = rust_reference(nl, load_dx, load_gamma, work, Code::Baseline);
-        let (ra_l, _) = rust_reference(nl, load_dx, load_gamma, work, Code::Avx2);
-        let (r5_l, _) = rust_reference(nl, load_dx, load_gamma, work, Code::Avx512);
-        let (c_l, _) = c_reference(&c_fast, nl, load_dx, load_gamma, work);
+        let [rs_l, ra_l, r5_l, c_l] = contiguous_rates(nl, load_dx, load_gamma, work, &c_fast);
         let best_l = rs_l.max(ra_l).max(r5_l).max(c_l);
+        let fine = engine_loading(fine_n, fine_dx, fine_gamma, fine_v, fine_events);
+        let nq = fine.mean_sliding().max(1);
+        let [rs_q, ra_q, r5_q, c_q] = contiguous_rates(nq, fine_dx, fine_gamma, work, &c_fast);
+        let best_q = rs_q.max(ra_q).max(r5_q).max(c_q);
         let [rs_p, ra_p, r5_p, c_p] =
             replay_rates(&rec.runs, &runs_file, &c_fast, &c_exact, replay_work);
         let best_p = rs_p.max(ra_p).max(r5_p).max(c_p);
@@ -766,6 +787,18 @@ fn main() {
             load.rate() / best_p,
             load.rate() / best_l
         );
+        println!(
+            "round {round}: loading, dx = {fine_dx}: {nq} sliding on average, {} steps, {} \
+             switches, engine {:.3e}/s ({:.3} s, state fingerprint {:016x}); reference Rust \
+             sse2 {rs_q:.3e}, Rust avx2 {ra_q:.3e}, Rust avx512 {r5_q:.3e}, C {c_q:.3e}; \
+             engine/best {:.3}",
+            fine.steps,
+            fine.switches,
+            fine.rate(),
+            fine.seconds,
+            fine.fingerprint,
+            fine.rate() / best_q
+        );
         rows.push([
             front.rate(),
             rs_f,
@@ -784,6 +817,12 @@ fn main() {
             r5_p,
             c_p,
             load.rate() / best_p,
+            fine.rate(),
+            rs_q,
+            ra_q,
+            r5_q,
+            c_q,
+            fine.rate() / best_q,
         ]);
     }
     let names = [
@@ -804,6 +843,12 @@ fn main() {
         "loading_replay_rust_avx512",
         "loading_replay_c",
         "loading_engine_over_best_replay",
+        "loading_fine_engine_updates_per_s",
+        "loading_fine_reference_rust_sse2",
+        "loading_fine_reference_rust_avx2",
+        "loading_fine_reference_rust_avx512",
+        "loading_fine_reference_c",
+        "loading_fine_engine_over_best_reference",
     ];
     let mut out = String::from("{\n");
     println!("medians of {repeat} rounds [min, max]:");
@@ -826,6 +871,7 @@ fn main() {
         ("loading replay: Rust avx512 / C", 14, 15),
         ("loading replay: Rust avx2 / C", 13, 15),
         ("loading replay / contiguous reference, C", 15, 10),
+        ("loading, fine: Rust avx512 / C", 20, 21),
     ] {
         let (m, lo, hi) = ratio(a, b);
         println!("  {label}: {m:.3} [{lo:.3}, {hi:.3}]");
