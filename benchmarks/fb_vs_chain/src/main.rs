@@ -116,7 +116,7 @@ fn accuracy() {
             .map(|p| p.x)
             .collect();
         let (mut dtm, mut dt2, mut cnt, mut du, mut duc) = (0.0f64, 0.0f64, 0usize, 0.0f64, 0.0f64);
-        for k in 0..ufb.len() {
+        for (k, &u_k) in ufb.iter().enumerate() {
             let xq = k as f64 * h;
             let i = (xq / dx).round() as usize % c.first_slip.len();
             let Some(tp) = path
@@ -130,7 +130,7 @@ fn accuracy() {
             dtm = dtm.max(d.abs());
             dt2 += d * d;
             cnt += 1;
-            let uf = ufb[k] + v * (c.t_now - t_fb);
+            let uf = u_k + v * (c.t_now - t_fb);
             let near = xcol.iter().any(|&xc| (xq - xc).abs() < 5.0);
             if near {
                 duc = duc.max((c.u_end[i] - uf).abs());
