@@ -98,7 +98,8 @@ def first_slip(phi, noise: dict, v: float):
     (0 from t_1 on), H(t) = sum_i int_0^t Lambda(phi_i + v s) ds, in closed form for the
     constant, exponential and power laws and for the piecewise-linear table (up to the
     interpolation of its primitive between grid points 5e-6 (1 - min phi) apart);
-    mean = int_0^t_1 survival(t) dt. With v = 0 the hazard is constant: mean = 1 / sum_i Lambda(phi_i).
+    mean = int_0^t_1 survival(t) dt. With v = 0 the hazard is constant:
+    mean = 1 / sum_i Lambda(phi_i).
 
     When every noise slip starts a rupture (a kick above ``bk.noise.kick_threshold`` at
     these stresses), this is the recurrence law of the ruptures of a ring that the last
