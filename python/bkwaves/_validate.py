@@ -267,6 +267,15 @@ CHAIN = table(
         doc="time step as a fraction of dx",
     ),  # fmt: skip
     Spec("integrator", "choice", choices=("rk4", "midpoint")),
+    Spec(
+        "step_tolerance",
+        "real",
+        lo=0.0,
+        hi=math.inf,
+        lo_open=True,
+        hi_open=True,
+        doc="step-size control: largest error indicator of one step (None: the fixed step)",
+    ),  # fmt: skip
     Spec("t_end", "real", lo=0.0, doc="end time (dimensionless)"),
     Spec("max_events", "int", lo=1, hi=MAX_COUNT, doc="events to finish"),
     Spec("snapshot_every", "int", lo=0, doc="snapshot at the end of every k-th event (0: never)"),

@@ -551,12 +551,15 @@ fn report(m: &Measured, fast: (f64, f64), split: Option<f64>) {
     );
 }
 
-fn front(u_plus: f64, gamma: f64, beta: f64, dx: f64, n: usize) -> (Chain<Coulomb>, Model) {
-    let cfg = ChainConfig {
-        dx,
-        v: 0.0,
-        ..Default::default()
-    };
+fn front(
+    u_plus: f64,
+    gamma: f64,
+    beta: f64,
+    dx: f64,
+    n: usize,
+    step: f64,
+) -> (Chain<Coulomb>, Model) {
+    let cfg = ChainConfig { dx, v: 0.0, step };
     let fr = Coulomb::new(gamma, beta).unwrap();
     let mut ch = Chain::new(cfg, fr, &Free, &vec![u_plus; n], None).unwrap();
     ch.add_trigger(Trigger {
@@ -577,12 +580,17 @@ fn front(u_plus: f64, gamma: f64, beta: f64, dx: f64, n: usize) -> (Chain<Coulom
 }
 
 /// The loading run of benchmarks/chain_limit (smooth initial stress, free ends).
-fn loading(n: usize, dx: f64, gamma: f64, beta: f64, v: f64, mean: f64) -> (Chain<Coulomb>, Model) {
-    let cfg = ChainConfig {
-        dx,
-        v,
-        ..Default::default()
-    };
+#[allow(clippy::too_many_arguments)]
+fn loading(
+    n: usize,
+    dx: f64,
+    gamma: f64,
+    beta: f64,
+    v: f64,
+    mean: f64,
+    step: f64,
+) -> (Chain<Coulomb>, Model) {
+    let cfg = ChainConfig { dx, v, step };
     let fr = Coulomb::new(gamma, beta).unwrap();
     let l = n as f64 * dx;
     let u0: Vec<f64> = (0..n)
@@ -595,8 +603,255 @@ fn loading(n: usize, dx: f64, gamma: f64, beta: f64, v: f64, mean: f64) -> (Chai
     (ch, Model { dx, v, gamma, beta })
 }
 
+/// A finished run with and without step-size control.
+struct Controlled {
+    cpu: f64,
+    steps: u64,
+    block_steps: u64,
+    /// Energy balance residual over the dissipated energy.
+    residual: f64,
+    /// Event start times and moments.
+    events: Vec<(f64, f64)>,
+    /// First slip time of every block (NaN: never).
+    first_slip: Vec<f64>,
+}
+
+fn run_controlled(
+    make: &dyn Fn(f64) -> Chain<Coulomb>,
+    step: f64,
+    tol: Option<f64>,
+    t_end: f64,
+    events: usize,
+    repeat: usize,
+) -> Controlled {
+    let mut cpus = Vec::new();
+    let mut last = None;
+    for _ in 0..repeat {
+        let mut ch = make(step);
+        ch.set_step_control(tol).unwrap();
+        let e0 = {
+            let (k, c, l) = ch.energy();
+            k + c + l
+        };
+        let c0 = cpu_seconds();
+        ch.run(t_end, events, u64::MAX).unwrap();
+        cpus.push(cpu_seconds() - c0);
+        let (k, c, l) = ch.energy();
+        let led = ch.ledger;
+        let flows = led.load - led.dry - led.viscous - led.projection + led.injected;
+        let residual = ((k + c + l) - e0 - flows) / (led.dry + led.viscous);
+        let mut first_slip = vec![f64::NAN; ch.n()];
+        for r in &ch.catalog.slips {
+            if first_slip[r.block].is_nan() {
+                first_slip[r.block] = r.t_start;
+            }
+        }
+        last = Some(Controlled {
+            cpu: 0.0,
+            steps: ch.counters.steps,
+            block_steps: ch.counters.block_steps,
+            residual,
+            events: ch
+                .catalog
+                .events
+                .iter()
+                .map(|e| (e.t_start, e.moment))
+                .collect(),
+            first_slip,
+        });
+    }
+    cpus.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let mut r = last.unwrap();
+    r.cpu = cpus[cpus.len() / 2];
+    r
+}
+
+/// The creeping event of (b'') alone: the state before it (all stuck, from the default
+/// run) is the start of fresh chains at the default step, half of it, and with control;
+/// each runs that one event. Its duration, slips, moment and final state against the
+/// reference's.
+fn creep_event_comparison(repeat: usize) {
+    let inf = f64::INFINITY;
+    let (mut ch, _) = loading(2000, 0.05, 0.45, inf, 1e-4, 0.2, DEFAULT_STEP);
+    ch.run(inf, 26, u64::MAX).unwrap();
+    let u_before = ch.u();
+    println!(
+        "\n## (b'') its 27th event alone (from the state after 26 events at the default step, t = {:.3})",
+        ch.time()
+    );
+    println!(
+        "  | run | CPU s | steps | block updates | duration | slips | moment | max |u - u_ref| at the end \
+         | energy residual / dissipated |"
+    );
+    let one = |step: f64, tol: Option<f64>| {
+        let mut cpus = vec![];
+        let mut out = None;
+        for _ in 0..repeat {
+            let cfg = ChainConfig {
+                dx: 0.05,
+                v: 1e-4,
+                step,
+            };
+            let mut c = Chain::new(
+                cfg,
+                Coulomb::new(0.45, inf).unwrap(),
+                &Free,
+                &u_before,
+                None,
+            )
+            .unwrap();
+            c.set_step_control(tol).unwrap();
+            let e0 = {
+                let (k, cc, l) = c.energy();
+                k + cc + l
+            };
+            let c0 = cpu_seconds();
+            c.run(inf, 1, u64::MAX).unwrap();
+            cpus.push(cpu_seconds() - c0);
+            let (k, cc, l) = c.energy();
+            let led = c.ledger;
+            let flows = led.load - led.dry - led.viscous - led.projection + led.injected;
+            let ev = c.catalog.events[0];
+            out = Some((
+                c.counters.steps,
+                c.counters.block_steps,
+                ev.t_end - ev.t_start,
+                ev.n_slips,
+                ev.moment,
+                c.u(),
+                ((k + cc + l) - e0 - flows) / (led.dry + led.viscous),
+                ev.t_end,
+            ));
+        }
+        cpus.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        (cpus[cpus.len() / 2], out.unwrap())
+    };
+    let (_, reference) = one(DEFAULT_STEP / 2.0, None);
+    let rows: Vec<(String, f64, Option<f64>)> = vec![
+        (
+            "fixed step 0.025 (reference)".into(),
+            DEFAULT_STEP / 2.0,
+            None,
+        ),
+        ("fixed step 0.05 (default)".into(), DEFAULT_STEP, None),
+        ("controlled, tol 1e-12".into(), DEFAULT_STEP, Some(1e-12)),
+        ("controlled, tol 1e-11".into(), DEFAULT_STEP, Some(1e-11)),
+        ("controlled, tol 1e-10".into(), DEFAULT_STEP, Some(1e-10)),
+    ];
+    for (label, step, tol) in rows {
+        let (cpu, r) = one(step, tol);
+        // the final states compared at the same time: each drifts (all stuck) to the later end
+        let t_end = r.7.max(reference.7);
+        let du = r
+            .5
+            .iter()
+            .zip(&reference.5)
+            .map(|(a, b)| ((a + 1e-4 * (t_end - r.7)) - (b + 1e-4 * (t_end - reference.7))).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "  | {label} | {cpu:.3} | {} | {} | {:.6} | {} | {:.9} | {du:.1e} | {:.1e} |",
+            r.0, r.1, r.2, r.3, r.4, r.6
+        );
+    }
+}
+
+/// The controller against the fixed step at matched accuracy (`--controller`): each case
+/// at the default step, at half of it (the reference), and with step-size control at
+/// several tolerances; CPU times, work, the energy books, and the events' start times and
+/// moments (loading) or a front's c (first slips of the middle fifth of the chain)
+/// against the reference.
+fn controller_comparison(quick: bool) {
+    let inf = f64::INFINITY;
+    let repeat = if quick { 1 } else { 3 };
+    let events = if quick { 6 } else { 30 };
+    println!("# Step-size control against the fixed step (CPU: medians of {repeat})");
+    type Make = Box<dyn Fn(f64) -> Chain<Coulomb>>;
+    let cases: Vec<(&str, Make, f64, usize, bool)> = vec![
+        (
+            "(b'') loading: 2000 blocks, dx = 0.05, gamma = 0.45, v = 1e-4, 30 events",
+            Box::new(move |step| loading(2000, 0.05, 0.45, inf, 1e-4, 0.2, step).0),
+            inf,
+            events,
+            false,
+        ),
+        (
+            "(a) loading: 2000 blocks, dx = 0.05, gamma = 0.3, v = 1e-4, 30 events",
+            Box::new(move |step| loading(2000, 0.05, 0.3, inf, 1e-4, 0.6, step).0),
+            inf,
+            events,
+            false,
+        ),
+        (
+            "front u_+ = 0.6, gamma = 0.45, dx = 0.025, 2000 blocks (c from the middle fifth)",
+            Box::new(move |step| front(0.6, 0.45, inf, 0.025, 2000, step).0),
+            0.9 * 2000.0 * 0.025 / 1.24,
+            usize::MAX,
+            true,
+        ),
+    ];
+    creep_event_comparison(repeat);
+    for (name, make, t_end, ev, is_front) in &cases {
+        println!("\n## {name}");
+        let reference = run_controlled(make.as_ref(), DEFAULT_STEP / 2.0, None, *t_end, *ev, 1);
+        let speed = |r: &Controlled| {
+            let n = r.first_slip.len();
+            let (a, b) = (2 * n / 5, 3 * n / 5);
+            let dx = 0.025;
+            dx * (b - a) as f64 / (r.first_slip[b] - r.first_slip[a])
+        };
+        println!(
+            "  | run | CPU s | steps | block updates | energy residual / dissipated | events | \
+             max |t_start - ref| | max |moment/ref - 1| | c - c_ref |"
+        );
+        let mut rows = vec![(
+            "fixed step 0.025 (reference)".to_string(),
+            None,
+            DEFAULT_STEP / 2.0,
+        )];
+        rows.push(("fixed step 0.05 (default)".to_string(), None, DEFAULT_STEP));
+        for tol in [1e-12, 1e-11, 1e-10] {
+            rows.push((
+                format!("controlled, tol {tol:.0e}"),
+                Some(tol),
+                DEFAULT_STEP,
+            ));
+        }
+        for (label, tol, step) in rows {
+            let r = if tol.is_none() && step == DEFAULT_STEP / 2.0 {
+                run_controlled(make.as_ref(), step, None, *t_end, *ev, repeat)
+            } else {
+                run_controlled(make.as_ref(), step, tol, *t_end, *ev, repeat)
+            };
+            let k = r.events.len().min(reference.events.len());
+            let dt = (0..k)
+                .map(|i| (r.events[i].0 - reference.events[i].0).abs())
+                .fold(0.0, f64::max);
+            let dm = (0..k)
+                .map(|i| (r.events[i].1 / reference.events[i].1 - 1.0).abs())
+                .fold(0.0, f64::max);
+            let dc = if *is_front {
+                format!("{:+.2e}", speed(&r) - speed(&reference))
+            } else {
+                "-".to_string()
+            };
+            println!(
+                "  | {label} | {:.3} | {} | {} | {:.1e} | {} | {dt:.1e} | {dm:.1e} | {dc} |",
+                r.cpu,
+                r.steps,
+                r.block_steps,
+                r.residual,
+                r.events.len()
+            );
+        }
+    }
+}
+
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
+    if std::env::args().any(|a| a == "--controller") {
+        controller_comparison(quick);
+        return;
+    }
     let scale = if quick { 0.2 } else { 1.0 };
     let inf = f64::INFINITY;
     println!("# Step-size control: an upper bound on the saving (issue 16)");
@@ -607,7 +862,7 @@ fn main() {
 
     // (a) the loading run of benchmarks/chain_limit; every event is a fast phase
     let events = if quick { 6 } else { 30 };
-    let (ch, m) = loading(2000, 0.05, 0.3, inf, 1e-4, 0.6);
+    let (ch, m) = loading(2000, 0.05, 0.3, inf, 1e-4, 0.6, DEFAULT_STEP);
     report(
         &measure(
             "(a) loading: 2000 blocks, dx = 0.05, gamma = 0.3, v = 1e-4, beta = inf, 30 events",
@@ -620,7 +875,7 @@ fn main() {
         None,
     );
     // (b'') loading cycles in the creep range: the same smooth stress about 0.2 < u_c
-    let (ch, m) = loading(2000, 0.05, 0.45, inf, 1e-4, 0.2);
+    let (ch, m) = loading(2000, 0.05, 0.45, inf, 1e-4, 0.2, DEFAULT_STEP);
     report(
         &measure(
             "(b'') loading in the creep range: as (a), gamma = 0.45, stress about 0.2, 30 events",
@@ -661,7 +916,7 @@ fn main() {
         ),
     ];
     for (name, (u_plus, gamma, beta, dx, blocks, c)) in fronts {
-        let (ch, m) = front(u_plus, gamma, beta, dx, blocks);
+        let (ch, m) = front(u_plus, gamma, beta, dx, blocks, DEFAULT_STEP);
         let t_cross = blocks as f64 * dx / c;
         let r = measure(name, ch, &m, 2.0 * t_cross, usize::MAX);
         let t_far = if r.t_far_end.is_nan() {
@@ -672,7 +927,7 @@ fn main() {
         report(&r, (1.0, t_far), Some(t_far));
     }
     // (c'') loading cycles with backward slip
-    let (ch, m) = loading(2000, 0.05, 0.3, 0.0, 1e-4, 0.6);
+    let (ch, m) = loading(2000, 0.05, 0.3, 0.0, 1e-4, 0.6, DEFAULT_STEP);
     report(
         &measure(
             "(c'') loading with backward slip: as (a), beta = 0, 30 events",

@@ -267,6 +267,19 @@ impl ChainEngine {
         self.inner.integrator()
     }
 
+    /// Step-size control (docs/chain.md): the step grows above `step` dx, up to RK4's
+    /// stability limit, while the step's error indicator stays below `step_tolerance`;
+    /// None: the fixed step (default).
+    #[pyo3(signature = (step_tolerance=None))]
+    fn set_step_control(&mut self, step_tolerance: Option<f64>) -> PyResult<()> {
+        self.inner.set_step_control(step_tolerance).map_err(to_py)
+    }
+
+    #[getter]
+    fn step_tolerance(&self) -> Option<f64> {
+        self.inner.step_tolerance()
+    }
+
     /// The whole state as bytes (restored bit for bit by `restore`).
     fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
         pyo3::types::PyBytes::new(py, &self.inner.checkpoint())

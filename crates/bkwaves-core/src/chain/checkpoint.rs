@@ -213,6 +213,11 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
         w.fs(&self.blk.med.fingerprint());
         w.s(self.rk.name());
+        // the step-size control, when on (a default chain's bytes are unchanged)
+        if let Some(c) = &self.control {
+            w.s("step_tolerance");
+            w.f(c.tol);
+        }
         w.u(self.sources.len() as u64);
         for s in &self.sources {
             s.fingerprint(w);
@@ -225,6 +230,10 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.fingerprint(&mut w);
         for f in chain_state!(self, &dyn Field, &) {
             f.put(&mut w);
+        }
+        if let Some(c) = &self.control {
+            c.h.put(&mut w);
+            c.switches_seen.put(&mut w);
         }
         let q = self.queue.entries();
         w.u(q.len() as u64);
@@ -260,14 +269,24 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             return Err(bad(
                 8,
                 "a checkpoint of a chain with the same blocks, dx, v, step, boundary, \
-                 friction law and parameters, per-block properties, integrator and event \
-                 sources",
+                 friction law and parameters, per-block properties, integrator, step-size \
+                 control and event sources",
             ));
         }
         let (n, n2) = (self.st.n, self.st.n + 2);
         let mut next = self.clone();
         for f in chain_state!(next, &mut dyn Field, &mut) {
             f.get(&mut r)?;
+        }
+        if let Some(c) = next.control.as_mut() {
+            c.h.get(&mut r)?;
+            c.switches_seen.get(&mut r)?;
+            if !(c.h >= c.h_min && c.h <= c.h_max) {
+                return Err(bad(
+                    r.i,
+                    "a controlled step between the fixed step and the limit",
+                ));
+            }
         }
         let st = &next.st;
         if [

@@ -34,6 +34,10 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
     fn set_integrator(&mut self, method: Method) -> Result<()>;
     /// Name of the integrator.
     fn integrator(&self) -> &'static str;
+    /// See [`Chain::set_step_control`].
+    fn set_step_control(&mut self, tol: Option<f64>) -> Result<()>;
+    /// See [`Chain::step_tolerance`].
+    fn step_tolerance(&self) -> Option<f64>;
     /// See [`Chain::checkpoint`].
     fn checkpoint(&self) -> Vec<u8>;
     /// See [`Chain::restore`].
@@ -93,6 +97,12 @@ impl<F: Friction, M: Medium> DynChain for Chain<F, M> {
     }
     fn set_integrator(&mut self, method: Method) -> Result<()> {
         Chain::set_integrator(self, method)
+    }
+    fn set_step_control(&mut self, tol: Option<f64>) -> Result<()> {
+        Chain::set_step_control(self, tol)
+    }
+    fn step_tolerance(&self) -> Option<f64> {
+        Chain::step_tolerance(self)
     }
     fn integrator(&self) -> &'static str {
         Chain::integrator(self)

@@ -30,6 +30,7 @@ pub mod integrator;
 pub mod medium;
 pub mod sources;
 pub mod state;
+pub mod step_control;
 
 use crate::boundary::Boundary;
 use crate::error::{check_at_least, check_open, Error, Result};
@@ -42,6 +43,7 @@ use integrator::{Method, Simd, Stepper};
 use medium::{Blocks, Medium, Uniform};
 use sources::{Cause, Source, View};
 use state::State;
+use step_control::StepControl;
 
 /// Numerical and loading settings of a chain.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -185,6 +187,10 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     queue: SlipQueue,
     t: f64,
     h: f64,
+    /// RK4's stability limit of the step (2.5 over the fastest rate of a sliding block).
+    h_stable: f64,
+    /// Opt-in step-size control (None: the fixed step h, the default).
+    control: Option<StepControl>,
     a_start: Vec<f64>,
     a_end: Vec<f64>,
     a_valid: bool,
@@ -348,6 +354,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             queue: SlipQueue::new(n + 2),
             t: 0.0,
             h,
+            h_stable: 2.5 / lam,
+            control: None,
             a_start: vec![0.0; n + 2],
             a_end: vec![0.0; n + 2],
             a_valid: false,
@@ -393,6 +401,13 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     /// midpoint rule, whose energy books close to round-off (order 2; its fixed-point
     /// solve needs step <= 0.5).
     pub fn set_integrator(&mut self, method: Method) -> Result<()> {
+        if method == Method::Midpoint && self.control.is_some() {
+            return Err(Error::Invalid {
+                name: "step_tolerance".to_string(),
+                value: "set".to_string(),
+                allowed: "step-size control with the rk4 integrator only".to_string(),
+            });
+        }
         if method == Method::Midpoint && self.cfg.step > 0.5 {
             return Err(Error::InvalidParameter {
                 name: "step",
@@ -403,6 +418,33 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.rk = Stepper::new(method, self.st.n);
         self.a_valid = false;
         Ok(())
+    }
+
+    /// Opt-in step-size control (before the first run; `chain/step_control.rs`): with
+    /// `Some(tol)` the step grows above `step` dx, up to RK4's stability limit, while the
+    /// step's error indicator (max over the sliding blocks of the corrected trapezoid
+    /// defect, ~ h^5 u^(5)/720) stays below tol; it never goes below `step` dx. `None`:
+    /// the fixed step (the default; the same trajectories bit for bit).
+    pub fn set_step_control(&mut self, tol: Option<f64>) -> Result<()> {
+        self.control = match tol {
+            None => None,
+            Some(tol) => {
+                if self.rk.name() != "rk4" {
+                    return Err(Error::Invalid {
+                        name: "step_tolerance".to_string(),
+                        value: format!("{tol}"),
+                        allowed: "step-size control with the rk4 integrator only".to_string(),
+                    });
+                }
+                Some(StepControl::new(tol, self.h, self.h_stable)?)
+            }
+        };
+        Ok(())
+    }
+
+    /// The step-size control's tolerance (None: the fixed step).
+    pub fn step_tolerance(&self) -> Option<f64> {
+        self.control.map(|c| c.tol)
     }
 
     /// Name of the integrator.
@@ -1108,14 +1150,35 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     /// One step (capped at t_cap), with event location and a redo up to the event.
     fn integrate_step(&mut self, t_cap: f64) -> Result<()> {
         let t0 = self.t;
+        let mut h = self.h.min(t_cap - t0);
+        if let Some(c) = self.control.as_mut() {
+            // after a switch or a kick: back to the fixed step
+            if !self.a_valid || self.counters.switches != c.switches_seen {
+                c.reset();
+            }
+            h = c.h.min(t_cap - t0);
+        }
         if !self.a_valid {
             let mut a = std::mem::take(&mut self.a_start);
             self.rk.accel_only(&mut self.st, &self.blk, t0, &mut a);
             self.a_start = a;
             self.a_valid = true;
         }
-        let mut h = self.h.min(t_cap - t0);
         self.do_step(t0, h);
+        let mut indicator = None;
+        // (at the fixed step the indicator only decides whether to grow: every 4th step)
+        let indicate = |c: &StepControl, steps: u64| h > c.h_min || steps % 4 == 0;
+        if let Some(c) = self.control.filter(|c| indicate(c, self.counters.steps)) {
+            let mut d = self.step_indicator(h);
+            if d > c.tol && h > c.h_min {
+                // too long: redo it at the fixed step
+                self.restore_runs();
+                h = c.h_min.min(t_cap - t0);
+                self.do_step(t0, h);
+                d = self.step_indicator(h);
+            }
+            indicator = Some(d);
+        }
         let (mut cands, mut events) = (
             std::mem::take(&mut self.scratch.cands),
             std::mem::take(&mut self.scratch.who),
@@ -1125,10 +1188,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         // (s = infinity: no event in the step; s = 1: at its end, nothing to redo)
         if s < 1.0 {
             // redo the step up to the event
-            for &(a, b) in &self.st.runs {
-                self.st.u[a..b].copy_from_slice(&self.u0[a..b]);
-                self.st.w[a..b].copy_from_slice(&self.w0[a..b]);
-            }
+            self.restore_runs();
             h *= s;
             self.do_step(t0, h);
         }
@@ -1171,8 +1231,38 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             }
             self.need_check = true;
         }
+        if let Some(c) = self.control.as_mut() {
+            if !events.is_empty() {
+                c.reset();
+            } else if let Some(d) = indicator {
+                c.update(h, d);
+            }
+            c.switches_seen = self.counters.switches;
+        }
         self.scratch.who = events;
         Ok(())
+    }
+
+    /// The sliding runs back to the start of the step (for a redo).
+    fn restore_runs(&mut self) {
+        for &(a, b) in &self.st.runs {
+            self.st.u[a..b].copy_from_slice(&self.u0[a..b]);
+            self.st.w[a..b].copy_from_slice(&self.w0[a..b]);
+        }
+    }
+
+    /// The step-size control's error indicator of the step of length h just taken.
+    fn step_indicator(&self, h: f64) -> f64 {
+        step_control::indicator(
+            &self.st.runs,
+            h,
+            &self.u0,
+            &self.w0,
+            &self.a_start,
+            &self.st.u,
+            &self.st.w,
+            &self.a_end,
+        )
     }
 
     fn do_step(&mut self, t0: f64, h: f64) {
@@ -1200,6 +1290,8 @@ mod tests_blocks;
 mod tests_laws;
 #[cfg(test)]
 mod tests_noise;
+#[cfg(test)]
+mod tests_step_control;
 
 impl<F: Friction, M: Medium> View for Chain<F, M> {
     fn time(&self) -> f64 {
