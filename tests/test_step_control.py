@@ -35,13 +35,16 @@ def test_step_control_is_refused_with_the_midpoint_rule():
 def test_a_creeping_chain_is_followed_with_long_steps():
     exact = 2 * GAMMA * V + DELTA * math.exp(-SLOW * 20.0)
     fixed = creeping().run(20.0)
-    ctrl = creeping(step_tolerance=1e-12).run(20.0)
+    ctrl = creeping(step_tolerance=1e-12).run(20.0, snapshots=[10.0])
     assert fixed.counters["steps"] == 8000
     # the step grows to RK4's stability limit (about 350 steps) and stays exact
     assert ctrl.counters["steps"] < 450
     assert np.max(np.abs(ctrl.u - exact)) < 1e-10
     assert abs(ctrl.energy["residual"]) < 1e-8 * ctrl.energy["viscous_work"]
-    assert ctrl.snapshots is None or ctrl.snapshots.attrs["step_tolerance"] == 1e-12
+    # recorded in the outputs ("none" without control)
+    assert ctrl.snapshots.attrs["step_tolerance"] == 1e-12
+    snap = creeping().run(1.0, snapshots=[0.5]).snapshots
+    assert snap.attrs["step_tolerance"] == "none"
 
 
 def test_a_controlled_run_saved_and_loaded_continues_bit_for_bit(tmp_path):
