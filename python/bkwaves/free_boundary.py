@@ -506,10 +506,19 @@ class FreeBoundary:
         chunk = spec["chunk"].check(chunk)
         progress = V.flag("progress", progress)
         if math.isfinite(t_end):
-            from .limits import check_wall, fb_work
+            from .limits import check_wall, fb_work, noise_work
 
-            work, wall = fb_work(self.x.size, t_end - t0, self.params.v)
-            check_wall(f"t_end = {t_end:.6g}", wall, f"~{work:.2g} shock-node crossings")
+            span, v = t_end - t0, self.params.v
+            work, wall = fb_work(self.x.size, span, v)
+            length = self.x[-1] - self.x[0] + (self.h if self.boundary == "periodic" else 0.0)
+            noise_cost = noise_work("free_boundary", length, self.x.size, span, v, self.noise)
+            check_wall(
+                f"t_end = {t_end:.6g}",
+                wall,
+                f"~{work:.2g} shock-node crossings",
+                self.noise,
+                noise_cost,
+            )
         interrupted = False
         bar = RunProgress(
             progress, "free boundary", t0, t_end, max_events, self._engine.completed_events

@@ -14,7 +14,37 @@ The work estimates are order-of-magnitude figures, not promises:
 - free boundary: shock-node crossings ~ 10 v t_end x grid (each node is reset about once
   per reload of u by A ~ 0.1), plus ~ v t_end events of a few ms each (measured: 0.7
   events per unit of v t_end on a parabola of 81 nodes and on a ring of 2000).
+- noise (a ``[noise]`` table; docs/noise.md, "The thinning envelope"): both engines draw
+  candidates under the envelope G, the running maximum of g (g(1) = 1, so G(1) >= 1:
+  more for a table peaking below the threshold). The chain's candidates fall at the
+  rate n rate G(1) while any block slides and at n rate G(X(t)) in quiet stretches
+  (X <= 1 the largest stress from the threshold, rising at v); the free boundary's at
+  L rate G(U(t)) (L the domain length, U <= 1 the largest stuck u). So
+  N rate G(1) t_end (N = n or L) is a bound (up to a quiet bound passing 1 by a hair);
+  the estimate is
+
+      candidates ~ N rate t_end [b G(1) + (1 - b) <G>],   <G> = int_0^1 G(u) du,
+
+  <G> the mean of G over a loading from 0 to the threshold and b the fraction of the
+  time at the bound G(1): for the chain the time with any block sliding, b = min(1, n f)
+  (f the sliding fraction above; n f is its bound, each block sliding alone), for the
+  free boundary b = f. For an activated law (exponential, phi0 = 0.01) <G> = phi0 is
+  small and b G(1) dominates; for a table peaking below 1, <G> ~ G(1). Measured against
+  the engines' counters: 1.1 and 1.0 on the chain example (exponential, and a table
+  peaking at 100), 1.4 and 3.6 on the free boundary example; a ring where ruptures
+  sweep everything and noise starts each before the threshold (docs/noise.md, long runs)
+  is overestimated up to 80 times (chain) and 400 times (free boundary): the estimate
+  is on the high side. Wall time: chain, candidates x ``chain_seconds_per_candidate``
+  plus one more step over the sliding blocks per candidate while they slide (the
+  candidate cuts it short): N rate G(1) f n t_end block-steps x
+  ``chain_seconds_per_split_block_step``; free boundary, candidates x
+  ``fb_seconds_per_candidate``. Accepted candidates (slips, pairs) cost what the
+  engines' own work costs; their sliding is not estimated from the noise (a law that
+  keeps every block sliding costs more than the estimate says).
 Rates (per second of wall time, one core of the development machine): ``LIMITS``.
+A run beyond ``max_wall_s`` is refused, beyond ``warn_wall_s`` warned, naming
+``run.t_end`` or, when the noise costs more than the rest, ``noise.rate`` (``noise.g``
+for a table whose peak below u = 1 exceeds g(1)).
 """
 
 from __future__ import annotations
@@ -23,6 +53,8 @@ import math
 import os
 import warnings
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from ._core import ParameterError
 
@@ -46,6 +78,20 @@ LIMITS = {
     "fb_crossings_per_s": 1e6,
     # free boundary: cost of one event beyond its crossings (s; ~4 ms measured)
     "fb_seconds_per_event": 4e-3,
+    # noise: seconds per candidate, measured on this machine as (CPU time with noise -
+    # without) / the engine's noise_counters candidates, under a table law g = 1e5 (or
+    # 1e6) at u <= -5, 0 at -4, rising to 1 at 1 (almost every candidate rejected, the
+    # dynamics the noiseless one): chain 7e-8 in quiet stretches (v = 0, 100 and 1000
+    # blocks: one jump each); free boundary 1.2e-7 to 1.5e-7 (quiet, during an event, while
+    # loading; grids of 100 to 20000 nodes; examples/free_boundary_noise.toml to t = 1000:
+    # 1.5e-7)
+    "chain_seconds_per_candidate": 7e-8,
+    "fb_seconds_per_candidate": 1.5e-7,
+    # chain: a candidate while blocks slide ends a step early, one more step over the
+    # sliding blocks (examples/chain_noise.toml to t = 1000 under the same law: 7.1e6
+    # more block-steps for 1.2e6 candidates, 0.21 s more, i.e. 3e-8 s per block-step as
+    # the run's own steps; a ring where all 100 or 1000 blocks creep: 3e-9)
+    "chain_seconds_per_split_block_step": 3e-8,
     # the typical slip speed in the chain's work estimate (units of u per t')
     "chain_slip_speed": 0.1,
     # refuse a single uninterruptible engine call (bkwaves front) estimated longer (s)
@@ -62,7 +108,9 @@ class LongRunWarning(UserWarning):
 @dataclass
 class Estimate:
     """What a run needs: snapshots (None: not known in advance), output and memory bytes,
-    work (chain block-steps or free-boundary crossings; None: not known) and wall time."""
+    work (chain block-steps or free-boundary crossings; None: not known) and wall time
+    (None: not known), which includes the noise's candidates (their number and their
+    share of the wall time: ``noise_candidates``, ``noise_wall_s``)."""
 
     snapshots: int | None
     output_bytes: float
@@ -70,6 +118,8 @@ class Estimate:
     work: float | None
     wall_s: float | None
     notes: list[str] = field(default_factory=list)
+    noise_candidates: float = 0.0
+    noise_wall_s: float = 0.0
 
 
 def physical_memory() -> float:
@@ -118,6 +168,7 @@ def estimate(cfg) -> Estimate:
     mem = memory_bytes(cfg.model, nodes)
     work = wall = None
     notes = []
+    candidates = noise_wall = 0.0
     if cfg.t_end is not None:
         if chain:
             from .chain import DEFAULT_STEP
@@ -127,14 +178,100 @@ def estimate(cfg) -> Estimate:
         else:
             work, wall = fb_work(nodes, cfg.t_end, p.v)
             notes.append(f"~{work:.2g} shock-node crossings")
-    return Estimate(snaps, out, mem, work, wall, notes)
+        size = nodes if chain else cfg.length
+        candidates, noise_wall = noise_work(cfg.model, size, nodes, cfg.t_end, p.v, cfg.noise)
+        wall += noise_wall
+        if candidates > 0:
+            notes.append(f"~{candidates:.2g} noise candidates")
+    return Estimate(snaps, out, mem, work, wall, notes, candidates, noise_wall)
+
+
+def sliding_fraction(v: float) -> float:
+    """The fraction of a chain's blocks sliding, min(1, v / s) (s: ``chain_slip_speed``);
+    1 at v = 0 (nothing sets the time scale)."""
+    return 1.0 if v == 0 else min(1.0, v / LIMITS["chain_slip_speed"])
 
 
 def chain_work(n: int, t_span: float, step: float, dx: float, v: float) -> tuple[float, float]:
     """Estimated block-steps and wall seconds of a chain run over ``t_span``."""
-    frac = 1.0 if v == 0 else min(1.0, v / LIMITS["chain_slip_speed"])
+    frac = sliding_fraction(v)
     work = n * (t_span / (step * dx)) * frac
     return work, work / LIMITS["chain_block_steps_per_s"]
+
+
+def _table_envelope(noise: dict) -> tuple[np.ndarray, np.ndarray]:
+    """A table law's running maximum G(u) = max_{y <= u} g(y), normalised to g(1) = 1, as
+    nodes of a piecewise-linear function (constant outside them), like the core's."""
+    u = np.asarray(noise["u"], dtype=float)
+    g = np.asarray(noise["g"], dtype=float)
+    g = g / np.interp(1.0, u, g)
+    nu, ng, m = [u[0]], [g[0]], g[0]
+    for k in range(len(u) - 1):
+        a, b = g[k], g[k + 1]
+        if b > m > a:  # the rising piece crosses the plateau m
+            x = u[k] + (m - a) / (b - a) * (u[k + 1] - u[k])
+            if nu[-1] < x < u[k + 1]:
+                nu.append(x)
+                ng.append(m)
+        m = max(m, b)
+        nu.append(u[k + 1])
+        ng.append(m)
+    return np.array(nu), np.array(ng)
+
+
+def noise_envelope(noise: dict) -> tuple[float, float]:
+    """(G(1), mean of G over 0 <= u <= 1) of a ``[noise]`` table's law, G(u) = max_{y <= u}
+    g(y) its running maximum (the engines' thinning envelope, g(1) = 1; G = g for the
+    closed-form laws). G(1) >= 1 bounds the candidates' rate where a stress is only known
+    to be below the threshold; the mean is that of a bound loading from 0 to 1."""
+    law = noise["law"]
+    if law == "constant":
+        return 1.0, 1.0
+    if law == "exponential":
+        phi0 = noise["phi0"]
+        return 1.0, phi0 * -math.expm1(-1.0 / phi0)
+    if law == "power":
+        return 1.0, 1.0 / (noise["exponent"] + 1.0)
+    nu, ng = _table_envelope(noise)
+    at_one = float(np.interp(1.0, nu, ng))
+    inside = (nu > 0.0) & (nu < 1.0)
+    x = np.concatenate([[0.0], nu[inside], [1.0]])
+    y = np.interp(x, nu, ng)
+    return at_one, float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)))
+
+
+def noise_work(
+    model: str, size: float, n: int, t_span: float, v: float, noise: dict | None
+) -> tuple[float, float]:
+    """Estimated noise candidates and their wall seconds over ``t_span`` (module docs):
+    ``size`` is the number of blocks (chain) or the domain length (free boundary), ``n``
+    the chain's blocks (unused for the free boundary). (0, 0) without noise."""
+    if noise is None or noise["rate"] == 0.0:
+        return 0.0, 0.0
+    g_top, g_mean = noise_envelope(noise)
+    frac = sliding_fraction(v)
+    # the fraction of the time the bound is rate G(1): the chain's time with any block
+    # sliding is at most n frac (each block sliding alone); the free boundary's U(t)
+    # near the threshold: frac
+    busy = min(1.0, n * frac) if model == "chain" else frac
+    per_g = size * noise["rate"] * t_span  # candidates per unit of the envelope G
+    candidates = per_g * (busy * g_top + (1.0 - busy) * g_mean)
+    wall = candidates * LIMITS[f"{'chain' if model == 'chain' else 'fb'}_seconds_per_candidate"]
+    if model == "chain":
+        # a candidate while blocks slide cuts a step short: one more step over the blocks
+        # sliding then, whose block-time is frac n t_span (chain_work)
+        wall += per_g * g_top * frac * n * LIMITS["chain_seconds_per_split_block_step"]
+    return candidates, wall
+
+
+def noise_key(noise: dict, where: str = "noise") -> str:
+    """The ``[noise]`` key that sets the candidates' rate, with its value: ``noise.g`` for
+    a table that peaks above g(1) below the threshold, else ``noise.rate``."""
+    g_top, _ = noise_envelope(noise)
+    rate = f"{where}.rate = {noise['rate']:.6g}"
+    if noise["law"] == "table" and g_top > 1.0:
+        return f"{where}.g (its peak below u = 1 is G(1) = {g_top:.3g} times g(1); {rate})"
+    return rate
 
 
 def fb_work(grid: int, t_span: float, v: float) -> tuple[float, float]:
@@ -144,8 +281,18 @@ def fb_work(grid: int, t_span: float, v: float) -> tuple[float, float]:
     return work, work / LIMITS["fb_crossings_per_s"] + events * LIMITS["fb_seconds_per_event"]
 
 
-def check_wall(what: str, wall: float, work_text: str) -> None:
-    """Refuse beyond ``max_wall_s``, warn beyond ``warn_wall_s``; ``what`` names the key."""
+def check_wall(
+    what: str, wall: float, work_text: str, noise: dict | None = None, noise_cost=(0.0, 0.0)
+) -> None:
+    """Refuse beyond ``max_wall_s``, warn beyond ``warn_wall_s``; ``what`` names the key.
+    ``noise_cost``: the noise's (candidates, wall seconds) of :func:`noise_work`, added;
+    when they cost more than the rest the message names the noise's key first."""
+    candidates, noise_wall = noise_cost
+    if noise is not None and candidates > 0:
+        work_text = f"~{candidates:.2g} noise candidates and {work_text}"
+        if noise_wall > wall:
+            what = f"{noise_key(noise)} with {what}"
+        wall += noise_wall
     if wall > LIMITS["max_wall_s"]:
         raise ParameterError(
             f"{what} cannot be done: estimated {work_text}, about {_duration(wall)} of "
@@ -215,7 +362,13 @@ def check_sizes(cfg) -> Estimate:
             f"{_bytes(physical_memory())} of RAM of this machine"
         )
     if est.wall_s is not None:
-        check_wall(_t_end_text(cfg), est.wall_s, est.notes[0])
+        check_wall(
+            _t_end_text(cfg),
+            est.wall_s - est.noise_wall_s,
+            est.notes[0],
+            cfg.noise,
+            (est.noise_candidates, est.noise_wall_s),
+        )
     if est.output_bytes > LIMITS["warn_output_bytes"]:
         warnings.warn(
             f"{snap_key}: about {_bytes(est.output_bytes)} of output", LongRunWarning, stacklevel=3
