@@ -263,7 +263,7 @@ def fuzz_api(n: int) -> list[dict]:
 
     import bkwaves as bk
     from bkwaves import theory
-    from bkwaves.chain import front, smooth_random_stress
+    from bkwaves.chain import front, loaded_pulse, smooth_random_stress
 
     values = st.one_of(
         st.sampled_from(SPECIAL + [None, b"1", 1.0001, 1e4, "free", "rk4", np.nan, np.int64(3)]),
@@ -339,6 +339,18 @@ def fuzz_api(n: int) -> list[dict]:
         "theory.iterate_map": (
             ["a0", "v", "gamma", "n"],
             lambda kw: theory.iterate_map(**{"a0": 0.5, "v": 1e-2, "gamma": 0.3, "n": 3, **kw}),
+        ),
+        "theory.restick_time": (
+            ["u_plus", "gamma", "v", "c"],
+            lambda kw: theory.restick_time(**{"u_plus": 0.9, "gamma": 0.85, "v": 1e-5, **kw}),
+        ),
+        "theory.critical_stress_under_load": (
+            ["gamma", "v"],
+            lambda kw: theory.critical_stress_under_load(**{"gamma": 0.85, "v": 1e-4, **kw}),
+        ),
+        "loaded_pulse": (
+            ["u_plus", "gamma", "v", "dx", "window"],
+            lambda kw: loaded_pulse(**{"u_plus": 0.6, "gamma": 0.5, "v": 1e-3, "dx": 0.1, **kw}),
         ),
     }
     bad: list[dict] = []

@@ -40,8 +40,10 @@ __all__ = [
     "Chain",
     "ChainResult",
     "FrontMeasurement",
+    "LoadedPulse",
     "RunawayEventWarning",
     "front",
+    "loaded_pulse",
 ]
 
 #: Boundary conditions by name (the core's registry; the first is the default).
@@ -1117,4 +1119,106 @@ def _died(u_plus, gamma, dx, n, beta, law, step, tw, t0, passes):
         passes=passes,
         app_b=_app_b_dict(tw),
         front="dies",
+    )
+
+
+@dataclass(frozen=True)
+class LoadedPulse:
+    """One steady pulse in a loaded chain (:func:`loaded_pulse`): the window blocks' u at
+    their first slip and how long they slid (NaN: not re-stuck by the end of the run)."""
+
+    u_plus: float
+    gamma: float
+    v: float
+    dx: float
+    c: float  # the chain's front speed at v = 0 (tip problem at this dx), used for the stress
+    x_window: float  # where the window starts (two settling lengths from the kick)
+    backswing: float  # 2 pi/omega_d: the end of a block's first backswing (theory.py)
+    u_start: np.ndarray
+    sliding: np.ndarray
+
+    @property
+    def resticks(self) -> bool:
+        """True when most window blocks re-stuck within their first backswing."""
+        return bool(np.mean(self.sliding < self.backswing) > 0.5)
+
+
+#: The longest chain :func:`loaded_pulse` builds (a pulse that settles slowly, u_+ near
+#: gamma, or a fine dx, needs a long one).
+MAX_LOADED_PULSE_BLOCKS = 10**6
+#: The kick that starts a loaded pulse (forward, in u_t; the noise's default kick).
+LOADED_PULSE_KICK = 0.5
+
+
+def loaded_pulse(
+    u_plus: float, gamma: float, v: float, dx: float, *, window: int = 100
+) -> LoadedPulse:
+    """Run one steady pulse in a chain loaded at rate v, to see whether the blocks behind it
+    re-stick (docs/theory.md, section 6; compare ``bk.theory.restick_velocity``).
+
+    A free chain with the stress u = u_+ - v x/c (c: the chain's front speed at this dx),
+    block 0 kicked forward by LOADED_PULSE_KICK: every block reaches u_+ as the front
+    arrives, so the pulse is steady although the chain loads (a linear u has no curvature:
+    phi = u ahead). The ``window`` blocks start two settling lengths from the kick; the
+    chain ends where the free end's reflection (at most the sound speed) cannot reach them
+    before they have passed their first backswing, and the run stops then. Needs a pulse
+    (u_+ > gamma) and 0 <= v < 1 (a plate slower than the slip speed scale); beta = inf
+    (no backward slip)."""
+    from . import theory
+    from .limits import chain_work, check_memory, check_wall
+    from .waves import front_speed, traveling_wave
+
+    u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    gamma = V.number("gamma", gamma, lo=0.0)
+    if u_plus <= gamma:
+        V._fail("u_plus", u_plus, f"u_plus > gamma = {gamma} (a pulse; below it creeps)")
+    v = V.number("v", v, lo=0.0, hi=1.0, hi_open=True)
+    dx = V.number("dx", dx, lo=0.0, lo_open=True)
+    window = V.integer("window", window, lo=1)
+    if 10.0 / dx + window > MAX_LOADED_PULSE_BLOCKS:  # the shortest chain it would build
+        V._fail(
+            "dx", dx, f"a chain of at most {MAX_LOADED_PULSE_BLOCKS} blocks with window = {window}"
+        )
+    c = float(front_speed(u_plus, dx=dx, gamma=gamma))
+    backswing = 2.0 * float(theory.restick_time(u_plus, gamma, 0.0, c=c))
+    if not math.isfinite(backswing):
+        V._fail("u_plus", u_plus, f"a pulse of the chain's front (c = {c:.6g} creeps)")
+    x_s = settling_length(c, traveling_wave(u_plus, gamma).w, dx)
+    if not math.isfinite(x_s):
+        V._fail("u_plus", u_plus, f"a pulse faster than the lattice waves (c = {c:.6g})")
+    x_w = max(2.0 * x_s, 10.0)
+    x_end = x_w + window * dx
+    t_end = x_end / c + 1.2 * backswing
+    length = x_end + 1.2 * backswing / (1.0 + 1.0 / c) + 5.0
+    blocks = length / dx
+    what = f"loaded_pulse(dx = {dx:.6g}, window = {window})"
+    if blocks > MAX_LOADED_PULSE_BLOCKS:
+        V._fail(
+            "dx",
+            dx,
+            f"a chain of at most {MAX_LOADED_PULSE_BLOCKS} blocks ({what} needs {blocks:.3g})",
+        )
+    n = int(math.ceil(blocks))
+    check_memory("dx", "chain", n)
+    work, wall = chain_work(n, t_end, DEFAULT_STEP, dx, 0.0)  # behind the front all slide
+    check_wall(what, wall, f"~{work:.2g} block-steps")
+    params = Params(gamma=gamma, v=v, dx=dx, beta=math.inf)
+    ch = Chain(n, params, "free", u_plus - v * dx * np.arange(n) / c)
+    ch.kick(0, -LOADED_PULSE_KICK, 0.0)
+    res = ch.run(t_end=t_end, progress=False, max_event_duration=1e9)
+    first = res.slips.groupby("block").first()
+    i0 = int(round(x_w / dx))
+    win = first.loc[i0 : i0 + window - 1]
+    if len(win) != window:
+        raise RuntimeError(f"the front did not cross the window (blocks {i0}..{i0 + window - 1})")
+    return LoadedPulse(
+        u_plus,
+        gamma,
+        v,
+        dx,
+        c,
+        i0 * dx,
+        backswing,
+        win.u_start.to_numpy(),
+        (win.t_end - win.t_start).to_numpy(),
     )

@@ -13,6 +13,7 @@ paper's formulas can be evaluated exactly as printed.
 from __future__ import annotations
 
 import numpy as np
+from scipy.optimize import brentq, minimize_scalar
 
 from . import _core
 from . import _validate as V
@@ -31,6 +32,9 @@ __all__ = [
     "u_minus",
     "amplitude",
     "profile",
+    "restick_velocity",
+    "restick_time",
+    "critical_stress_under_load",
     "wavelength",
     "train_period",
     "min_wavelength",
@@ -197,6 +201,146 @@ def profile(z, u_plus, gamma, c=None):
     z = np.asarray(z, dtype=float)
     cc = None if c is None else V.number("c", c, lo=1.0, lo_open=True)
     return _out(_core.wave_profile(u, _gamma(gamma), z, cc))
+
+
+# ------------------------------------------- re-sticking under load (beyond the paper)
+def _tail_oscillator(u_plus: float, gamma: float, root_mu: float):
+    """A block behind a steady front of speed c, in phase theta = omega_d tau (tau: time
+    since its slip): zeta (= gamma-tilde), k = sqrt(1 - zeta^2), the amplitude of its
+    speed over the ground u_+/sqrt(mu), mu = 1 - 1/c^2 its effective mass, and omega_d =
+    k/sqrt(mu) (docs/theory.md, section 6). None in creep (zeta >= 1)."""
+    zeta = gamma / root_mu
+    if zeta >= 1.0:
+        return None
+    k = np.sqrt((1.0 - zeta) * (1.0 + zeta))
+    return zeta, k, u_plus / root_mu, k / root_mu
+
+
+def _tail_terms(theta, zeta, k):
+    """s = v a(theta) + amp b(theta): a is the step response of the block's oscillator (the
+    pull of the loader), b its free swing from the slip (s = 0, s_tau = u_+/mu)."""
+    decay = np.exp(-zeta * theta / k)
+    a = 1.0 - decay * (np.cos(theta) + (zeta / k) * np.sin(theta))
+    b = decay * np.sin(theta) / k
+    return a, b
+
+
+def _root_mass(u_plus, gamma, c):
+    """u_+, gamma and sqrt(mu) = sqrt(c^2 - 1)/c (= u_+ for the exact c: no cancellation
+    and no underflow at tiny u_+)."""
+    u = _u(u_plus)
+    g = _gamma(gamma)
+    if c is None:
+        return u, g, u
+    c = _c(c)
+    try:
+        u, c = np.broadcast_arrays(u, c)
+    except ValueError:
+        V._fail("c", c.tolist(), f"a speed or an array of speeds shaped like u_plus {u.shape}")
+    return u, g, np.sqrt((c - 1.0) * (c + 1.0)) / c
+
+
+def _deepest_backswing(zeta: float, k: float, amp: float):
+    """The phase theta_R in the first backswing (pi, 2 pi) where -amp b/a is largest, and
+    that largest value, v_c: s = a (v - R(theta)) with R = -amp b/a, a > 0, and R rises
+    from 0 at pi to v_c at theta_R (it is unimodal there), so s has a zero iff v <= v_c."""
+
+    def minus_ratio(theta):
+        a, b = _tail_terms(theta, zeta, k)
+        return amp * b / a
+
+    opt = minimize_scalar(
+        minus_ratio, bounds=(np.pi, 2.0 * np.pi), method="bounded", options={"xatol": 1e-12}
+    )
+    return float(opt.x), max(-float(opt.fun), 0.0)
+
+
+def restick_velocity(u_plus, gamma, c=None):
+    """The largest loading rate v at which the blocks behind a steady pulse re-stick
+    (beyond the paper, which takes v -> 0; derivation: docs/theory.md, section 6).
+
+    Behind a front of speed c a sliding block obeys (1 - 1/c^2) u_tt + 2 gamma u_t + u =
+    2 gamma v; its speed over the ground s = v - u_t starts at 0 and swings like a damped
+    oscillator of damping ratio gamma-tilde = gamma c/sqrt(c^2 - 1) about the plate's v.
+    It re-sticks only if s comes back to 0 in its first backswing, i.e. if v <= v_c; to
+    leading order v_c = m/(1 + 2 gamma-tilde m), m = exp(-gamma-tilde (pi + acos
+    gamma-tilde)/sqrt(1 - gamma-tilde^2)) = |u_-|/u_+ times the peak slip speed. 0 in creep
+    (gamma-tilde >= 1); inf at gamma = 0 (an undamped swing always comes back). The exact c
+    by default; pass the chain's, ``bk.front_speed(u_plus, dx=dx, gamma=gamma)``, for a
+    lattice (it matters near u_c). Assumes a steady front (the stress it meets constant
+    while a block slides) whose speed the loading does not change; checked against the
+    chain for 8.6e-8 <= v_c <= 0.16 (docs/theory.md).
+    """
+    u, g, root_mu = _root_mass(u_plus, gamma, c)
+    out = np.empty(u.shape)
+    for i in np.ndindex(u.shape):
+        osc = _tail_oscillator(float(u[i]), g, float(root_mu[i]))
+        if osc is None:
+            out[i] = 0.0
+        elif osc[0] == 0.0:
+            out[i] = np.inf
+        else:
+            out[i] = _deepest_backswing(*osc[:3])[1]
+    return _out(out)
+
+
+def restick_time(u_plus, gamma, v, c=None):
+    """Time from a block's slip to its re-stick behind a steady pulse loaded at rate v: the
+    first zero of its speed over the ground s(tau) (docs/theory.md, section 6). At v = 0
+    it is w/c (App. B); NaN when the block does not re-stick (v > :func:`restick_velocity`,
+    or creep). Exact c by default, or the given one (a lattice's)."""
+    u, g, root_mu = _root_mass(u_plus, gamma, c)
+    v = V.number("v", v, lo=0.0)
+    out = np.full(u.shape, np.nan)
+    for i in np.ndindex(u.shape):
+        osc = _tail_oscillator(float(u[i]), g, float(root_mu[i]))
+        if osc is None:
+            continue
+        zeta, k, amp, omega = osc
+        if v == 0.0:
+            out[i] = np.pi / omega
+            continue
+        if zeta == 0.0:  # undamped: s = v (1 - cos) + amp sin, zero where tan(theta/2) = -amp/v
+            out[i] = 2.0 * (np.pi - np.arctan(amp / v)) / omega
+            continue
+        theta_r, v_c = _deepest_backswing(zeta, k, amp)
+        if v > v_c:
+            continue
+
+        def s(theta, zeta=zeta, k=k, amp=amp):
+            a, b = _tail_terms(theta, zeta, k)
+            return v * a + amp * b
+
+        # s > 0 up to pi and <= 0 at theta_r, with one sign change between (see above)
+        out[i] = brentq(s, np.pi, theta_r, xtol=1e-14, rtol=1e-14) / omega
+    return _out(out)
+
+
+def critical_stress_under_load(gamma, v, speed=None):
+    """The creep/pulse boundary at loading rate v > 0: the u_+ above which the blocks
+    behind a steady pulse re-stick, i.e. restick_velocity(u_+, gamma) = v (the paper's
+    u_c = gamma is its v -> 0 limit, approached only like 1/ln^2 v: to leading order
+    u_c(v) = gamma/sqrt(1 - pi^2/ln^2(1/(e v))); docs/theory.md, section 6).
+
+    ``speed`` may be another c(u_+), e.g. the chain's ``lambda u: bk.front_speed(u, dx=dx,
+    gamma=gamma)``. None when no u_+ < 1 re-sticks at this v (gamma >= 1, or v above
+    the value at u_+ -> 1); 0 at gamma = 0 (every pulse re-sticks)."""
+    g = V.number("gamma", gamma, lo=0.0)
+    v = _v(v)
+    if g >= 1.0:
+        return None
+    if g == 0.0:
+        return 0.0
+
+    def margin(u):
+        c = None if speed is None else float(speed(u))
+        return float(restick_velocity(u, g, c=c)) - v
+
+    lo = float(critical_stress(g, speed))
+    hi = 1.0 - 1e-6  # c = 707, inside the tip solver's range (speed at finite dx)
+    if margin(hi) < 0.0:
+        return None
+    return brentq(margin, lo, hi, xtol=1e-13, rtol=1e-12)
 
 
 # ------------------------------------------------------------ wave trains (Sec. V)
