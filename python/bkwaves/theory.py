@@ -13,7 +13,6 @@ paper's formulas can be evaluated exactly as printed.
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 from . import _core
 from . import _validate as V
@@ -244,6 +243,7 @@ def _deepest_backswing(zeta: float, k: float, amp: float):
     """The phase theta_R in the first backswing (pi, 2 pi) where -amp b/a is largest, and
     that largest value, v_c: s = a (v - R(theta)) with R = -amp b/a, a > 0, and R rises
     from 0 at pi to v_c at theta_R (it is unimodal there), so s has a zero iff v <= v_c."""
+    from scipy.optimize import minimize_scalar  # scipy only where used (`bkwaves speed`)
 
     def minus_ratio(theta):
         a, b = _tail_terms(theta, zeta, k)
@@ -289,6 +289,8 @@ def restick_time(u_plus, gamma, v, c=None):
     first zero of its speed over the ground s(tau) (docs/theory.md, section 6). At v = 0
     it is w/c (App. B); NaN when the block does not re-stick (v > :func:`restick_velocity`,
     or creep). Exact c by default, or the given one (a lattice's)."""
+    from scipy.optimize import brentq
+
     u, g, root_mu = _root_mass(u_plus, gamma, c)
     v = V.number("v", v, lo=0.0)
     out = np.full(u.shape, np.nan)
@@ -325,6 +327,8 @@ def critical_stress_under_load(gamma, v, speed=None):
     ``speed`` may be another c(u_+), e.g. the chain's ``lambda u: bk.front_speed(u, dx=dx,
     gamma=gamma)``. None when no u_+ < 1 re-sticks at this v (gamma >= 1, or v above
     the value at u_+ -> 1); 0 at gamma = 0 (every pulse re-sticks)."""
+    from scipy.optimize import brentq
+
     g = V.number("gamma", gamma, lo=0.0)
     v = _v(v)
     if g >= 1.0:
