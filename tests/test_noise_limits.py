@@ -85,6 +85,17 @@ def test_a_huge_noise_rate_is_refused_or_warned_naming_noise_rate():
             parse_config(doc_of(100.0, {"law": "constant", "rate": 1e-2}))
 
 
+def test_a_physical_noise_rate_is_named_in_its_si_units():
+    """[physical]: the message gives the rate as written (1/s) and in time units."""
+    doc = chain_doc(1e-3, {"law": "exponential", "phi0": 0.05, "rate": 1e12, "kick": 1e-3})
+    doc.pop("params")
+    doc["physical"] = {"preset": "bristol_board", "V": 1e-6}
+    doc["initial"] = {"kind": "uniform", "value": 0.5}
+    doc["run"] = {"t_end": 1e-3}  # s: 3.1e3 time units of 3.2e-7 s
+    msg = warned(doc, "noise.rate = 1e+12 1/s (= 3.2e+05 per block and time unit)")
+    assert "run.t_end = 0.001 s" in msg, msg
+
+
 def test_a_table_peaking_far_above_g1_below_the_threshold_names_noise_g():
     """g(1) = 1 and a peak of 1e10 at u = 0.3: the candidates fall at rate x G(1) while
     blocks slide (chain) and once the bound passes 0.3; refused naming noise.g. A peak of

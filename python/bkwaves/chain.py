@@ -449,13 +449,17 @@ class Chain:
         if times.size and times[0] < self.t:
             V._fail("snapshots", float(times[0]), f"times >= current time {self.t}")
         if math.isfinite(t_end):
-            from .limits import chain_work, check_wall, noise_work
+            from .limits import chain_work, check_wall, noise_key, noise_work
 
             span, v = t_end - self.t, self.params.v
             work, wall = chain_work(self.n, span, self.step, self.params.dx, v)
             noise_cost = noise_work("chain", self.n, self.n, span, v, self.noise)
             check_wall(
-                f"t_end = {t_end:.6g}", wall, f"~{work:.2g} block-steps", self.noise, noise_cost
+                f"t_end = {t_end:.6g}",
+                wall,
+                f"~{work:.2g} block-steps",
+                noise_key(self.noise, "chain"),
+                noise_cost,
             )
         self._engine.add_snapshots(times, int(snapshot_every))
         self._engine.set_run_limits(limit, max_duration, CHUNK_WORK)

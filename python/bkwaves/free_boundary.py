@@ -506,7 +506,7 @@ class FreeBoundary:
         chunk = spec["chunk"].check(chunk)
         progress = V.flag("progress", progress)
         if math.isfinite(t_end):
-            from .limits import check_wall, fb_work, noise_work
+            from .limits import check_wall, fb_work, noise_key, noise_work
 
             span, v = t_end - t0, self.params.v
             work, wall = fb_work(self.x.size, span, v)
@@ -516,7 +516,7 @@ class FreeBoundary:
                 f"t_end = {t_end:.6g}",
                 wall,
                 f"~{work:.2g} shock-node crossings",
-                self.noise,
+                noise_key(self.noise, "free_boundary"),
                 noise_cost,
             )
         interrupted = False

@@ -264,13 +264,25 @@ def noise_work(
     return candidates, wall
 
 
-def noise_key(noise: dict, where: str = "noise") -> str:
+def noise_key(noise: dict | None, model: str = "chain", units=None) -> str | None:
     """The ``[noise]`` key that sets the candidates' rate, with its value: ``noise.g`` for
-    a table that peaks above g(1) below the threshold, else ``noise.rate``."""
+    a table that peaks above g(1) below the threshold, else ``noise.rate`` (in 1/s, or
+    1/(m s) for the free boundary, with ``units``: the config's physical units). None
+    without noise."""
+    if noise is None:
+        return None
     g_top, _ = noise_envelope(noise)
-    rate = f"{where}.rate = {noise['rate']:.6g}"
+    rate = f"noise.rate = {noise['rate']:.6g}"
+    if units is not None:
+        per = "block" if model == "chain" else "unit length"
+        scale = units.time_scale * (1.0 if model == "chain" else units.length_scale)
+        si = "1/s" if model == "chain" else "1/(m s)"
+        rate = (
+            f"noise.rate = {noise['rate'] / scale:.6g} {si} (= {noise['rate']:.3g} per {per} "
+            "and time unit)"
+        )
     if noise["law"] == "table" and g_top > 1.0:
-        return f"{where}.g (its peak below u = 1 is G(1) = {g_top:.3g} times g(1); {rate})"
+        return f"noise.g (its peak below u = 1 is G(1) = {g_top:.3g} times g(1); {rate})"
     return rate
 
 
@@ -282,16 +294,17 @@ def fb_work(grid: int, t_span: float, v: float) -> tuple[float, float]:
 
 
 def check_wall(
-    what: str, wall: float, work_text: str, noise: dict | None = None, noise_cost=(0.0, 0.0)
+    what: str, wall: float, work_text: str, noise_what: str | None = None, noise_cost=(0.0, 0.0)
 ) -> None:
     """Refuse beyond ``max_wall_s``, warn beyond ``warn_wall_s``; ``what`` names the key.
     ``noise_cost``: the noise's (candidates, wall seconds) of :func:`noise_work`, added;
-    when they cost more than the rest the message names the noise's key first."""
+    when they cost more than the rest the message names ``noise_what`` (the noise's key,
+    :func:`noise_key`) first."""
     candidates, noise_wall = noise_cost
-    if noise is not None and candidates > 0:
+    if noise_what is not None and candidates > 0:
         work_text = f"~{candidates:.2g} noise candidates and {work_text}"
         if noise_wall > wall:
-            what = f"{noise_key(noise)} with {what}"
+            what = f"{noise_what} with {what}"
         wall += noise_wall
     if wall > LIMITS["max_wall_s"]:
         raise ParameterError(
@@ -366,7 +379,7 @@ def check_sizes(cfg) -> Estimate:
             _t_end_text(cfg),
             est.wall_s - est.noise_wall_s,
             est.notes[0],
-            cfg.noise,
+            noise_key(cfg.noise, cfg.model, cfg.params.units),
             (est.noise_candidates, est.noise_wall_s),
         )
     if est.output_bytes > LIMITS["warn_output_bytes"]:
