@@ -39,24 +39,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+# the same fronts, target and run (front_measure from a warm interpreter, its CPU time)
+from bench_front_accuracy import FRONTS, LENGTH, TARGET, WORK
+
 ROOT = Path(__file__).resolve().parents[1]
-FRONTS = ((0.6, 0.45, 0.00625), (0.5, 0.3, 0.0125), (0.9, 0.45, 0.025))
 STEPS = (0.4, 0.2, 0.16, 0.14, 0.12, 0.1, 0.05)
 MODES = {"hermite": 0, "newton1": 1, "converged": 4}
-LENGTH = 25.0
-TARGET = 1e-6
-
-WORK = r"""
-import json, sys, time
-from bkwaves import _core
-u, gamma, dx, n, step = (float(x) for x in sys.argv[1:6])
-# warm up: the first call imports numpy for its results (~0.1 s of CPU, not the engine's)
-_core.front_measure(u, dx, 16, heal=False, step=step, friction={"gamma": gamma})
-t0 = time.process_time()
-r = _core.front_measure(u, dx, int(n), heal=False, step=step, friction={"gamma": gamma})
-cpu = time.process_time() - t0
-print(json.dumps({"cpu": cpu, "c": r["c"]}))
-"""
 
 
 def once(build: str, refine: int, chunk: int, u, gamma, dx, n, step):
