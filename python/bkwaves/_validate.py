@@ -12,12 +12,14 @@ must be finite. ``docs/usage.md`` lists the tables (``schema_markdown()`` render
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
+from . import _core
 from ._core import ParameterError
 
 #: The largest count accepted anywhere (events, blocks, steps): the engines count in 64 bits.
@@ -266,7 +268,7 @@ CHAIN = table(
         hi_open=True,
         doc="time step as a fraction of dx",
     ),  # fmt: skip
-    Spec("integrator", "choice", choices=("rk4", "midpoint")),
+    Spec("integrator", "choice", choices=tuple(m["name"] for m in _core.integrators())),
     Spec(
         "step_tolerance",
         "real",
@@ -300,6 +302,24 @@ FREE_BOUNDARY = table(
     Spec("t_end", "real", lo=0.0, doc="end time (dimensionless)"),
     Spec("max_events", "int", lo=1, doc="events to complete"),
     Spec("chunk", "int", lo=1, doc="engine steps per call"),
+)
+
+#: The chain's integration settings as [run] keys: the ranges of bkwaves.Chain's arguments.
+_DEFAULT_STEP = _core.defaults()["step"]
+_INTEGRATOR_DOCS = "; ".join(f"{m['name']}: {m['doc']}" for m in _core.integrators())
+_RUN_STEP = dataclasses.replace(
+    CHAIN["step"],
+    doc=f"chain: time step as a fraction of dx (h = step dx); default {_DEFAULT_STEP}; "
+    "the floor of the step with step_tolerance",
+)
+_RUN_INTEGRATOR = dataclasses.replace(
+    CHAIN["integrator"], doc=f"chain: the integrator; {_INTEGRATOR_DOCS}"
+)
+_RUN_STEP_TOLERANCE = dataclasses.replace(
+    CHAIN["step_tolerance"],
+    doc="chain, rk4 only: step-size control, the largest error indicator of one step "
+    "(in units of u, also with [physical]; 1e-12 keeps the default step's accuracy; "
+    'docs/chain.md, "Step-size control"); default none: the fixed step',
 )
 
 #: Config keys: top level, [domain], [run], [output], [[triggers]].
@@ -354,6 +374,9 @@ CONFIG = {
             doc="chain: stop when one event lasts longer; default 100 (blocks dx + 1), "
             "100 sound crossings of the chain",
         ),  # fmt: skip
+        _RUN_STEP,
+        _RUN_INTEGRATOR,
+        _RUN_STEP_TOLERANCE,
     ),
     "output": table(
         Spec("path", "text", doc="output file (.nc or .zarr)"),

@@ -58,6 +58,10 @@ TRIGGERS = tuple(k["name"] for k in _core.triggers())
 SLIP_CAUSES = tuple(k["name"] for k in _core.slip_causes())
 #: Default time step as a fraction of dx (front speeds converged to ~1e-8 at fixed dx).
 DEFAULT_STEP = _core.defaults()["step"]
+#: The largest step (a fraction of dx) the core takes with the midpoint integrator (its
+#: fixed-point iteration contracts by about step^2 + h gamma per sweep); the core refuses
+#: larger ones, and config files are checked against this (tests/test_run_keys.py).
+MIDPOINT_MAX_STEP = 0.5
 #: Per-block properties a chain can carry (docs/chain.md): ``coupling`` has one value per
 #: bond (n - 1 free, n + 1 fixed, n periodic), the others one per block; default 1.
 PROPERTIES = ("threshold", "mass", "loader", "coupling")
@@ -277,6 +281,15 @@ class Chain:
             params = {k: v for k, v in self.noise.items() if k not in ("law", "rate")}
             self._engine.set_noise(self.noise["law"], self.noise["rate"], self.seed, **params)
         self._e0 = sum(self._engine.energy())
+
+    def integration_attrs(self) -> dict:
+        """The integration settings as output attributes: step, integrator and
+        step_tolerance ("none": the fixed step; NetCDF has no None)."""
+        return {
+            "step": self.step,
+            "integrator": self.integrator,
+            "step_tolerance": "none" if self.step_tolerance is None else self.step_tolerance,
+        }
 
     # --- checkpoints -----------------------------------------------------------------
     def _record(self) -> tuple[dict, dict]:
@@ -592,9 +605,7 @@ class Chain:
                 "properties": ", ".join(k for k, x in self.properties.items() if x is not None)
                 or "uniform",
                 "boundary": self.boundary,
-                "step": self.step,
-                "integrator": self.integrator,
-                "step_tolerance": "none" if self.step_tolerance is None else self.step_tolerance,
+                **self.integration_attrs(),
                 "units": repr(UNITS),
                 "version": __version__,
                 "seed": "none" if self.seed is None else int(self.seed),

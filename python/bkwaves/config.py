@@ -61,7 +61,10 @@ Schema (all sections optional except those marked)::
                  "release"   (chain only)
 
     [run]       t_end and/or max_events; chain: max_event_slips, max_event_duration
-                (runaway bounds of one event; see docs/usage.md)
+                (runaway bounds of one event; see docs/usage.md); step (time step /
+                dx, default 0.05), integrator ("rk4" default, "midpoint": step <= 0.5),
+                step_tolerance (rk4 step-size control; default none: the fixed step),
+                as bkwaves.Chain takes them (docs/chain.md, "Algorithm")
     [output]    path, snapshot_every (time) or snapshot_events (every k events),
                 units = "native" | "dimensionless"
 
@@ -217,6 +220,9 @@ class RunConfig:
     max_events: int | None = None
     max_event_slips: int | None = None
     max_event_duration: float | None = None
+    step: float | None = None
+    integrator: str | None = None
+    step_tolerance: float | None = None
     output_path: str | None = None
     snapshot_every: float | None = None
     snapshot_events: int | None = None
@@ -261,6 +267,17 @@ class RunConfig:
     def from_dict(cls, doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         """Validate a document of the TOML schema (see :meth:`to_dict`)."""
         return parse_config(doc, base_dir=base_dir)
+
+    def chain_integration(self) -> dict:
+        """The chain's integration settings, bkwaves.Chain's ``step``, ``integrator`` and
+        ``step_tolerance``, with the defaults (DEFAULT_STEP, rk4, none) for keys not given."""
+        from .chain import DEFAULT_STEP, INTEGRATORS
+
+        return {
+            "step": DEFAULT_STEP if self.step is None else self.step,
+            "integrator": INTEGRATORS[0] if self.integrator is None else self.integrator,
+            "step_tolerance": self.step_tolerance,
+        }
 
     def x(self) -> np.ndarray:
         """Node positions in dimensionless units (blocks at i*dx for the chain)."""
@@ -652,11 +669,15 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     max_events = _cfg(r, "max_events", "run", None)
     max_event_slips = _cfg(r, "max_event_slips", "run", None)
     max_event_duration = _cfg(r, "max_event_duration", "run", None)
+    step = _cfg(r, "step", "run", None)
+    integrator = _cfg(r, "integrator", "run", None)
+    step_tolerance = _cfg(r, "step_tolerance", "run", None)
     if t_end is None and max_events is None:
         _err("run", "give t_end, max_events or both")
-    for key in ("max_event_slips", "max_event_duration"):
+    for key in CHAIN_RUN_KEYS:
         if key in r and model != "chain":
             _err(f"run.{key}", "applies to the chain model only")
+    _check_integration(step, integrator, step_tolerance)
 
     o = _table(doc.get("output", {}), "output")
     _keys(o, "output", tuple(V.CONFIG["output"]))
@@ -705,6 +726,9 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         max_events=max_events,
         max_event_slips=max_event_slips,
         max_event_duration=max_event_duration,
+        step=step,
+        integrator=integrator,
+        step_tolerance=step_tolerance,
         output_path=out_path,
         snapshot_every=None if snapshot_every is None else snapshot_every / ts,
         snapshot_events=_cfg(o, "snapshot_events", "output", None),
@@ -741,6 +765,32 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     return cfg
 
 
+#: [run] keys of the chain model only.
+CHAIN_RUN_KEYS = ("max_event_slips", "max_event_duration", "step", "integrator", "step_tolerance")
+
+
+def _check_integration(step, integrator, step_tolerance) -> None:
+    """run.step, run.integrator and run.step_tolerance together, as bkwaves.Chain checks
+    them: the midpoint rule takes steps up to MIDPOINT_MAX_STEP and no step-size control."""
+    from .chain import MIDPOINT_MAX_STEP
+
+    if integrator != "midpoint":
+        return
+    if step is not None and step > MIDPOINT_MAX_STEP:
+        _err(
+            "run.step",
+            f"invalid step = {step}: allowed 0 < step <= {MIDPOINT_MAX_STEP} with "
+            "run.integrator = 'midpoint' (its fixed-point iteration must contract)",
+        )
+    if step_tolerance is not None:
+        _err(
+            "run.step_tolerance",
+            f"invalid step_tolerance = {step_tolerance}: step-size control is for "
+            "run.integrator = 'rk4' only; with 'midpoint' give no step_tolerance "
+            "(the fixed step)",
+        )
+
+
 def _check_derived(cfg: RunConfig) -> None:
     """Quantities derived from several keys: finite, and meaningful for the model."""
     p = cfg.params
@@ -757,19 +807,30 @@ def _check_derived(cfg: RunConfig) -> None:
             if cfg.model != "chain" and not (math.isfinite(value) and value > 0):
                 _err(key, f"is {value} length units: out of range")
     if cfg.model == "chain":
-        # RK4 stability of the chain's default time step h = step dx (the engine's test)
-        from .chain import DEFAULT_STEP
-
-        h = DEFAULT_STEP * p.dx
+        # RK4 stability of the chain's time step h = step dx (the engine's test, for
+        # alike Coulomb blocks): h (sqrt(1 + 4/dx^2) + 2 gamma) <= 2.5
+        step = cfg.chain_integration()["step"]
+        h = step * p.dx
         sound = math.sqrt(1.0 + 4.0 / (p.dx * p.dx))
-        if h * (sound + 2.0 * p.gamma) > 2.5:
+        rate = sound + 2.0 * p.gamma
+        if h * rate > 2.5:
             g_max = 0.5 * (2.5 / h - sound)
-            if g_max > 0:
-                key = "params.gamma" if not cfg.physical else "physical.alpha"
+            gamma_key = "params.gamma" if not cfg.physical else "physical.alpha"
+            if cfg.step is not None:
+                # the step the user chose is the one to lower
+                also = f" (or lower {gamma_key} to gamma <= {g_max:.6g})" if g_max > 0 else ""
                 _err(
-                    key,
+                    "run.step",
+                    f"step = {step:.6g} is too large for RK4 stability with gamma = "
+                    f"{p.gamma:.6g} and dx = {p.dx:.6g} (step dx (sqrt(1 + 4/dx^2) + 2 gamma) "
+                    f"<= 2.5): allowed 0 < step <= {2.5 / (p.dx * rate):.6g}{also}",
+                )
+            if g_max > 0:
+                _err(
+                    gamma_key,
                     f"gamma = {p.gamma:.6g} is too strong a damping for the chain's time step "
-                    f"(RK4 stability at step = {DEFAULT_STEP} dx): allowed gamma <= {g_max:.6g}",
+                    f"(RK4 stability at step = {step} dx): allowed gamma <= {g_max:.6g} "
+                    "(or a smaller run.step)",
                 )
             key = "params.dx" if not cfg.physical else "physical.k_c"
             _err(key, f"dx = {p.dx:.6g} is too large for the chain's time step")
@@ -856,6 +917,9 @@ def _to_doc(cfg: RunConfig) -> dict:
         run["max_event_slips"] = cfg.max_event_slips
     if cfg.max_event_duration is not None:
         run["max_event_duration"] = cfg.max_event_duration
+    for key in ("step", "integrator", "step_tolerance"):
+        if getattr(cfg, key) is not None:
+            run[key] = getattr(cfg, key)
     doc["run"] = run
     out: dict = {"units": cfg.output_units}
     if cfg.output_path is not None:

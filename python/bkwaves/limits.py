@@ -7,7 +7,9 @@ docs/usage.md ("Limits") and can be changed in :data:`LIMITS`.
 The work estimates are order-of-magnitude figures, not promises:
 
 - chain: integration block-steps ~ blocks x (t_end / h) x f with the time step
-  h = step dx and f the fraction of blocks sliding: in a steady stick-slip cycle every
+  h = step dx (``run.step``, default 0.05; with ``run.step_tolerance`` the step only grows
+  above it, so the estimate at that floor is an upper bound) and f the fraction of
+  blocks sliding: in a steady stick-slip cycle every
   block slides off what the loader adds, so f ~ v / s with s ~ 0.1 the typical slip
   speed (measured on examples/chain_loading.toml); f = 1 when v = 0 (nothing sets the
   time scale; a creeping or sliding chain slides all the time).
@@ -171,10 +173,12 @@ def estimate(cfg) -> Estimate:
     candidates = noise_wall = 0.0
     if cfg.t_end is not None:
         if chain:
-            from .chain import DEFAULT_STEP
-
-            work, wall = chain_work(nodes, cfg.t_end, DEFAULT_STEP, p.dx, p.v)
-            notes.append(f"~{work:.2g} block-steps")
+            steps = cfg.chain_integration()
+            work, wall = chain_work(nodes, cfg.t_end, steps["step"], p.dx, p.v)
+            if steps["step_tolerance"] is None:
+                notes.append(f"~{work:.2g} block-steps")
+            else:  # the controlled step only grows above run.step dx: a bound
+                notes.append(f"at most ~{work:.2g} block-steps (run.step_tolerance)")
         else:
             work, wall = fb_work(nodes, cfg.t_end, p.v)
             notes.append(f"~{work:.2g} shock-node crossings")

@@ -51,6 +51,7 @@ __all__ = [
     "run_result",
     "simulate",
     "resume",
+    "chain_from_config",
     "checkpoint_path",
 ]
 
@@ -576,11 +577,15 @@ class _Control:
         return None if sig is None else signal.Signals(sig).name
 
 
-def _open_writer(out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows):
+def _open_writer(
+    out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows, engine_attrs=None
+):
     """The output writer (None without an output); when resuming it continues after the
-    records and table rows the checkpoint counts."""
+    records and table rows the checkpoint counts. ``engine_attrs``: the engine's own
+    attributes (the chain's step, integrator and step_tolerance)."""
+    attrs = {**_attrs(cfg, units), **(engine_attrs or {})}
     if ctl.memory is not None:  # run_result: everything kept in memory
-        ctl.memory.start(units.x(x), variables, _attrs(cfg, units), units.coord_units())
+        ctl.memory.start(units.x(x), variables, attrs, units.coord_units())
         return ctl.memory
     if not out:
         return None
@@ -588,7 +593,7 @@ def _open_writer(out, cfg, units, x, variables, ctl, overwrite, flush_every, res
         out,
         units.x(x),
         variables,
-        attrs=_attrs(cfg, units),
+        attrs=attrs,
         coord_units=units.coord_units(),
         coord_attrs=units.coord_attrs(),
         overwrite=overwrite,
@@ -687,6 +692,48 @@ def _frame(cols: dict, stop: int | None = None):
     return df if stop is None else df.iloc[:stop]
 
 
+def chain_from_config(cfg: RunConfig):
+    """The :class:`bkwaves.Chain` a chain config describes, at t = 0: initial state,
+    per-block properties, noise, integration settings (run.step, run.integrator,
+    run.step_tolerance) and triggers (no snapshots scheduled)."""
+    from .chain import Chain
+
+    p = cfg.params
+    u_t0 = None if cfg.initial.velocity == 0.0 else np.full(cfg.blocks, p.v - cfg.initial.velocity)
+    chain = Chain(
+        cfg.blocks,
+        p,
+        cfg.boundary,
+        initial_state(cfg),
+        u_t0,
+        seed=cfg.seed,
+        noise=cfg.noise,
+        **cfg.chain_integration(),
+        **disorder_arrays(cfg),
+    )
+    for tr in cfg.triggers:
+        if tr.kind == "kick":
+            chain.kick(tr.block, -tr.velocity, tr.time)
+        else:
+            chain.release(tr.block, tr.time)
+    return chain
+
+
+def _check_resumed_integration(cfg: RunConfig, chain, path) -> None:
+    """A resumed chain integrates as its config says (the checkpoint's engine record and
+    config are written together; a checkpoint whose two disagree was altered)."""
+    from ._core import ParameterError
+
+    for key, want in cfg.chain_integration().items():
+        have = getattr(chain, key)
+        if have != want:
+            raise ParameterError(
+                f"cannot resume from {path}: its engine runs with {key} = {have!r}, its "
+                f"config says run.{key} = {want!r}; a resumed run keeps the settings it "
+                "started with"
+            )
+
+
 def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     from .chain import (
         CHUNK_WORK,
@@ -699,26 +746,9 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     p = cfg.params
     if ctl.resuming:
         chain = Chain._from_record(*ctl.state["engine"], ctl.state["path"])
+        _check_resumed_integration(cfg, chain, ctl.state["path"])
     else:
-        u0 = initial_state(cfg)
-        u_t0 = (
-            None if cfg.initial.velocity == 0.0 else np.full(cfg.blocks, p.v - cfg.initial.velocity)
-        )
-        chain = Chain(
-            cfg.blocks,
-            p,
-            cfg.boundary,
-            u0,
-            u_t0,
-            seed=cfg.seed,
-            noise=cfg.noise,
-            **disorder_arrays(cfg),
-        )
-        for tr in cfg.triggers:
-            if tr.kind == "kick":
-                chain.kick(tr.block, -tr.velocity, tr.time)
-            else:
-                chain.release(tr.block, tr.time)
+        chain = chain_from_config(cfg)
         times = _snapshot_times(cfg)
         if cfg.snapshot_events and (times.size == 0 or times[0] > chain.t):
             # every-k-events snapshots start with the initial state, like timed ones
@@ -737,7 +767,18 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         "sliding": ("1", "sliding state: 0 stuck, 1 forward, -1 backward", "i1"),
     }
     resume_rows = {"events": eng.events_finished, "slips": eng.slips_final}
-    writer = _open_writer(out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows)
+    writer = _open_writer(
+        out,
+        cfg,
+        units,
+        x,
+        variables,
+        ctl,
+        overwrite,
+        flush_every,
+        resume_rows,
+        chain.integration_attrs(),
+    )
     t_stop = cfg.t_end if cfg.t_end is not None else 1e300
     max_events = cfg.max_events if cfg.max_events is not None else 2**62
     bar = ProgressBar(progress, cfg.t_end if cfg.t_end else max_events, "chain")
