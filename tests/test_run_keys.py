@@ -318,3 +318,40 @@ def test_a_resumed_run_keeps_its_step_and_a_checkpoint_changed_is_refused(tmp_pa
     np.testing.assert_array_equal(a.u.values, b.u.values)
     assert ca.equals(cb)
     assert (b.attrs["step"], b.attrs["step_tolerance"]) == (0.1, 1e-12)
+
+
+def test_midpoint_refuses_a_damping_its_fixed_point_solve_cannot_handle():
+    """The midpoint rule solves each step by fixed-point iteration, whose contraction
+    factor is bounded by (h/2)^2 (1 + 4/dx^2) + h gamma (h = step dx). Beyond 0.8 its 200
+    passes no longer reach round-off: at dx = 0.05, step 0.05, gamma = 420 (a factor of
+    1.05) the engine used to accept the unconverged state silently (a kicked block
+    stopping after two steps with the energy books still closing, helper finding). Now
+    bk.Chain refuses it naming step, the config names run.integrator (or run.step), and
+    just inside the bound the books still close to round-off."""
+    from bkwaves.config import MIDPOINT_CONTRACTION
+
+    dx, step = 0.05, DEFAULT_STEP
+    h = step * dx
+
+    def q(gamma):
+        return 0.25 * h * h * (1 + 4 / dx**2) + h * gamma
+
+    g_edge = (MIDPOINT_CONTRACTION - q(0.0)) / h  # the largest gamma accepted
+    for gamma in (420.0, g_edge * 1.01):
+        assert q(gamma) > MIDPOINT_CONTRACTION
+        p = bk.Params(gamma=gamma, v=0.0, dx=dx)
+        with pytest.raises(bk.ParameterError, match=r"step"):
+            bk.Chain(40, p, u0=0.6, integrator="midpoint")
+        doc = copy.deepcopy(FRONT)
+        doc["params"]["gamma"] = gamma
+        doc["run"]["integrator"] = "midpoint"
+        with pytest.raises(bk.ParameterError, match=r"run\.integrator.*contract"):
+            parse_config(doc)
+        doc["run"]["step"] = step
+        with pytest.raises(bk.ParameterError, match=r"run\.step.*contract"):
+            parse_config(doc)
+    # just inside: accepted, and every step solved (the energy books close to round-off)
+    p = bk.Params(gamma=0.99 * g_edge, v=0.0, dx=dx)
+    ch = bk.Chain(40, p, u0=0.6, integrator="midpoint")
+    res = ch.kick(0, -2.0).run(t_end=0.5, progress=False)
+    assert abs(res.energy["residual"]) < 1e-13 * res.energy["injected"]

@@ -765,6 +765,10 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     return cfg
 
 
+#: The largest bound on the midpoint iteration's contraction factor the engine accepts
+#: (the core's MIDPOINT_CONTRACTION: its 200 passes then reach round-off).
+MIDPOINT_CONTRACTION = 0.8
+
 #: [run] keys of the chain model only.
 CHAIN_RUN_KEYS = ("max_event_slips", "max_event_duration", "step", "integrator", "step_tolerance")
 
@@ -834,6 +838,19 @@ def _check_derived(cfg: RunConfig) -> None:
                 )
             key = "params.dx" if not cfg.physical else "physical.k_c"
             _err(key, f"dx = {p.dx:.6g} is too large for the chain's time step")
+        # the midpoint rule's fixed-point solve must contract (the engine's test, for alike
+        # Coulomb blocks): (h/2)^2 (1 + 4/dx^2) + h gamma <= 0.8
+        if cfg.chain_integration()["integrator"] == "midpoint":
+            q = 0.25 * h * h * sound * sound + h * p.gamma
+            if q > MIDPOINT_CONTRACTION:
+                key = "run.step" if cfg.step is not None else "run.integrator"
+                _err(
+                    key,
+                    f"the midpoint integrator's fixed-point solve does not contract at step = "
+                    f"{step:.6g}, gamma = {p.gamma:.6g}, dx = {p.dx:.6g}: (h/2)^2 (1 + 4/dx^2) "
+                    f"+ h gamma = {q:.3g} > {MIDPOINT_CONTRACTION} (h = step dx); a smaller "
+                    "run.step, or run.integrator = 'rk4'",
+                )
     if cfg.model == "free_boundary":
         if p.gamma >= 1.0:
             _err(

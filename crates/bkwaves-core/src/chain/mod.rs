@@ -45,6 +45,10 @@ use sources::{Cause, Source, View};
 use state::State;
 use step_control::StepControl;
 
+/// Largest bound on the midpoint iteration's contraction factor accepted: 0.8^200 < 1e-19,
+/// so its 200 passes reach round-off from any start.
+const MIDPOINT_CONTRACTION: f64 = 0.8;
+
 /// Numerical and loading settings of a chain.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChainConfig {
@@ -189,6 +193,9 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     h: f64,
     /// RK4's stability limit of the step (2.5 over the fastest rate of a sliding block).
     h_stable: f64,
+    /// Bound on the contraction factor of the implicit midpoint's fixed-point iteration at
+    /// this step: (h/2)^2 max (stiffness/mass) + (h/2) max |dR/ds|/m (module midpoint).
+    midpoint_contraction: f64,
     /// Opt-in step-size control (None: the fixed step h, the default).
     control: Option<StepControl>,
     a_start: Vec<f64>,
@@ -295,7 +302,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             elastic = elastic.max((stiff * medium.inv_mass(p)).sqrt());
             inv_m = inv_m.max(medium.inv_mass(p));
         }
-        let lam = elastic + friction.max_slope(medium.max_threshold()) * inv_m;
+        let damping = friction.max_slope(medium.max_threshold()) * inv_m;
+        let lam = elastic + damping;
         if h * lam > 2.5 || lam.is_nan() {
             return Err(Error::InvalidParameter {
                 name: "step",
@@ -355,6 +363,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             t: 0.0,
             h,
             h_stable: 2.5 / lam,
+            midpoint_contraction: 0.25 * h * h * elastic * elastic + 0.5 * h * damping,
             control: None,
             a_start: vec![0.0; n + 2],
             a_end: vec![0.0; n + 2],
@@ -399,7 +408,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
 
     /// Choose the integrator (before the first run): RK4 (default) or the implicit
     /// midpoint rule, whose energy books close to round-off (order 2; its fixed-point
-    /// solve needs step <= 0.5).
+    /// solve needs step <= 0.5, and a contraction factor (h/2)^2 (1 + 4/dx^2) + h gamma
+    /// <= 0.8 for alike Coulomb blocks, so that its 200 passes reach round-off).
     pub fn set_integrator(&mut self, method: Method) -> Result<()> {
         if method == Method::Midpoint && self.control.is_some() {
             return Err(Error::Invalid {
@@ -413,6 +423,19 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 name: "step",
                 value: self.cfg.step,
                 allowed: "step <= 0.5 with the midpoint integrator",
+            });
+        }
+        if method == Method::Midpoint
+            && (self.midpoint_contraction > MIDPOINT_CONTRACTION
+                || self.midpoint_contraction.is_nan())
+        {
+            return Err(Error::InvalidParameter {
+                name: "step",
+                value: self.cfg.step,
+                allowed: "with the midpoint integrator, (h/2)^2 max(stiffness/mass) + (h/2) \
+                          max|dR/ds|/mass <= 0.8, h the time step ((step dx/2)^2 \
+                          (1 + 4/dx^2) + step dx gamma for alike Coulomb blocks): its \
+                          fixed-point solve must contract; a smaller step, or rk4",
             });
         }
         self.rk = Stepper::new(method, self.st.n);
@@ -1165,6 +1188,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             self.a_valid = true;
         }
         self.do_step(t0, h);
+        self.check_solved(t0)?;
         let mut indicator = None;
         // (at the fixed step the indicator only decides whether to grow: every 4th step)
         let indicate = |c: &StepControl, steps: u64| h > c.h_min || steps % 4 == 0;
@@ -1191,6 +1215,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             self.restore_runs();
             h *= s;
             self.do_step(t0, h);
+            self.check_solved(t0)?;
         }
         // the energy flows of the step taken, once (not in the stages, not for a redo)
         let integ = self.rk.books(&self.st, h);
@@ -1241,6 +1266,22 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
         self.scratch.who = events;
         Ok(())
+    }
+
+    /// An error if the step just taken did not solve its implicit equations (the midpoint
+    /// rule's fixed-point iteration not converged in its passes): never a silent result.
+    fn check_solved(&self, t0: f64) -> Result<()> {
+        if self.rk.solved() {
+            return Ok(());
+        }
+        Err(Error::NoConvergence {
+            what: "midpoint integrator",
+            detail: format!(
+                "the fixed-point solve of the step at t = {t0} did not converge (step = {}; a \
+                 smaller step, or the rk4 integrator)",
+                self.cfg.step
+            ),
+        })
     }
 
     /// The sliding runs back to the start of the step (for a redo).

@@ -336,6 +336,14 @@ impl Stepper {
             Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, u0, w0, a1),
         }
     }
+    /// Whether the last step solved its equations (an explicit method always does; the
+    /// midpoint rule when its fixed-point iteration converged).
+    pub fn solved(&self) -> bool {
+        match self {
+            Stepper::Rk4(_) => true,
+            Stepper::Midpoint(m) => m.converged,
+        }
+    }
     /// See [`Integrator::books`].
     pub fn books(&mut self, st: &State, h: f64) -> StepIntegrals {
         match self {
