@@ -9,6 +9,7 @@ and the bkwaves look (:data:`STYLE`) applies only inside these functions, throug
 from __future__ import annotations
 
 import functools
+import math
 from pathlib import Path
 
 import numpy as np
@@ -115,28 +116,161 @@ def speed_curve(u_points=None, ax=None):
     return ax
 
 
-def _units(da) -> str:
-    u = da.attrs.get("units", "")
+def _unit_suffix(u) -> str:
+    """`` [unit]`` for a physical unit; nothing for a dimensionless one ("1" or empty): the
+    figure's title says the run is in the paper's dimensionless units instead."""
+    u = str(u or "")
     return f" [{u}]" if u and u != "1" else ""
 
 
+def _units(da) -> str:
+    return _unit_suffix(da.attrs.get("units", ""))
+
+
+def run_title(attrs) -> str:
+    """Two lines naming a run from its output attributes: its title and model, then its
+    parameters (gamma, v, dx, the friction law) and its unit system."""
+    import json
+
+    title = str(attrs.get("title", "") or "")
+    model = str(attrs.get("model", "") or "")
+    head = " - ".join(x for x in (title, model) if x) or "bkwaves run"
+    parts = []
+    try:
+        params = json.loads(attrs.get("params", "") or "{}")
+    except (TypeError, ValueError):
+        params = {}
+    names = {"gamma": r"$\gamma$", "v": r"$v$", "dx": r"$\Delta x$", "beta": r"$\beta$"}
+    for key in ("gamma", "v", "dx", "beta"):
+        val = params.get(key)
+        if isinstance(val, (int, float)) and (key != "beta" or math.isfinite(val)):
+            parts.append(f"{names[key]} = {val:.3g}")
+    try:
+        law = json.loads(attrs.get("friction_law", "") or "{}").get("law")
+    except (TypeError, ValueError, AttributeError):
+        law = None
+    if law and law != "coulomb":
+        parts.append(law.replace("_", " "))
+    system = str(attrs.get("units_system", "") or "")
+    if system.startswith("dimensionless"):
+        parts.append("dimensionless units (paper eq. dimless)")
+    elif system:
+        parts.append(system)
+    return head + ("\n" + ", ".join(parts) if parts else "")
+
+
+def _edges(c):
+    """Cell edges around the sample points ``c`` (sorted, e.g. block positions): midpoints
+    between neighbours, the outer edges half a spacing beyond the ends."""
+    c = np.asarray(c, dtype=float)
+    if c.size == 1:
+        return np.array([c[0] - 0.5, c[0] + 0.5])
+    mid = 0.5 * (c[1:] + c[:-1])
+    return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])
+
+
+def _constant(values) -> bool:
+    v = np.asarray(values)
+    if v.dtype.kind == "f":
+        v = v[np.isfinite(v)]
+    return v.size == 0 or bool(np.all(v == v.flat[0]))
+
+
+def _event_marks(ax, events, x_of, t_col="t_start"):
+    """Nucleation points of a catalog on a space-time diagram: threshold events as white
+    circles, noise-triggered ones as red stars, each kind in the legend once."""
+    if events is None or not len(events) or t_col not in events:
+        return
+    x = x_of(events)
+    if x is None:
+        return
+    t = events[t_col].to_numpy(dtype=float)
+    kind = (
+        events["kind"].astype(str).to_numpy()
+        if "kind" in events
+        else np.full(len(events), "threshold")
+    )
+    styles = {
+        "threshold": dict(marker="o", mfc="none", mec="w", ms=5, mew=1.0),
+        "noise": dict(marker="*", mfc="C3", mec="k", ms=8, mew=0.5),
+    }
+    for k in np.unique(kind):
+        sel = kind == k
+        st = styles.get(k, dict(marker="s", mfc="none", mec="C1", ms=5))
+        ax.plot(x[sel], t[sel], ls="none", label=f"nucleation ({k})", **st)
+    leg = ax.legend(
+        fontsize=7,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.12),
+        ncols=3,
+        facecolor="0.45",
+        edgecolor="0.45",
+        labelcolor="w",
+    )
+    leg.get_frame().set_alpha(1.0)
+
+
 @_styled
-def spacetime(ds, var: str = "u", ax=None, cmap=None):
-    """Space-time diagram of ``ds[var]`` (dimensions t, x): slip fronts are the edges."""
+def spacetime(ds, var: str = "u", ax=None, cmap=None, events=None):
+    """Space-time diagram of ``ds[var]`` (dimensions t, x): slip fronts are the edges.
+
+    Each snapshot is held until the next one (the last, the final state, is in the
+    profiles), so nothing is drawn before it happened: a change appears at the first
+    snapshot after it, and the snapshot times are ticked on the right edge so sparse
+    snapshots are seen as such. ``events`` (a catalog with ``t_start``
+    and ``nucleation`` block or ``x_start``) marks where and when each event began,
+    threshold and noise-triggered ones told apart.
+    """
     if ax is None:
-        ax = _new_axes((7, 4.2))
+        ax = _new_axes((7, 4.4))
     da = ds[var]
-    discrete = da.dtype.kind in "iu"
+    discrete = da.dtype.kind in "iu" or var == "sliding"
     if cmap is None:
         cmap = "coolwarm" if discrete else "viridis"
+    t = ds.t.values.astype(float)
+    x = ds.x.values.astype(float)
+    kw = dict(vmin=-1, vmax=1) if discrete else {}
+    values = da.values
+    if t.size > 1:  # snapshot k held on [t_k, t_k+1)
+        t_edges, values = t, values[:-1]
+    else:
+        t_edges = np.array([t[0], t[0] + 1.0])
     m = ax.pcolormesh(
-        ds.x.values, ds.t.values, da.values, shading="nearest", cmap=cmap, rasterized=True
+        _edges(x),
+        t_edges,
+        values,
+        shading="flat",
+        cmap=cmap,
+        rasterized=True,
+        **kw,
     )
     cb = ax.figure.colorbar(m, ax=ax)
-    cb.set_label(da.attrs.get("long_name", var) + _units(da))
+    cb.set_label(da.attrs.get("long_name", var) + _units(da), fontsize=8)
+    if discrete:
+        cb.set_ticks([-1, 0, 1])
     ax.set_xlabel("x" + _units(ds.x))
     ax.set_ylabel("t" + _units(ds.t))
-    ax.set_title(f"{var}(x, t)")
+    ax.set_ylim(t[0], t[-1] if t[-1] > t[0] else t[0] + 1.0)
+    ax.plot(
+        np.full(t.size, x[-1] + 0.5 * (x[-1] - x[-2] if x.size > 1 else 1.0)),
+        t,
+        ls="none",
+        marker="_",
+        color="k",
+        ms=6,
+        clip_on=False,
+    )
+
+    def x_of(ev):
+        if "x_start" in ev:
+            return ev["x_start"].to_numpy(dtype=float)
+        if "nucleation" in ev:
+            idx = ev["nucleation"].to_numpy(dtype=int)
+            return x[np.clip(idx, 0, x.size - 1)]
+        return None
+
+    _event_marks(ax, events, x_of)
+    ax.set_title(run_title(ds.attrs) + f"\n{var}(x, t); snapshots ticked at right", fontsize=8)
     return ax
 
 
@@ -161,6 +295,7 @@ def profiles(ds, var: str = "u", n: int = 6, ax=None):
     ax.set_xlabel("x" + _units(ds.x))
     ax.set_ylabel(var + _units(ds[var]))
     ax.legend(fontsize=7, ncols=2)
+    ax.set_title(run_title(ds.attrs) + f"\n{var}(x) at {len(idx)} snapshots", fontsize=8)
     return ax
 
 
@@ -172,16 +307,29 @@ def trajectories(
     points, for fronts that spread both ways from their nucleation)."""
     if ax is None:
         ax = _new_axes((7, 4.2))
-    groups = [(None, df)] if by is None or by not in df else df.groupby(by)
-    for _, g in groups:
+    import matplotlib
+
+    groups = [(None, df)] if by is None or by not in df else list(df.groupby(by))
+    # one colour per group from a sequential map, keyed to the group's order: with more
+    # groups than a legend can hold, a colour bar says which is which
+    cmap = matplotlib.colormaps["viridis"]
+    n = max(len(groups), 1)
+    for k, (_, g) in enumerate(groups):
         g = g.sort_values(t)
+        color = cmap(k / max(n - 1, 1)) if by is not None else "C0"
         if points:
-            ax.plot(g[x].values, g[t].values, ".", ms=1.5)
+            ax.plot(g[x].values, g[t].values, ".", ms=1.5, color=color)
         else:
-            ax.plot(g[x].values, g[t].values, lw=1.0)
+            ax.plot(g[x].values, g[t].values, lw=1.0, color=color)
+    if by is not None and len(groups) > 1:
+        sm = matplotlib.cm.ScalarMappable(
+            cmap=cmap, norm=matplotlib.colors.Normalize(0, len(groups) - 1)
+        )
+        cb = ax.figure.colorbar(sm, ax=ax)
+        cb.set_label(f"{by} (in order of the catalog)", fontsize=8)
     units = df.attrs.get("units", {})
-    ax.set_xlabel(x + (f" [{units[x]}]" if units.get(x) else ""))
-    ax.set_ylabel(t + (f" [{units[t]}]" if units.get(t) else ""))
+    ax.set_xlabel(x + _unit_suffix(units.get(x)))
+    ax.set_ylabel(t + _unit_suffix(units.get(t)))
     ax.set_title("trajectories")
     return ax
 
@@ -235,22 +383,46 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
     outdir = Path(outdir) if outdir is not None else out.parent
     stem = out.name.rsplit(".", 1)[0]
     written = []
+    events = tables.get("events")
     for var in ds.data_vars:
         if set(ds[var].dims) == {"t", "x"} and ds.sizes["t"] > 1:
-            written.append(save(spacetime(ds, var), outdir / f"{stem}_spacetime_{var}.{fmt}"))
+            if _constant(ds[var].values):
+                continue  # e.g. no block sliding at any snapshot: a blank panel says nothing
+            ax = spacetime(ds, var, events=events)
+            written.append(save(ax, outdir / f"{stem}_spacetime_{var}.{fmt}"))
     if "u" in ds:
         written.append(save(profiles(ds, "u"), outdir / f"{stem}_profiles.{fmt}"))
     for name, df in tables.items():
         if {"x", "t"} <= set(df.columns):
             by = next((c for c in ("front", "shock", "event", "id") if c in df.columns), None)
-            written.append(save(trajectories(df, by=by), outdir / f"{stem}_{name}.{fmt}"))
+            ax = trajectories(df, by=by)
+            ax.set_title(run_title(ds.attrs) + f"\n{name}: x(t)", fontsize=8)
+            written.append(save(ax, outdir / f"{stem}_{name}.{fmt}"))
         elif {"x", "t_start", "block"} <= set(df.columns) and len(df):
             # the chain's slips: the first slip of each block in each event is the slip front
             first = df.sort_values("t_start").groupby(["event", "block"], as_index=False).first()
             ax = trajectories(first, t="t_start", by="event", points=True)
-            ax.set_title("slip fronts (first slip of each block, per event)")
+            if "kind" in first:
+                noise = first[first["kind"].astype(str) == "noise"]
+                if len(noise):
+                    ax.plot(
+                        noise["x"],
+                        noise["t_start"],
+                        "*",
+                        color="C3",
+                        mec="k",
+                        mew=0.5,
+                        ms=8,
+                        ls="none",
+                        label="noise-triggered slip",
+                    )
+                    ax.legend(fontsize=7, loc="upper left")
+            ax.set_title(
+                run_title(ds.attrs) + "\nslip fronts (first slip of each block, per event)",
+                fontsize=8,
+            )
             written.append(save(ax, outdir / f"{stem}_{name}.{fmt}"))
-    ev = tables.get("events")
+    ev = events
     if ev is not None and len(ev) >= 2:
         col = next((c for c in ("moment", "slip", "total_slip", "size") if c in ev.columns), None)
         if col is not None:
@@ -285,6 +457,19 @@ def check_path(path, name: str = "path") -> Path:
 
 
 _SWEEP_BOOKKEEPING = ("status", "error", "key", "wall_s")
+#: Summaries that describe how a point was computed, not what it found: not drawn as
+#: results (they stay in the store).
+_SWEEP_DIAGNOSTICS = (
+    "blocks",
+    "passes",
+    "steps",
+    "slips",
+    "backward_slips",
+    "steadiness",
+    "unsteadiness",
+    "settling_length",
+    "beta",
+)
 
 
 def _is_sweep(out: Path) -> bool:
@@ -325,7 +510,7 @@ def plot_sweep(out, outdir=None, fmt: str = "png") -> list[Path]:
     ]
     written = []
     for var in ds.data_vars:
-        if var in _SWEEP_BOOKKEEPING or ds[var].dtype.kind != "f":
+        if var in _SWEEP_BOOKKEEPING or var in _SWEEP_DIAGNOSTICS or ds[var].dtype.kind != "f":
             continue
         da = ds[var].where(done)
         vals = da.values[np.isfinite(da.values)]
@@ -341,11 +526,32 @@ def plot_sweep(out, outdir=None, fmt: str = "png") -> list[Path]:
     return written
 
 
+#: Mathtext for the names a sweep's axes and summaries usually carry.
+_MATH = {
+    "u_plus": r"$u_+$",
+    "u_minus": r"$u_-$",
+    "c": r"$c$",
+    "w": r"$w$",
+    "gamma": r"$\gamma$",
+    "dx": r"$\Delta x$",
+    "v": r"$v$",
+    "v_f": r"$v_f$",
+    "beta": r"$\beta$",
+    "A": r"$A$",
+}
+
+
+def _label(name) -> str:
+    return _MATH.get(str(name), str(name))
+
+
 def _sweep_figure(ds, var, axes):
     import matplotlib.pyplot as plt
 
     two = var == "c" and "u_plus" in axes
-    fig, panels = plt.subplots(1, 2 if two else 1, figsize=(9.5 if two else 5.5, 3.8))
+    fig, panels = plt.subplots(
+        1, 2 if two else 1, figsize=(9.5 if two else 5.5, 3.8), layout="constrained"
+    )
     return fig, np.atleast_1d(panels)
 
 
@@ -354,9 +560,9 @@ def _sweep_panel(ax, da, axes, var):
     if "point" in da.dims:  # zip or adaptive: points along the first axis coordinate
         x = da[axes[0]].values
         order = np.argsort(x)
-        ax.plot(x[order], da.values[order], "o-", ms=3)
-        ax.set_xlabel(axes[0])
-        ax.set_ylabel(var)
+        ax.plot(x[order], da.values[order], "o-", ms=3, label="measured")
+        ax.set_xlabel(_label(axes[0]))
+        ax.set_ylabel(_label(var))
         return
     seed = "seed" if "seed" in da.dims else None
     if seed:
@@ -375,7 +581,7 @@ def _sweep_panel(ax, da, axes, var):
     lines = mean[other].values if other else [None]
     for v in lines:
         m = mean.sel({other: v}) if other else mean
-        label = f"{other} = {v:g}" if other else None
+        label = f"{_label(other)} = {v:g}" if other else "measured"
         if sem is not None:
             s = sem.sel({other: v}) if other else sem
             label = (label + ", " if label else "") + f"mean of {int(n.max())} seeds"
@@ -384,10 +590,9 @@ def _sweep_panel(ax, da, axes, var):
             )
         else:
             ax.plot(m[x].values, m.values, "o", ms=4, label=label)
-    ax.set_xlabel(x)
-    ax.set_ylabel(var)
-    if other or sem is not None:
-        ax.legend(fontsize=8)
+    ax.set_xlabel(_label(x))
+    ax.set_ylabel(_label(var))
+    ax.legend(fontsize=8)
     if rest:
         ax.set_title(", ".join(f"{d} = {mean[d].values!s}" for d in rest), fontsize=8)
 
@@ -398,25 +603,41 @@ def _speed_theory(panels, ds, da, axes):
 
     u = ds["u_plus"].values
     uu = np.linspace(u.min(), u.max(), 200)
-    panels[0].plot(uu, front_speed(uu), "k-", lw=1, label="1/sqrt(1 - u_+^2) (exact, dx -> 0)")
+    panels[0].plot(
+        uu, front_speed(uu), "k-", lw=1, label=r"$1/\sqrt{1 - u_+^2}$ (exact, $\Delta x \to 0$)"
+    )
     panels[0].legend(fontsize=8)
     ax = panels[1]
     gamma = float(ds["gamma"].values.ravel()[0]) if "gamma" in ds else _base(ds, "gamma", 0.0)
-    dxs = ds["dx"].values if "dx" in axes and "point" not in da.dims else []
+    on_axis = "dx" in axes and "point" not in da.dims
+    if on_axis:
+        dxs = ds["dx"].values
+    else:  # one dx for every point: the sweep's [base] (or a coordinate of the points)
+        base_dx = _base(ds, "dx", None)
+        dxs = [base_dx] if base_dx is not None and "point" not in da.dims else []
     for k, dx in enumerate(dxs):
         color = f"C{k}"
-        pts = da.sel(dx=dx)
-        ax.plot(u, pts.values - front_speed(u), "o", color=color, ms=4, label=f"chain, dx = {dx:g}")
+        pts = da.sel(dx=dx) if on_axis else da
+        if pts.ndim > 1:  # other axes (seeds, gamma): their first value, as the left panel
+            pts = pts.isel({d: 0 for d in pts.dims if d != "u_plus"})
+        ax.plot(
+            u,
+            pts.values - front_speed(u),
+            "o",
+            color=color,
+            ms=4,
+            label=rf"chain, $\Delta x$ = {dx:g}",
+        )
         tip = []
         for x in uu:
             try:
                 tip.append(tip_solve(float(x), dx=float(dx), gamma=gamma)["c"] - front_speed(x))
             except Exception:  # noqa: BLE001 - outside its range or the chain domain: a gap
                 tip.append(np.nan)
-        ax.plot(uu, tip, "-", color=color, lw=1, label=f"tip solver, dx = {dx:g}")
+        ax.plot(uu, tip, "-", color=color, lw=1, label=rf"tip solver, $\Delta x$ = {dx:g}")
     ax.axhline(0.0, color="k", lw=0.8)
-    ax.set_xlabel("u_plus")
-    ax.set_ylabel("c - 1/sqrt(1 - u_+^2)")
+    ax.set_xlabel(_label("u_plus"))
+    ax.set_ylabel(r"$c - 1/\sqrt{1 - u_+^2}$")
     if len(dxs):
         ax.legend(fontsize=8)
 
@@ -425,6 +646,7 @@ def _base(ds, key, default):
     import json
 
     try:
-        return float(json.loads(ds.attrs["sweep"])["base"].get(key, default))
+        value = json.loads(ds.attrs["sweep"])["base"].get(key, default)
+        return default if value is None else float(value)
     except (KeyError, ValueError, TypeError):
         return default

@@ -1,0 +1,138 @@
+"""Pictures of a run (`bkwaves plot`): what a program can check of each figure."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from bkwaves.io import RunWriter, load_tables
+
+matplotlib = pytest.importorskip("matplotlib")
+matplotlib.use("Agg")
+
+VARS = {
+    "u": ("1", "stress u", "f8"),
+    "sliding": ("1", "0 stuck, 1 forward, -1 backward", "i1"),
+}
+ATTRS = {
+    "title": "a test run",
+    "model": "chain",
+    "params": json.dumps({"gamma": 0.3, "v": 0.001, "dx": 0.1, "beta": float("inf")}),
+    "units_system": "dimensionless (paper eq. dimless)",
+}
+
+
+def _run(tmp_path, times, sliding_zero=True):
+    """A run with sparse snapshots: u drops between the first two, at t = 27 (the event)."""
+    out = tmp_path / "run.nc"
+    x = 0.1 * np.arange(50)
+    with RunWriter(out, x, VARS, attrs=ATTRS, coord_units=("1", "1")) as w:
+        for t in times:
+            u = np.full(50, 0.6 if t < 27.0 else -0.1)
+            s = np.zeros(50, dtype=int) if sliding_zero else (np.arange(50) % 3 - 1)
+            w.append(t, u=u, sliding=s)
+        w.write_table(
+            "events",
+            pd.DataFrame(
+                {"t_start": [27.0, 40.0], "nucleation": [10, 30], "kind": ["threshold", "noise"]}
+            ),
+            units={"t_start": "1"},
+        )
+    return out
+
+
+def test_spacetime_draws_nothing_before_it_happened(tmp_path):
+    from bkwaves.plot import spacetime
+
+    times = [0.0, 42.8, 50.3, 60.0]
+    ds, tables = load_tables(_run(tmp_path, times))
+    ax = spacetime(ds, "u", events=tables["events"])
+    # the time axis is the run's: not half a snapshot gap before the first one
+    assert ax.get_ylim()[0] == pytest.approx(0.0)
+    assert ax.get_ylim()[1] == pytest.approx(60.0)
+    mesh = ax.collections[0]
+    coords = mesh.get_coordinates()  # (nt_edges, nx_edges, 2)
+    t_edges = coords[:, 0, 1]
+    np.testing.assert_allclose(t_edges, times)
+    values = np.asarray(mesh.get_array()).reshape(len(times) - 1, -1)
+    # snapshot 0 (u = 0.6) is held on [0, 42.8): the drop at t = 27 is never drawn earlier
+    assert np.all(values[0] == 0.6) and np.all(values[1] == -0.1)
+    # no "[1]" on dimensionless axes; the title names the parameters with mathtext
+    assert "[1]" not in ax.get_xlabel() + ax.get_ylabel()
+    title = ax.get_title()
+    assert r"$\gamma$ = 0.3" in title and "dimensionless" in title
+    # both kinds of nucleation are marked and told apart in a legend
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels == ["nucleation (noise)", "nucleation (threshold)"]
+    matplotlib.pyplot.close("all")
+
+
+def test_plot_run_skips_fields_that_never_change(tmp_path):
+    from bkwaves.plot import plot_run
+
+    out = _run(tmp_path, [0.0, 42.8, 50.3, 60.0], sliding_zero=True)
+    names = {f.name for f in plot_run(out, tmp_path / "a")}
+    assert "run_spacetime_sliding.png" not in names  # all zero at every snapshot
+    assert "run_spacetime_u.png" in names
+    out2 = tmp_path / "b"
+    out2.mkdir()
+    run2 = _run(out2, [0.0, 42.8, 50.3, 60.0], sliding_zero=False)
+    names2 = {f.name for f in plot_run(run2, out2)}
+    assert "run_spacetime_sliding.png" in names2
+
+
+def test_a_real_chain_run_draws_titled_figures(tmp_path):
+    """examples/chain_noise.toml, shortened: its slips figure marks the noise-triggered
+    slips and every figure carries the run's parameters."""
+    import bkwaves as bk
+    from bkwaves.config import load_config
+    from bkwaves.plot import plot_run
+
+    cfg = load_config("examples/chain_noise.toml").to_dict()
+    cfg["run"]["t_end"] = 120.0
+    cfg["output"]["path"] = str(tmp_path / "noise.nc")
+    from bkwaves.config import parse_config
+    from bkwaves.runner import run
+
+    run(parse_config(cfg))
+    files = plot_run(tmp_path / "noise.nc", tmp_path)
+    names = {f.name for f in files}
+    assert "noise_slips.png" in names and "noise_spacetime_u.png" in names
+    ds, tables = bk.io.load_tables(tmp_path / "noise.nc")
+    assert (tables["events"]["kind"] == "noise").any()
+
+
+def test_sweep_plots_results_not_diagnostics_and_use_the_base_dx(tmp_path):
+    import xarray as xr
+
+    from bkwaves import plot
+
+    # a sweep-shaped store: c against u_plus at one dx given in [base]
+    u = np.array([0.5, 0.7, 0.9])
+    import bkwaves as bk
+
+    c = np.array([bk.front_speed(float(x), dx=0.1, gamma=0.3) for x in u])
+    ds = xr.Dataset(
+        {
+            "c": ("u_plus", c),
+            "steadiness": ("u_plus", [1e-9, 2e-9, 3e-9]),
+            "blocks": ("u_plus", [300.0, 400.0, 500.0]),
+            "status": ("u_plus", [1, 1, 1]),
+        },
+        coords={"u_plus": u},
+        attrs={"sweep": json.dumps({"base": {"gamma": 0.3, "dx": 0.1}}), "title": "t"},
+    )
+    fig, panels = plot._sweep_figure(ds, "c", ["u_plus"])
+    plot._sweep_panel(panels[0], ds["c"], ["u_plus"], "c")
+    plot._speed_theory(panels, ds, ds["c"], ["u_plus"])
+    right = panels[1]
+    # the right panel is not empty: the chain's points and the tip solver at the base dx
+    assert len(right.lines) >= 3
+    labels = [t.get_text() for t in right.get_legend().get_texts()]
+    assert any("0.1" in s and "chain" in s for s in labels)
+    assert any("tip solver" in s for s in labels)
+    # every series in the left panel is in its legend
+    assert len(panels[0].get_legend().get_texts()) == len(panels[0].lines)
+    assert "steadiness" in plot._SWEEP_DIAGNOSTICS and "blocks" in plot._SWEEP_DIAGNOSTICS
+    matplotlib.pyplot.close("all")
