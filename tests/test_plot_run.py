@@ -1,6 +1,7 @@
 """Pictures of a run (`bkwaves plot`): what a program can check of each figure."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -89,7 +90,8 @@ def test_a_real_chain_run_draws_titled_figures(tmp_path):
     from bkwaves.config import load_config
     from bkwaves.plot import plot_run
 
-    cfg = load_config("examples/chain_noise.toml").to_dict()
+    example = Path(__file__).resolve().parents[1] / "examples" / "chain_noise.toml"
+    cfg = load_config(example).to_dict()
     cfg["run"]["t_end"] = 120.0
     cfg["output"]["path"] = str(tmp_path / "noise.nc")
     from bkwaves.config import parse_config
