@@ -1,12 +1,18 @@
 """The discrete chain simulated event by event (paper eqs. rest, slide, slip).
 
+A front started at the left end of a chain at rest under u = 0.6 reaches block 248
+(x = 24.8) by t = 20, close to c(0.6) = 1.25 of the continuum, and leaves behind it a
+stress near the App. B value u_- = -0.098 (at dx = 0.1 the chain's own is -0.094):
+
 >>> import bkwaves as bk
 >>> p = bk.Params(gamma=0.3, v=0.0, dx=0.1)
 >>> ch = bk.Chain(400, p, u0=0.6)
->>> ch.kick(0, -2.0)                     # start a front at the left end
->>> res = ch.run(t_end=40.0)
->>> res.catalog                          # one row per event (pandas)
->>> res.snapshots                        # u, u_t at chosen times (xarray)
+>>> ch = ch.kick(0, -2.0)                # start a front at the left end
+>>> res = ch.run(t_end=20.0)
+>>> int(res.catalog.loc[0, "last_block"])   # the catalog: one row per event (pandas)
+248
+>>> round(float(ch.u[100]), 3), round(bk.traveling_wave(0.6, 0.3).u_minus, 3)
+(-0.094, -0.098)
 
 Dimensionless variables (``Params``): a stuck block drifts with the loader, u_t = v; a
 sliding one obeys u_tt = Lap u/dx^2 - u - 2 gamma (u_t - v) (- 2 beta when sliding
@@ -44,6 +50,7 @@ __all__ = [
     "RunawayEventWarning",
     "front",
     "loaded_pulse",
+    "smooth_random_stress",
 ]
 
 #: Boundary conditions by name (the core's registry; the first is the default).
@@ -135,7 +142,7 @@ class ChainResult:
     interrupted: True when the run was stopped by Ctrl-C (everything up to then is kept).
     stop: why the run ended: "time", "events", "interrupted" or "long_event" (an event
     exceeded ``max_event_slips`` or ``max_event_duration``: see
-    :class:`RunawayEventWarning`).
+    :class:`~bkwaves.chain.RunawayEventWarning`).
     boundary: the chain's boundary condition (one of ``BOUNDARIES``).
     """
 
@@ -179,8 +186,9 @@ class Chain:
     grows above ``step`` dx, up to RK4's stability limit, where the step's error indicator
     stays below it; 1e-12 matches the default step's accuracy (docs/chain.md, "Step-size
     control"). It pays where the whole chain creeps (e.g. loading runs at gamma = 0.45).
-    seed: recorded in the outputs (use it to build u0, e.g. :func:`smooth_random_stress`);
-    the noise generator's seed (default with noise: drawn at random and recorded).
+    seed: recorded in the outputs (use it to build u0, e.g.
+    :func:`~bkwaves.chain.smooth_random_stress`); the noise generator's seed (default
+    with noise: drawn at random and recorded).
     noise: spontaneous slips of stuck blocks, a ``[noise]`` table as a dict: ``law``
     ("constant", "exponential" with ``phi0``, "power" with ``exponent``, "table" with
     nodes ``u`` and values ``g``, piecewise linear in x), ``rate`` (slips
@@ -430,11 +438,10 @@ class Chain:
         Ctrl-C stops the run and returns what was computed (``interrupted=True``).
         An event may never end (creep at gamma >= 1; steady sliding; a pulse circulating
         on a ring, re-exciting the reloaded blocks): when the running event exceeds
-        ``max_event_slips`` slips (default :func:`default_max_event_slips`: 100 per block)
-        or lasts longer than ``max_event_duration`` (default
-        :func:`default_max_event_duration`: 100 sound crossings of the chain) the run stops
-        with ``stop="long_event"``, a :class:`RunawayEventWarning` naming the regime, and
-        everything computed so far.
+        ``max_event_slips`` slips (default: 100 per block) or lasts longer than
+        ``max_event_duration`` (default: 100 sound crossings of the chain) the run stops
+        with ``stop="long_event"``, a :class:`~bkwaves.chain.RunawayEventWarning` naming
+        the regime, and everything computed so far.
         """
         spec = V.CHAIN
         if t_end is None or (V._is_real(t_end) and t_end == math.inf):

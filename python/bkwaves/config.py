@@ -596,8 +596,9 @@ TOP_KEYS = (
 
 def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     """Validate a parsed TOML document and build a :class:`RunConfig`. Every key is
-    checked against the parameter tables of :mod:`bkwaves._validate` (type, range),
-    and so are the sizes that follow from them (:func:`check_sizes`), before any work."""
+    checked against the parameter tables of ``bkwaves._validate`` (type, range),
+    and so are the sizes that follow from them (:func:`bkwaves.limits.check_sizes`),
+    before any work."""
     doc = _table(doc, "(top level)")
     _keys(doc, "", TOP_KEYS, ("model",))
     model = _cfg(doc, "model", "")

@@ -141,22 +141,33 @@ def threshold_field(threshold, x) -> np.ndarray | None:
 class FreeBoundaryResult:
     """What :meth:`FreeBoundary.run` returns (everything since the engine was built).
 
-    events: pandas DataFrame, one row per event (first birth to the disappearance of the
-        last shock): ``id, t_start, t_end, duration, x_start, nucleation, curvature, x_min,
-        x_max, extent, moment, slip_integral, swept, stress_drop, n_births, n_nucleations,
+    Attributes
+    ----------
+    events : pandas.DataFrame
+        One row per event (first birth to the disappearance of the last shock):
+        ``id, t_start, t_end, duration, x_start, nucleation, curvature, x_min, x_max,
+        extent, moment, slip_integral, swept, stress_drop, n_births, n_nucleations,
         spontaneous, n_shocks, n_annihilations, n_exits, n_deaths, n_creep, complete,
         first_block, last_block, n_blocks`` (n_births: at u = 1; n_nucleations: pairs
         started by noise; spontaneous: the event began with one). ``slip_integral`` =
         int A dx over the ruptured length (total slip, dx-free); ``moment`` =
-        slip_integral / params.dx, the chain's ``moment`` (sum of block slips) for blocks at
-        x[0] + i dx, like ``nucleation``, ``first_block``, ``last_block``, ``n_blocks``;
-        ``stress_drop`` = slip_integral / swept (mean A).
-    shocks: pandas DataFrame of shock path points: ``shock, event, t, x, dir, u_plus,
-        u_minus, kind, creep`` (kind: initial, birth, nucleation, node, annihilation, exit,
-        death, creep_stop; ``creep`` marks resets done with u_+ < u_c under the creep rule).
-    snapshots: xarray Dataset ``u(t, x)`` on the grid, with ``n_shocks(t)``; attrs hold
-        params, units, version, boundary, creep rule.
-    interrupted: True when the run was stopped by Ctrl-C (the result is what was computed).
+        slip_integral / params.dx, the chain's ``moment`` (sum of block slips) for blocks
+        at x[0] + i dx, like ``nucleation``, ``first_block``, ``last_block``,
+        ``n_blocks``; ``stress_drop`` = slip_integral / swept (mean A). Times and
+        positions in the paper's dimensionless units.
+    shocks : pandas.DataFrame
+        Shock path points: ``shock, event, t, x, dir, u_plus, u_minus, kind, creep``
+        (kind: initial, birth, nucleation, node, annihilation, exit, death, creep_stop;
+        ``creep`` marks resets done with u_+ < u_c under the creep rule).
+    snapshots : xarray.Dataset
+        ``u(t, x)`` on the grid, with ``n_shocks(t)``; attrs hold params, units, version,
+        boundary, creep rule.
+    interrupted : bool
+        True when the run was stopped by Ctrl-C (the result is what was computed).
+    steps : int
+        Engine events (births, node crossings, collisions) processed.
+    meta : dict
+        Run metadata written to the outputs' attributes.
     """
 
     events: object
@@ -168,40 +179,77 @@ class FreeBoundaryResult:
 
 
 class FreeBoundary:
-    """The free boundary engine on grid ``x`` (uniform, increasing) with initial field
-    ``u0`` (< 1 everywhere).
+    """The free boundary engine (Sec. IV): shocks over a slowly loading stress field.
 
-    params: :class:`bkwaves.Params` (gamma < 1 and v are used; the model is the dx -> 0
-        continuum, so dx only matters for comparisons with the chain).
-    boundary: ``"free"`` (shocks leave at the ends) or ``"periodic"`` (a ring of length
-        n h, node n coinciding with node 0).
-    shocks: optional initial shocks as ``[(x, direction), ...]`` with direction +1 / -1
-        (e.g. the front of a saw-tooth train).
-    creep: what a shock does where u_+ < u_c = gamma (outside the paper's theory):
+    Parameters
+    ----------
+    params : bkwaves.Params
+        gamma < 1 and v are used; the model is the dx -> 0 continuum, so dx only matters
+        for comparisons with the chain.
+    x : array_like
+        The grid: uniform and increasing (dimensionless positions).
+    u0 : array_like
+        The initial stress on the grid, below 1 (below the threshold field) everywhere.
+    boundary : {"free", "periodic"}
+        ``"free"``: shocks leave at the ends; ``"periodic"``: a ring of length n h, node
+        n coinciding with node 0.
+    shocks : list of (float, int), optional
+        Initial shocks as ``[(x, direction), ...]`` with direction +1 / -1 (e.g. the front
+        of a saw-tooth train).
+    creep : {"zero", "stop"}
+        What a shock does where u_+ < u_c = gamma (outside the paper's theory):
         ``"zero"`` keeps it running and leaves u_- = 0 (the v -> 0 limit of the creep
         profile), ``"stop"`` ends it at u_+ = u_c. Either way it is recorded.
-    tol: local error per integration step (relative to the grid spacing).
-    record_path: record every node crossing in ``result.shocks`` (else births and ends).
-    noise: spontaneous pair nucleation, a ``[noise]`` table as a dict: ``law``
+    tol : float
+        Local error per integration step (relative to the grid spacing).
+    record_path : bool
+        Record every node crossing in ``result.shocks`` (else births and ends).
+    noise : dict, optional
+        Spontaneous pair nucleation, a ``[noise]`` table as a dict: ``law``
         (``"constant"``, ``"exponential"`` with ``phi0``, ``"power"`` with ``exponent``,
         ``"table"`` with node lists ``u`` and ``g``: piecewise linear, divided by g(1)) and
         ``rate``, the rate density Lambda(u = 1) per unit length and time
         (:mod:`bkwaves.noise`, docs/noise.md). Pairs nucleate where no shock is and
         u > 0 (u > u_c with ``creep="stop"``); they are rows of ``result.shocks`` with
         kind ``nucleation`` and counted in ``events.n_nucleations``.
-    seed: the noise generator's seed (an integer >= 0; default: drawn at random and
-        recorded in ``fb.seed`` and the result's attrs).
-    speed: the front-speed law c(u_+) (default None: the exact 1/sqrt(1 - u_+^2)): a table
+    seed : int, optional
+        The noise generator's seed (>= 0; default: drawn at random and recorded in
+        ``fb.seed`` and the result's attrs).
+    speed : dict or tuple or callable, optional
+        The front-speed law c(u_+) (default None: the exact 1/sqrt(1 - u_+^2)): a table
         ``{"u_plus": [...], "c": [...]}``, a pair of arrays, a callable, or the output of
         :func:`bkwaves.disorder.front_speed_ensemble` (one or a list), e.g. the
-        renormalised c_eff of a disordered medium (:func:`speed_table`). u_- and the
-        critical stress u_c follow the law (docs/free_boundary.md, "Front-speed law").
-    threshold: the static threshold field s(x) (default None: 1 everywhere): a number, an
-        array on the grid or a callable s(x) (:func:`threshold_field`). Block x slips when
-        u - u_xx >= s(x); for s varying on scales much longer than dx and the pulse width,
-        shocks move at c(u_+/s), leave u_- = -u_+ E(c) (eq. um with that c), creep where
-        u_+ <= s u_c, and pairs are born where u reaches s (docs/free_boundary.md,
-        "Threshold field"). u0 must stay below s. Not with noise.
+        renormalised c_eff of a disordered medium
+        (:func:`~bkwaves.free_boundary.speed_table`). u_- and the critical stress u_c
+        follow the law (docs/free_boundary.md, "Front-speed law").
+    threshold : float or array_like or callable, optional
+        The static threshold field s(x) (default None: 1 everywhere): a number, an array
+        on the grid or a callable s(x) (:func:`~bkwaves.free_boundary.threshold_field`).
+        Block x slips when u - u_xx >= s(x); for s varying on scales much longer than dx
+        and the pulse width, shocks move at c(u_+/s), leave u_- = -u_+ E(c) (eq. um with
+        that c), creep where u_+ <= s u_c, and pairs are born where u reaches s
+        (docs/free_boundary.md, "Threshold field"). u0 must stay below s. Not with noise.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        A parameter out of its range (named, with the allowed range).
+
+    Examples
+    --------
+    One shock running right into u_+ = 0.6 moves at c = 1/sqrt(1 - 0.6^2) = 1.25 and
+    leaves u_- of App. B behind it:
+
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> p = bk.Params(gamma=0.3, v=1e-6, dx=0.01)
+    >>> x = np.linspace(0.0, 50.0, 501)
+    >>> fb = bk.FreeBoundary(p, x, np.full_like(x, 0.6), shocks=[(1.0, +1)])
+    >>> res = fb.run(t_end=20.0)
+    >>> round(float(fb.current_shocks()["x"].iloc[0]), 2)   # 1 + 1.25 t
+    26.0
+    >>> round(float(fb.u()[100]), 4), round(bk.traveling_wave(0.6, 0.3).u_minus, 4)
+    (-0.0978, -0.0978)
     """
 
     def __init__(

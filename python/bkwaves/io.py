@@ -834,7 +834,7 @@ def load(path):
     Dataset and the event catalog as a pandas DataFrame (None if the run wrote none),
     with its column units in ``catalog.attrs["units"]``. Without a published output the
     records of an unfinished run (``OUT.partial/``) are read, up to the last committed
-    one, with a warning. Other tables: :func:`load_tables`."""
+    one, with a warning. Other tables: :func:`~bkwaves.io.load_tables`."""
     ds, tables = load_tables(path)
     return ds, tables.get("events")
 

@@ -43,6 +43,7 @@ The work estimates are order-of-magnitude figures, not promises:
   ``fb_seconds_per_candidate``. Accepted candidates (slips, pairs) cost what the
   engines' own work costs; their sliding is not estimated from the noise (a law that
   keeps every block sliding costs more than the estimate says).
+
 Rates (per second of wall time, one core of the development machine): ``LIMITS``.
 A run beyond ``max_wall_s`` is refused, beyond ``warn_wall_s`` warned, naming
 ``run.t_end`` or, when the noise costs more than the rest, ``noise.rate`` (``noise.g``

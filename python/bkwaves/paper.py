@@ -111,9 +111,27 @@ class Claim:
 
 @dataclass
 class Report:
+    """What :func:`reproduce` returns: the verdict on every claim and the figures written.
+
+    Attributes
+    ----------
+    claims : list of Claim
+        Every claim of the paper checked, with its verdict and evidence.
+    figures : dict
+        Figure name -> the files written (PNG and PDF).
+    beyond : dict
+        The same for the figures of what the paper leaves open.
+    captions : dict
+        Figure name -> caption.
+    findings : list of str
+        What bkwaves finds that the paper does not state.
+    seconds : float
+        Wall time of the reproduction.
+    """
+
     claims: list[Claim] = field(default_factory=list)
     figures: dict[str, list[Path]] = field(default_factory=dict)
-    #: Figures of what the paper leaves open (:mod:`bkwaves.paper_beyond`), same format.
+    #: Figures of what the paper leaves open (``bkwaves.paper_beyond``), same format.
     beyond: dict[str, list[Path]] = field(default_factory=dict)
     captions: dict[str, str] = field(default_factory=dict)
     findings: list[str] = field(default_factory=list)

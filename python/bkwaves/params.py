@@ -272,7 +272,7 @@ class Params:
 
     @property
     def friction(self) -> str:
-        """The friction model in words (see :func:`friction_note`)."""
+        """The friction model in words (see :func:`~bkwaves.params.friction_note`)."""
         return friction_note(self.beta)
 
     def to_dict(self) -> dict:

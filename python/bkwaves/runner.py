@@ -508,7 +508,8 @@ def run_result(cfg: RunConfig, *, snapshots: bool = False, chunk: int = 20_000) 
 def simulate(cfg, out=None, *, snapshots: bool = False, progress: bool = False) -> RunResult:
     """Run a configuration and return its :class:`RunResult` (this is ``bk.run``).
 
-    ``cfg``: a :class:`RunConfig`, a dict of the TOML schema (``RunConfig.to_dict()``) or
+    ``cfg``: a :class:`~bkwaves.config.RunConfig`, a dict of the TOML schema
+    (``RunConfig.to_dict()``) or
     the path of a TOML file. Without ``out`` nothing is written (``[output] path`` is
     ignored); with ``out`` (.nc or .zarr) the outputs are written as ``bkwaves run`` writes
     them and the result is read back from them."""

@@ -760,7 +760,7 @@ def sweep(
     client=None,
     _stop_after: int | None = None,
 ) -> SweepResult:
-    """Run a sweep (a :class:`SweepSpec`, a dict or a SWEEP.toml path) on Dask and
+    """Run a sweep (a :class:`~bkwaves.sweeps.SweepSpec`, a dict or a SWEEP.toml path) on Dask and
     return the result dataset (also written to ``out``, a .zarr store).
 
     Finished points are written as they arrive; a point already done in ``out`` (same

@@ -6,13 +6,13 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
 create_exception!(
-    _core,
+    bkwaves._core,
     ParameterError,
     PyValueError,
     "A parameter is out of its allowed range or not finite."
 );
 create_exception!(
-    _core,
+    bkwaves._core,
     ConvergenceError,
     PyRuntimeError,
     "A numerical method did not reach its tolerance."
