@@ -14,12 +14,12 @@ width of the slipping zone and of the weakening zone in lattice spacings.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
 from . import _validate as V
-from .chain import DEFAULT_STEP, STEADY_TOL, run_front
+from .chain import DEFAULT_STEP, run_front
 from .friction import law
 from .params import Params
 
@@ -66,23 +66,39 @@ def coulomb_gap_bound(c_coulomb: float, ratio: float) -> float:
     return 2.0 * c_coulomb * ratio * math.log(1.0 / ratio)
 
 
+#: Stated tolerances of :func:`front`: the change of c (relative), of the slipping zone
+#: (relative) and of u_- (absolute) when the chain length is doubled. The default
+#: measurement doubles the chain until every change is within these.
+TOLERANCE = {"c": 1e-6, "zone": 1e-4, "u_minus": 1e-4}
+#: The first chain of the default measurement (x units) and the longest it may build.
+START_LENGTH = 20.0
+MAX_BLOCKS = 2**18
+#: The default measurement stops doubling when the next chain would take longer than this
+#: (CPU seconds, estimated from the last one: about 4.5x for each doubling at most).
+MAX_SECONDS = 30.0
+
+
 @dataclass(frozen=True)
 class VWFront:
     """One front with velocity-weakening friction (:func:`front`).
 
-    status: "steady" (the front crossed the chain and the slip intervals of the window,
-    the third quarter of the chain, agree with dx/c to STEADY_TOL), "unsteady" (crossed,
-    intervals spread more: ``trend`` says whether it speeds up or slows down), "dies"
-    (the front stopped at x = ``reached``). c: dx (b - a)/(t_b - t_a) over the window
-    (NaN if it died). unsteadiness: largest |interval c/dx - 1| in the window. trend:
-    c over the window's second half over c over its first half, minus 1. zone: the
-    slipping zone in lattice spacings, c x (mean time a window block slides)/dx (None if
-    the window blocks still slide when the tip reaches the far end); u_minus: their mean
-    u when that slip ends (the stress behind the pulse). weakening: the weakening zone
-    in lattice spacings, c/dx times the time a block takes from its slip to s = v_f
-    (friction halfway down; the first window block, from a second run with dense
-    snapshots). peak: its largest speed in the WEAKENING_SPAN slip intervals after its
-    slip, in units of v_f.
+    status: "steady" (the front crossed, and c, the slipping zone and u_- changed by less
+    than ``tolerance`` when the chain was doubled: ``convergence``), "dies" (the front
+    stopped at x = ``reached``), or "undecided" (it crossed, but the doubling had not
+    converged within the chain the measurement may build; ``reason`` says what moved).
+    c: dx (b - a)/(t_b - t_a) over the window, the third quarter of the longest chain
+    (NaN if it died). convergence: the changes from the chain half as long to this one
+    (c and zone relative, u_minus absolute; None where not measured on both), the
+    error estimate of the answer (the approach is exponential in x: the error of the
+    longer chain is well below the change). lengths: the chain lengths run.
+    unsteadiness: largest |interval c/dx - 1| in the window. trend: c over the window's
+    second half over c over its first half, minus 1. zone: the slipping zone in lattice
+    spacings, c x (mean time a window block slides)/dx (None if the window blocks still
+    slide when the tip reaches the far end); u_minus: their mean u when that slip ends
+    (the stress behind the pulse). weakening: the weakening zone in lattice spacings, c/dx
+    times the time a block takes from its slip to s = v_f (friction halfway down; the
+    first window block, from a second run with dense snapshots). peak: its largest speed
+    in the WEAKENING_SPAN slip intervals after its slip, in units of v_f.
     """
 
     u_plus: float
@@ -100,14 +116,89 @@ class VWFront:
     peak: float | None
     reached: float
     wall_s: float
+    convergence: dict | None = None
+    lengths: tuple = ()
+    reason: str = ""
+    tolerance: dict = field(default_factory=lambda: dict(TOLERANCE))
+    slips: int = 0
+    backward_slips: int = 0
 
     @property
     def ratio(self) -> float:
         """v_f/dx, the variable of eq. (crit)."""
         return self.v_f / self.dx
 
+    @property
+    def converged(self) -> bool:
+        """Every change on doubling within the tolerance (False if any is unmeasured)."""
+        return _within(self.convergence, self.tolerance)
+
     def to_dict(self) -> dict:
-        return asdict(self) | {"ratio": self.ratio}
+        return asdict(self) | {"ratio": self.ratio, "converged": self.converged}
+
+
+def _within(conv: dict | None, tol: dict) -> bool:
+    if not conv:
+        return False
+    # an infinite tolerance: that quantity is not asked for (it may be unmeasured)
+    return all(tol[k] == math.inf or (conv.get(k) is not None and conv[k] <= tol[k]) for k in tol)
+
+
+def _changes(short: dict, long: dict) -> dict:
+    """c and zone relative, u_minus absolute (None where either is unmeasured)."""
+
+    def rel(k):
+        a, b = short[k], long[k]
+        if a is None or b is None or not (math.isfinite(a) and math.isfinite(b)):
+            return None
+        return abs(b / a - 1.0)
+
+    um = None
+    if short["u_minus"] is not None and long["u_minus"] is not None:
+        um = abs(long["u_minus"] - short["u_minus"])
+    return {"c": rel("c"), "zone": rel("zone"), "u_minus": um}
+
+
+def _measure(u_plus, gamma, dx, v_f, length, step, beta=math.inf):
+    """One chain ``length`` long: the raw measurement on its third quarter."""
+    import time
+
+    n = int(math.ceil(length / dx))
+    t0 = time.process_time()
+    p = Params(
+        gamma=gamma, v=0.0, dx=dx, beta=beta, friction_law=law("velocity_weakening", v_f=v_f)
+    )
+    ch, first, _ = run_front(u_plus, n, p, step=step)
+    a, b = n // 2, (3 * n) // 4
+    wall = time.process_time() - t0
+    slipped = np.nonzero(np.isfinite(first))[0]
+    reached = float(slipped.max() * dx) if slipped.size else 0.0
+    slips = ch._engine.slips()
+    out = dict(n=n, a=a, b=b, p=p, first=first, reached=reached, wall=wall, length=length)
+    out["slips"] = int(len(slips["block"]))
+    out["backward_slips"] = int(np.sum(np.asarray(slips["direction"]) < 0))
+    if not np.isfinite(first[-1]):
+        return out | dict(dies=True, c=math.nan, zone=None, u_minus=None)
+    c = dx * (b - a) / (first[b] - first[a])
+    intervals = np.diff(first[a : b + 1])
+    m = (a + b) // 2
+    blocks = np.asarray(slips["block"])
+    t_start, t_end = np.asarray(slips["t_start"]), np.asarray(slips["t_end"])
+    dur, u_end = np.full(n, np.nan), np.full(n, np.nan)
+    for i in range(a, b):
+        k = np.nonzero((blocks == i) & (t_start == first[i]))[0]
+        if k.size:
+            dur[i] = t_end[k[0]] - t_start[k[0]]
+            u_end[i] = slips["u_end"][k[0]]
+    healed = bool(np.all(np.isfinite(dur[a:b])))
+    return out | dict(
+        dies=False,
+        c=float(c),
+        unsteadiness=float(np.max(np.abs(intervals * c / dx - 1.0))),
+        trend=float((first[m] - first[a]) / (m - a) / ((first[b] - first[m]) / (b - m)) - 1.0),
+        zone=float(c * np.mean(dur[a:b]) / dx) if healed else None,
+        u_minus=float(np.mean(u_end[a:b])) if healed else None,
+    )
 
 
 def front(
@@ -116,31 +207,100 @@ def front(
     dx: float,
     v_f: float,
     *,
-    length: float = 20.0,
+    length: float | None = None,
     step: float = DEFAULT_STEP,
     weakening: bool = True,
+    tolerance: dict | None = None,
+    max_seconds: float = MAX_SECONDS,
+    beta: float = math.inf,
 ) -> VWFront:
-    """Measure one front with velocity-weakening friction on a chain ``length`` long
-    (in x; ceil(length/dx) blocks; window: the third quarter). Double ``length`` to check
-    that the front has settled (docs/velocity_weakening.md does, for its tables).
-    weakening=False skips the second run that measures the weakening zone."""
+    """Measure one front with velocity-weakening friction: uniform u_+ on a free chain at
+    v = 0, block 0 kicked forward; c, the slipping zone and u_- on the third quarter of the
+    chain, and how much they changed from a chain half as long (``convergence``).
+
+    By default (``length=None``) the chain starts START_LENGTH long and is doubled until
+    c, zone and u_- change by less than ``tolerance`` (default TOLERANCE) or the next chain
+    would cost more than ``max_seconds`` of CPU / MAX_BLOCKS blocks (status "undecided", with the
+    reason). A given ``length`` is run once, with the chain half as long for the
+    convergence report (status "steady" only if that is within the tolerance).
+    weakening=False skips the second run that measures the weakening zone.
+    docs/velocity_weakening.md."""
     import time
 
     u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     gamma = V.number("gamma", gamma, lo=0.0)
     dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     v_f = V.number("v_f", v_f, lo=0.0, lo_open=True)
-    length = V.number("length", length, lo=16 * dx, hi=1e5)
-    n = int(math.ceil(length / dx))
+    tol = dict(TOLERANCE)
+    if tolerance is not None:
+        unknown = set(tolerance) - set(TOLERANCE)
+        if unknown:
+            V._fail("tolerance", sorted(unknown)[0], f"keys among {sorted(TOLERANCE)}")
+        for k, x in tolerance.items():
+            # inf: that quantity is not asked for
+            tol[k] = math.inf if x == math.inf else V.number(f"tolerance[{k}]", x, lo=0.0)
+    fixed = length is not None
+    if fixed:
+        length = V.number("length", length, lo=32 * dx, hi=1e5)
+        lengths = [length / 2.0, length]
+    else:
+        start = max(START_LENGTH, 64 * dx)
+        lengths = [start / 2.0, start]
     t0 = time.perf_counter()
-    p = Params(gamma=gamma, v=0.0, dx=dx, friction_law=law("velocity_weakening", v_f=v_f))
-    ch, first, _ = run_front(u_plus, n, p, step=step)
-    a, b = n // 2, (3 * n) // 4
-    wall = time.perf_counter() - t0
-    slipped = np.nonzero(np.isfinite(first))[0]
-    reached = float(slipped.max() * dx) if slipped.size else 0.0
-    common = dict(u_plus=u_plus, gamma=gamma, dx=dx, v_f=v_f, blocks=n, reached=reached)
-    if not np.isfinite(first[-1]):
+    runs = [_measure(u_plus, gamma, dx, v_f, x, step, beta) for x in lengths]
+    conv = None
+    reason = ""
+    while True:
+        short, long = runs[-2], runs[-1]
+        if long["dies"]:
+            break
+        conv = None if short["dies"] else _changes(short, long)
+        if conv is not None and _within(conv, tol):
+            break
+        nxt = 2.0 * long["length"]
+        wall_next = 4.5 * long["wall"]
+        if fixed or nxt / dx > MAX_BLOCKS or wall_next > max_seconds:
+            moved = (
+                "the chain half as long died"
+                if conv is None
+                else ", ".join(
+                    f"{k} by {conv[k]:.2g}" + (f" > {tol[k]:g}" if conv[k] > tol[k] else "")
+                    if conv[k] is not None
+                    else f"{k} unmeasured (the window blocks did not re-stick)"
+                    for k in tol
+                )
+            )
+            limit = (
+                "at the given length"
+                if fixed
+                else f"and a chain {nxt:g} long would exceed "
+                + (
+                    f"MAX_BLOCKS = {MAX_BLOCKS}"
+                    if nxt / dx > MAX_BLOCKS
+                    else f"max_seconds = {max_seconds:g} s of CPU (about {wall_next:.2g} s)"
+                )
+            )
+            reason = (
+                f"not converged: doubling the chain from {short['length']:g} to "
+                f"{long['length']:g} moved {moved} {limit}"
+            )
+            break
+        runs.append(_measure(u_plus, gamma, dx, v_f, nxt, step, beta))
+    last = runs[-1]
+    n, a = last["n"], last["a"]
+    common = dict(
+        u_plus=u_plus,
+        gamma=gamma,
+        dx=dx,
+        v_f=v_f,
+        blocks=n,
+        reached=last["reached"],
+        lengths=tuple(r["length"] for r in runs),
+        tolerance=tol,
+        slips=last["slips"],
+        backward_slips=last["backward_slips"],
+    )
+    if last["dies"]:
         return VWFront(
             **common,
             status="dies",
@@ -151,41 +311,33 @@ def front(
             u_minus=None,
             weakening=None,
             peak=None,
-            wall_s=wall,
+            wall_s=time.perf_counter() - t0,
+            reason=f"the front stopped at x = {last['reached']:.4g} on a chain "
+            f"{last['length']:g} long",
         )
-    c = dx * (b - a) / (first[b] - first[a])
-    intervals = np.diff(first[a : b + 1])
-    unsteadiness = float(np.max(np.abs(intervals * c / dx - 1.0)))
-    m = (a + b) // 2
-    trend = float((first[m] - first[a]) / (m - a) / ((first[b] - first[m]) / (b - m)) - 1.0)
-    status = "steady" if unsteadiness <= STEADY_TOL else "unsteady"
-    # the slipping zone from the first slip intervals of the window blocks
-    slips = ch._engine.slips()
-    blocks = np.asarray(slips["block"])
-    t_start, t_end = np.asarray(slips["t_start"]), np.asarray(slips["t_end"])
-    dur, u_end = np.full(n, np.nan), np.full(n, np.nan)
-    for i in range(a, b):
-        k = np.nonzero((blocks == i) & (t_start == first[i]))[0]
-        if k.size:
-            dur[i] = t_end[k[0]] - t_start[k[0]]
-            u_end[i] = slips["u_end"][k[0]]
-    healed = bool(np.all(np.isfinite(dur[a:b])))
-    zone = float(c * np.mean(dur[a:b]) / dx) if healed else None
-    u_minus = float(np.mean(u_end[a:b])) if healed else None
+    status = "steady" if not reason else "undecided"
+    if status == "steady":
+        reason = (
+            f"converged: doubling the chain from {runs[-2]['length']:g} to "
+            f"{last['length']:g} moved c by {conv['c']:.1e}, the zone by {conv['zone']:.1e}, "
+            f"u_- by {conv['u_minus']:.1e}"
+        )
     weak = peak = None
     if weakening:
-        weak, peak = _weakening(u_plus, n, p, step, a, first[a], c, v_f)
+        weak, peak = _weakening(u_plus, n, last["p"], step, a, last["first"][a], last["c"], v_f)
     return VWFront(
         **common,
         status=status,
-        c=float(c),
-        unsteadiness=unsteadiness,
-        trend=trend,
-        zone=zone,
-        u_minus=u_minus,
+        c=last["c"],
+        unsteadiness=last["unsteadiness"],
+        trend=last["trend"],
+        zone=last["zone"],
+        u_minus=last["u_minus"],
         weakening=weak,
         peak=peak,
-        wall_s=wall,
+        wall_s=time.perf_counter() - t0,
+        convergence=conv,
+        reason=reason,
     )
 
 
@@ -212,6 +364,6 @@ def _weakening(u_plus, n, p, step, k, t_k, c, v_f):
     return float((t_vf - t_k) / tau), float(np.max(s) / v_f)
 
 
-def crossover(u_plus, gamma, dx, ratios, *, length: float = 20.0) -> list[VWFront]:
+def crossover(u_plus, gamma, dx, ratios, *, length: float | None = None) -> list[VWFront]:
     """:func:`front` at v_f = ratio dx for each ratio (v_f/dx)."""
     return [front(u_plus, gamma, dx, r * dx, length=length) for r in ratios]
