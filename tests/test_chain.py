@@ -519,3 +519,24 @@ def test_catalog_rows_say_what_started_them():
     assert first["kind"].iloc[0] == "trigger" and set(first["kind"].iloc[1:]) == {"threshold"}
     ch = bk.Chain(10, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.2, u_t0=[-0.5] + [0.0] * 9)
     assert ch.run(t_end=50.0).catalog["kind"].tolist() == ["initial"]
+
+
+@pytest.mark.parametrize("u, g, dx", [(0.6, 0.3, 0.1), (0.5, 0.0, 0.1)])
+def test_front_reports_its_convergence_and_doubling_the_chain_stays_within_tolerance(u, g, dx):
+    # the default front reports how much c, w and u_- moved from a window half as far
+    # from the trigger; doubling the chain moves them by less than the stated tolerance
+    # and less than that report (the approach to the steady pulse is exponential)
+    from bkwaves.chain import FRONT_TOLERANCE
+
+    m = bk.chain.front(u, g, dx)
+    assert m.regime == "pulse" and m.convergence is not None
+    m2 = bk.chain.front(u, g, dx, blocks=2 * m.blocks)
+    moved = {
+        "c": abs(m2.c / m.c - 1),
+        "w": abs(m2.w / m.w - 1),
+        "u_minus": abs(m2.u_minus - m.u_minus),
+    }
+    for k, tol in FRONT_TOLERANCE.items():
+        assert moved[k] <= tol, (k, moved[k])
+        assert moved[k] <= max(m.convergence[k], 1e-12), (k, moved[k], m.convergence[k])
+    assert "convergence" in m.to_dict()
