@@ -1,13 +1,17 @@
 """Re-sticking behind a pulse under load: the chain's v_c against
 bk.theory.restick_velocity (docs/theory.md, section 6).
 
-    python docs/scripts/restick_velocity.py         # about 30 s on one core
+    python docs/scripts/restick_velocity.py         # a few minutes on one core
+    python docs/scripts/restick_velocity.py ramp    # the old, biased trigger
 
 Each run is ``bk.chain.loaded_pulse``: a steady pulse in a free chain loaded at v (the
 stress u_+ - v x/c meets the front as u_+), a window of 100 blocks two settling lengths
 from the kick; it re-sticks if most window blocks stick within their first backswing.
-v_c is bracketed to 2 % by bisection in log v, from a bracket off-centre around the
+v_c is bracketed to 0.5 % by bisection in log v, from a bracket off-centre around the
 continuum theory; below v_c the sliding time is compared with bk.theory.restick_time.
+The stress ahead is u_+ - v t_i (t_i: the front's arrival at v = 0, the same kick), so
+the window blocks slip at u_+ (the printed bias); `ramp` runs the old u_+ - v x/c, which
+the kick biases (the front leads x/c).
 Last, the ring of docs/noise.md (400 blocks, two pulses that collide before they settle).
 """
 
@@ -38,7 +42,11 @@ POINTS = (  # (u_+, gamma, dx)
 )
 
 
-def bisect(resticks, guess, factor=1.02):
+#: The bracket's relative width: the stated accuracy of each chain v_c.
+FACTOR = 1.005
+
+
+def bisect(resticks, guess, factor=FACTOR):
     """[lo, hi] with resticks(lo), not resticks(hi), hi/lo <= factor (bisection in log v)."""
     lo, hi = guess / 7.0, guess * 3.0
     while not resticks(lo):
@@ -51,21 +59,54 @@ def bisect(resticks, guess, factor=1.02):
     return lo, hi
 
 
-def steady_pulses():
-    print("| u_+ | gamma | dx | chain v_c (bracket) | theory, chain's c | theory, exact c |")
-    print("|---|---|---|---|---|---|")
+def leading_without_amplitude(u_plus, gamma, c):
+    """The closed form as docs/theory.md stated it before the amplitude: m/(1 + 2 zeta m)."""
+    root_mu = math.sqrt(c * c - 1.0) / c
+    zeta = gamma / root_mu
+    k = math.sqrt(1.0 - zeta * zeta)
+    m = math.exp(-zeta * (math.pi + math.acos(zeta)) / k)
+    return m / (1.0 + 2.0 * zeta * m)
+
+
+def steady_pulses(stress="arrival"):
+    print(
+        f"stress = {stress}: chain v_c bracketed to {100 * (FACTOR - 1):g} %; bias: the window "
+        "blocks' mean u at their slip - u_+ at the bracket's lower end, and the v_c shift it "
+        "makes (bias x dv_c/du_+ / v_c, theory); errors of the three forms (chain's c) "
+        "against the bracket's middle"
+    )
+    print(
+        "| u_+ | gamma | dx | chain v_c (bracket) | bias | its v_c shift | restick_velocity "
+        "| error | closed form | error | m/(1 + 2 zeta m) | error | exact c |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for u_plus, gamma, dx in POINTS:
         lo, hi = bisect(
-            lambda v, u=u_plus, g=gamma, d=dx: loaded_pulse(u, g, v, d).resticks,
+            lambda v, u=u_plus, g=gamma, d=dx: loaded_pulse(u, g, v, d, stress=stress).resticks,
             theory.restick_velocity(u_plus, gamma),
         )
-        c = bk.front_speed(u_plus, dx=dx, gamma=gamma)
-        lattice = theory.restick_velocity(u_plus, gamma, c=c)
+        mid = math.sqrt(lo * hi)
+        bias = loaded_pulse(u_plus, gamma, lo, dx, stress=stress).bias
+        c = float(bk.front_speed(u_plus, dx=dx, gamma=gamma))
+        num = float(theory.restick_velocity(u_plus, gamma, c=c))
+        closed = float(theory.restick_velocity_closed_form(u_plus, gamma, c=c))
+        old = leading_without_amplitude(u_plus, gamma, c)
+        du = 1e-4
+        c2 = float(bk.front_speed(u_plus + du, dx=dx, gamma=gamma))
+        slope = (float(theory.restick_velocity(u_plus + du, gamma, c=c2)) - num) / du
         print(
-            f"| {u_plus} | {gamma} | {dx} | {lo:.4g} - {hi:.4g} | {lattice:.4g} | "
+            f"| {u_plus} | {gamma} | {dx} | {lo:.4g} - {hi:.4g} | {bias:+.1e} | "
+            f"{bias * slope / num:+.1e} | {num:.4g} | {100 * (num / mid - 1):+.1f} % | "
+            f"{closed:.4g} | {100 * (closed / mid - 1):+.1f} % | {old:.4g} | "
+            f"{100 * (old / mid - 1):+.1f} % | "
             f"{theory.restick_velocity(u_plus, gamma):.4g} |",
             flush=True,
         )
+
+
+def ramp():
+    """The old trigger, u = u_+ - v x/c: biased by the kick (the front leads x/c)."""
+    steady_pulses("ramp")
 
 
 def sliding_times():

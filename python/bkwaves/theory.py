@@ -32,6 +32,7 @@ __all__ = [
     "amplitude",
     "profile",
     "restick_velocity",
+    "restick_velocity_closed_form",
     "restick_time",
     "critical_stress_under_load",
     "wavelength",
@@ -281,6 +282,28 @@ def restick_velocity(u_plus, gamma, c=None):
             out[i] = np.inf
         else:
             out[i] = _deepest_backswing(*osc[:3])[1]
+    return _out(out)
+
+
+def restick_velocity_closed_form(u_plus, gamma, c=None):
+    """The closed form of :func:`restick_velocity`: v_c = A m/(1 + 2 zeta m), with
+    m = exp(-zeta (pi + acos zeta)/sqrt(1 - zeta^2)), zeta = gamma c/sqrt(c^2 - 1) and the
+    swing's amplitude A = u_+ c/sqrt(c^2 - 1) (= 1 for the exact c, not for a lattice's:
+    docs/theory.md, section 6). It is the ratio -b/a at the peak of the swing, theta =
+    pi + acos zeta; the true maximum lies a little later, so it is low by O(zeta m^2)
+    relative (1e-6 at v_c ~ 2e-3, 1 % at v_c = 0.15). 0 in creep, inf at gamma = 0."""
+    u, g, root_mu = _root_mass(u_plus, gamma, c)
+    out = np.empty(u.shape)
+    for i in np.ndindex(u.shape):
+        osc = _tail_oscillator(float(u[i]), g, float(root_mu[i]))
+        if osc is None:
+            out[i] = 0.0
+        elif osc[0] == 0.0:
+            out[i] = np.inf
+        else:
+            zeta, k, amp, _ = osc
+            m = np.exp(-zeta * (np.pi + np.arccos(zeta)) / k)
+            out[i] = amp * m / (1.0 + 2.0 * zeta * m)
     return _out(out)
 
 
