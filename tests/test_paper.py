@@ -60,7 +60,14 @@ def test_every_claim_checked_and_none_disagrees(paper):
     rows = [line for line in md.splitlines() if line.startswith("| ") and "**" in line]
     assert len(rows) == d["claims"]
     verdicts = re.findall(r"\| \*\*(\w[\w ]*)\*\* \|", md)
-    assert set(verdicts) <= {"confirmed", "corrected", "refined", "identity"}
+    assert set(verdicts) <= {
+        "confirmed",
+        "corrected",
+        "refined",
+        "identity",
+        "rounding",
+        "inconclusive",
+    }
     for eq in (
         "(c)",
         "(c1)",
@@ -88,7 +95,8 @@ def test_verdicts_follow_from_checks_that_could_fail(paper):
     _, d = paper
     for row in d["rows"]:
         assert row["checks"], row["key"]
-        checks = row["checks"] + ([row["paper_check"]] if row["paper_check"] else [])
+        checks = row["checks"] + [row[k] for k in ("paper_check", "applies", "rounding_check")]
+        checks = [c for c in checks if c]
         for c in checks:
             assert math.isfinite(c["lo"]) or math.isfinite(c["hi"]), (row["key"], c)
             assert math.isfinite(c["value"]), (row["key"], c)
@@ -97,8 +105,11 @@ def test_verdicts_follow_from_checks_that_could_fail(paper):
             expected = "disagrees"
         elif row["kind"] == "identity":
             expected = "identity"
+        elif row["applies"] and not row["applies"]["holds"]:
+            expected = "inconclusive"
         elif row["paper_check"] and not row["paper_check"]["holds"]:
-            expected = "corrected"
+            rounding = row["rounding_check"]
+            expected = "rounding" if rounding and rounding["holds"] else "corrected"
         else:
             expected = {"claim": "confirmed", "refinement": "refined"}[row["kind"]]
         assert row["verdict"] == expected, row["key"]
@@ -114,6 +125,19 @@ def test_claim_verdict_is_computed_not_given():
     assert Claim("k", "(e)", "s", "p", "b", [ok], paper_check=bad).verdict == "corrected"
     assert Claim("k", "(e)", "s", "p", "b", [bad], kind="identity").verdict == "disagrees"
     assert Claim("k", "(e)", "s", "p", "b", [ok], kind="identity").verdict == "identity"
+    # a deciding check that cannot apply: inconclusive, whatever the paper check says
+    assert Claim("k", "(e)", "s", "p", "b", [ok], paper_check=ok, applies=bad).verdict == (
+        "inconclusive"
+    )
+    assert Claim("k", "(e)", "s", "p", "b", [ok], paper_check=bad, applies=ok).verdict == (
+        "corrected"
+    )
+    # the paper's own rounding explains the difference
+    r = Claim("k", "(e)", "s", "p", "b", [ok], paper_check=bad, rounding_check=ok)
+    assert r.verdict == "rounding"
+    assert Claim("k", "(e)", "s", "p", "b", [ok], paper_check=ok, rounding_check=bad).verdict == (
+        "confirmed"
+    )
     with pytest.raises(ValueError, match="check"):
         Claim("k", "(e)", "s", "p", "b", [])
     with pytest.raises(TypeError):
@@ -185,20 +209,83 @@ def test_wave_train_selects_its_amplitude(paper):
 
 
 def test_sync_exponent_measured_with_uncertainty(paper):
+    from bkwaves.paper import SYNC_DECIDE
+
     _, d = paper
     row = _rows(d)["sync-R"]
-    assert row["paper_check"] is not None
-    z = row["paper_check"]["value"]
-    assert row["verdict"] == ("confirmed" if abs(z) <= 2 else "corrected")
+    assert row["paper_check"] is not None and row["applies"] is not None
+    # the exponent decides only when settled and known to SYNC_DECIDE; else inconclusive
+    if not row["applies"]["holds"]:
+        assert row["verdict"] == "inconclusive" and "undecided" in row["note"]
+    else:
+        z = row["paper_check"]["value"]
+        assert row["verdict"] == ("confirmed" if abs(z) <= 2 else "corrected")
+    assert "bootstrap" in row["applies"]["what"] and f"{SYNC_DECIDE:g}" in row["applies"]["what"]
     assert _rows(d)["sync"]["verdict"] == "confirmed"
+    # the quick run's rings cannot hold regions of the paper's size: no verdict on it
+    assert _rows(d)["sync-R-prefactor"]["verdict"] == "inconclusive"
+
+
+def _rings(p, rings, periods, scatter, seed):
+    """Synthetic sites(n) on rings of L = 1600: L / (R0 n^p) with a log-normal scatter per
+    ring (the rings' own prefactor) and rounding to whole sources."""
+    rng = np.random.default_rng(seed)
+    n = np.arange(1, periods + 1)
+    res = {}
+    for k in range(rings):
+        R = 60.0 * np.exp(scatter * rng.standard_normal()) * n**p
+        res[f"smooth-{k}"] = {"sites": np.maximum(np.round(1600.0 / R), 1)}
+    return dict(res=res, L=1600.0)
+
+
+def test_coarsening_exponent_bootstrap_over_rings_recovers_a_known_exponent():
+    from bkwaves.paper import coarsening_exponent
+
+    # 64 rings, exponent 0.5 and a ring-to-ring scatter: every window finds it within
+    # 3 bootstrap errors, the errors honest (the per-ring fit errors would be far smaller)
+    f = coarsening_exponent(_rings(0.5, 64, 160, 0.15, 1))
+    assert [w["window"] for w in f["local"]] == [(10, 20), (20, 40), (40, 80), (80, 160)]
+    for w in f["local"]:
+        assert abs(w["p"] - 0.5) <= 3 * w["sigma"] and w["sigma"] < 0.1, w
+    # a rising local exponent is seen as drift between the last two windows
+    g = _rings(0.5, 64, 160, 0.0, 2)
+    n = np.arange(1, 161)
+    local = np.interp(n[1:], [10, 40, 160], [0.2, 0.3, 0.7])  # the exponent rises
+    logR = np.cumsum(np.r_[0.0, np.diff(np.log(n)) * local])
+    for r in g["res"].values():
+        r["sites"] = np.maximum(np.round(1600.0 / (30.0 * np.exp(logR))), 1)
+    h = coarsening_exponent(g)
+    assert h["drift"] > 2 * h["drift_sigma"]
+    # three rings: the bootstrap error reflects the few rings, not the fit residuals
+    few = coarsening_exponent(_rings(0.5, 3, 160, 0.3, 3))
+    many = coarsening_exponent(_rings(0.5, 48, 160, 0.3, 3))
+    assert few["local"][0]["sigma"] > 2 * many["local"][0]["sigma"]
 
 
 def test_bristol_gamma_unrounded_and_how_the_paper_gets_its_value(paper):
     out, d = paper
     row = _rows(d)["bristol-gamma"]
-    assert row["verdict"] == "corrected"
+    # the paper's 0.45 is its own rounding of m and k_c: "rounding", both numbers beside
+    assert row["verdict"] == "rounding" and _rows(d)["bristol-k_p"]["verdict"] == "rounding"
+    md = (out / "report.md").read_text()
+    line = next(x for x in md.splitlines() if x.startswith("| Bristol board: gamma |"))
+    assert "unrounded" in line and "with the paper's rounded m and k_c" in line
+    assert _rows(d)["bristol-m"]["verdict"] == "confirmed"
     assert "0.4443" in row["note"] and "0.4466" in row["note"]
     assert _rows(d)["crit"]["note"].count("1.25") == 1
+
+
+def test_b_value_row_is_inconclusive_where_its_check_cannot_apply(paper):
+    from bkwaves.paper import B_CHAIN_REGULAR_CV
+
+    _, d = paper
+    row = _rows(d)["b-chain"]
+    cv = row["applies"]["value"]
+    assert row["applies"]["hi"] == B_CHAIN_REGULAR_CV
+    if cv > B_CHAIN_REGULAR_CV:
+        assert row["verdict"] == "inconclusive" and "cannot apply" in row["note"]
+    else:
+        assert row["verdict"] in ("refined", "corrected")
 
 
 def test_beyond_the_paper_section(paper):

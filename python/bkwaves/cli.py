@@ -329,6 +329,10 @@ def paper(args) -> None:
                             "paper_check": None
                             if c.paper_check is None
                             else _check_dict(c.paper_check),
+                            "applies": None if c.applies is None else _check_dict(c.applies),
+                            "rounding_check": None
+                            if c.rounding_check is None
+                            else _check_dict(c.rounding_check),
                         }
                         for c in rep.claims
                     ],
