@@ -261,11 +261,14 @@ def test_loading_cycles_energy_balance_and_catalog(boundary):
     done = cat.dropna(subset=["t_end"])
     assert (done["first_block"] <= done["nucleation"]).all()
     assert (done["nucleation"] <= done["last_block"]).all()
-    # the moment is the sum of the slips of the event's closed intervals
+    # the moment is int slip dx: dx times the sum of the slips of the event's intervals
     s = res.slips
     for _, row in done.iterrows():
-        assert s[s["event"] == row["event"]]["slip"].sum() == pytest.approx(row["moment"])
-    assert cat.attrs["units"]["moment"].startswith("(f_r - f_s)/k_p")
+        total = s[s["event"] == row["event"]]["slip"].sum()
+        assert res.params.dx * total == pytest.approx(row["moment"], rel=1e-12)
+    assert cat.attrs["units"]["moment"] == "1"
+    assert cat.attrs["scales"]["moment"].startswith("slip (f_r - f_s)/k_p times length")
+    assert cat.attrs["descriptions"]["moment"].startswith("int slip dx")
 
 
 @pytest.mark.parametrize("boundary", ["free", "fixed", "periodic"])

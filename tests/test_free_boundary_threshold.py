@@ -55,7 +55,7 @@ def test_a_uniform_threshold_is_the_rescaled_uniform_model(speed):
     assert np.all(np.abs(a.shocks.x - b.shocks.x)[flat] <= 1e-3)
     for col in ("u_plus", "u_minus"):
         np.testing.assert_allclose(a.shocks[col], s0 * b.shocks[col], rtol=1e-9, atol=1e-12)
-    for col in ("slip_integral", "stress_drop", "curvature"):
+    for col in ("moment", "stress_drop", "curvature"):
         np.testing.assert_allclose(a.events[col], s0 * b.events[col], rtol=1e-6)
     np.testing.assert_allclose(a.events.t_start, b.events.t_start, rtol=1e-12)
 

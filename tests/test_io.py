@@ -298,5 +298,6 @@ def test_plot_run_renders_every_kind(tmp_path):
             f"demo_profiles.{fmt}",
             f"demo_fronts.{fmt}",
             f"demo_size_frequency.{fmt}",
+            f"demo_frequency_magnitude.{fmt}",
         }
         assert all(f.stat().st_size > 3000 for f in files)

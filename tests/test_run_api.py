@@ -77,7 +77,8 @@ def test_run_accepts_dicts_and_paths_and_names_bad_input():
 
 
 def test_event_statistics_b_value_only_with_enough_events():
-    from bkwaves.runner import B_VALUE_MIN_EVENTS, _event_statistics
+    from bkwaves.runner import _event_statistics
+    from bkwaves.stats import MIN_EVENTS as B_VALUE_MIN_EVENTS
 
     rng = np.random.default_rng(1)
     # moments with a pure power law: P(M0 > m) ~ m^(-2/3 b) with b = 1
@@ -86,9 +87,11 @@ def test_event_statistics_b_value_only_with_enough_events():
     ev = pd.DataFrame({"moment": m0, "t_start": np.arange(n, dtype=float)})
     s = _event_statistics(ev)
     assert s["n_events"] == n and s["mean_interval"] == 1.0
-    assert abs(s["b_value"] - 1.0) < 3 * s["b_value_err"]
+    assert s["b_value_lo"] < 1.0 < s["b_value_hi"] and s["b_value_note"] == ""
+    assert s["m_c"] == pytest.approx(0.2)  # maximum curvature (bin [0, 0.1)) + 0.2
     few = _event_statistics(ev.iloc[: B_VALUE_MIN_EVENTS - 1])
     assert np.isnan(few["b_value"]) and few["n_events"] == B_VALUE_MIN_EVENTS - 1
+    assert few["b_value_note"].startswith("too few events")
 
 
 def test_every_k_events_snapshots_start_with_the_initial_state():

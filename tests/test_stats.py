@@ -58,3 +58,82 @@ def test_bad_input():
         stats.magnitudes([1.0, -2.0])
     with pytest.raises(bk.ParameterError, match="kind"):
         stats.magnitudes([1.0], "energy")
+
+
+# --- the one estimator: gutenberg_richter -------------------------------------------------
+
+
+def incomplete_gr(b, n, rng, m_complete=1.0):
+    """A Gutenberg-Richter catalog from M = 0 whose events below m_complete are detected
+    with probability (M / m_complete)^4 (an incomplete catalog, as observed ones are)."""
+    out = []
+    while sum(len(o) for o in out) < n:
+        m = rng.exponential(1.0 / (b * np.log(10)), 4 * n)
+        keep = rng.random(m.size) < np.minimum(m / m_complete, 1.0) ** 4
+        out.append(m[keep])
+    return np.concatenate(out)[:n]
+
+
+@pytest.mark.parametrize("b", [0.8, 1.0, 1.5])
+def test_gutenberg_richter_recovers_b_within_its_interval(b):
+    rng = np.random.default_rng(11)
+    m = incomplete_gr(b, 3000, rng)
+    # through moments, as every route gives them: M = (2/3) log10(moment)
+    est = stats.gutenberg_richter(10 ** (1.5 * m))
+    assert est.ok, est.reason
+    assert est.lo < b < est.hi
+    assert est.lo < est.b < est.hi
+    # the interval's half-width is near Shi-Bolt's 1.96 sigma and Aki's b/sqrt(n)
+    assert (est.hi - est.lo) / 2 == pytest.approx(1.96 * b / np.sqrt(est.n), rel=0.3)
+    # Mc: maximum curvature of the incomplete catalog (mode in [0.9, 1.0)) + 0.2, where
+    # the catalog is complete; below it the estimate would be biased
+    assert 1.0 <= est.m_c <= 1.3
+    assert stats.gutenberg_richter(magnitudes=m).b == pytest.approx(est.b, rel=1e-9)
+    # the naive estimate over all events (Mc = the smallest) is far off: Mc matters
+    naive = stats.b_value(m, m_c=float(m.min())).b
+    assert abs(naive - b) > 3 * (est.hi - est.lo)
+
+
+def test_gutenberg_richter_interval_covers_b_at_its_confidence():
+    # over independent catalogs the 95 % interval holds the true b in about 95 % of them
+    rng = np.random.default_rng(5)
+    hits = []
+    for _ in range(200):
+        est = stats.gutenberg_richter(magnitudes=incomplete_gr(1.0, 400, rng), n_boot=300)
+        hits.append(est.lo <= 1.0 <= est.hi)
+    # binomial sd at p = 0.95, 200 catalogs: 0.015
+    assert 0.9 <= np.mean(hits) <= 0.99
+
+
+def test_gutenberg_richter_binned_magnitudes_use_utsu_correction():
+    rng = np.random.default_rng(2)
+    binned = np.round(incomplete_gr(1.0, 20000, rng), 1)
+    est = stats.gutenberg_richter(magnitudes=binned, dm=0.1)
+    assert est.lo < 1.0 < est.hi and est.m_c == pytest.approx(1.2, abs=0.11)
+    # without the correction (dm = 0) the binned catalog's b is biased beyond the interval
+    assert not est.lo < stats.gutenberg_richter(magnitudes=binned).b < est.hi
+
+
+def test_gutenberg_richter_refuses_degenerate_and_small_catalogs():
+    rng = np.random.default_rng(0)
+    # a noiseless ring: every rupture is ring-wide, moments equal to a CV of 1e-5
+    ring = 548.9 * (1 + 1e-5 * rng.standard_normal(400))
+    est = stats.gutenberg_richter(ring)
+    assert not est.ok and np.isnan(est.b) and np.isnan(est.lo)
+    assert "degenerate" in est.reason and "CV of moments 1.0e-05" in est.reason
+    assert est.text().startswith("no b-value: degenerate")
+    small = stats.gutenberg_richter(magnitudes=incomplete_gr(1.0, 40, rng))
+    assert not small.ok and "too few" in small.reason
+    # many small events below Mc and, above it, only identical ring-wide ones
+    mixed = np.concatenate([rng.uniform(0.0, 0.1, 1000), np.full(60, 2.0)])
+    assert "degenerate" in stats.gutenberg_richter(magnitudes=mixed).reason
+    assert stats.gutenberg_richter([]).reason == "no event with a positive moment"
+    with pytest.raises(bk.ParameterError, match="moment"):
+        stats.gutenberg_richter()
+    with pytest.raises(bk.ParameterError, match="confidence"):
+        stats.gutenberg_richter([1.0], confidence=1.0)
+
+
+def test_moment_magnitude():
+    np.testing.assert_allclose(stats.moment_magnitude([1e3, 1.0]), [2.0, 0.0])
+    assert np.isnan(stats.moment_magnitude([0.0, -1.0])).all()

@@ -38,6 +38,7 @@ import numpy as np
 
 from . import _core
 from . import _validate as V
+from .catalog import MOMENT_SCALE, describe
 from .params import Params
 
 __all__ = [
@@ -131,7 +132,8 @@ class ChainResult:
     """What :meth:`Chain.run` returns.
 
     catalog: one row per event (first slip to last re-stick): t_start, t_end, duration,
-    nucleation block, first/last block slipped, n_blocks, n_slips, moment (total slip),
+    nucleation block, first/last block slipped, n_blocks, n_slips, moment (int slip dx =
+    dx times the sum of the block slips, :mod:`bkwaves.catalog`),
     stress_drop, kind (what started its first slip: ``SLIP_CAUSES``, e.g. "threshold",
     "trigger"); ``catalog.attrs["units"]``.
     slips: every slip interval of every block (the slip-front trajectories): event,
@@ -518,13 +520,16 @@ class Chain:
         p = self.params
         cat = pd.DataFrame(eng.catalog())
         cat["duration"] = cat["t_end"] - cat["t_start"]
+        cat["moment"] = cat["moment"] * p.dx  # int slip dx (the core sums block slips)
+        describe(cat)
         cat.attrs["units"] = {
             "t_start": UNITS["t"],
             "t_end": UNITS["t"],
             "duration": UNITS["t"],
-            "moment": UNITS["slip"] + " (sum over blocks)",
+            "moment": "1",  # scaled as attrs["scales"] says, as in every route's catalog
             "stress_drop": "f_r - f_s (mean over slipped blocks)",
         }
+        cat.attrs["scales"] = {"moment": MOMENT_SCALE}
         slips = pd.DataFrame(eng.slips())
         slips.insert(2, "x", slips["block"] * p.dx)
         slips.attrs["units"] = {k: UNITS["t"] for k in ("t_start", "t_end")} | {

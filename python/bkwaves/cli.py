@@ -435,8 +435,9 @@ def run(args) -> int | None:
         state = "stopped (an event does not end)" if runaway else "done"
         _echo(
             f"{summary.model}: {state} at t = {summary.t:.6g} ({summary.units}), "
-            f"{_count(summary.events, 'event')}, {_count(summary.snapshots, 'snapshot')}, "
-            f"{summary.wall_s:.2f} s -> {summary.out}"
+            f"{_count(summary.events, 'event')}, "
+            f"{_count(summary.extra.get('ruptures', 0), 'rupture')}, "
+            f"{_count(summary.snapshots, 'snapshot')}, {summary.wall_s:.2f} s -> {summary.out}"
         )
     if runaway:
         _echo(f"Stopped: {summary.extra['message']}", err=True)
@@ -529,6 +530,35 @@ PLOT_COMMAND = Command(
         ),
         opt("--format", default="png", metavar="FORMAT", help="png, svg or pdf."),
     ],
+)
+
+
+# ---------------------------------------------------------------------------------------
+# stats
+
+
+def stats(args) -> None:
+    from .catalog import report, report_text
+
+    try:
+        rep = report(args.out)
+    except (ParameterError, ConvergenceError) as e:
+        _fail(e)
+    _echo(_json(rep, default=str) if args.json_out else report_text(rep))
+
+
+STATS_COMMAND = Command(
+    "stats",
+    stats,
+    "What a run output holds: counts, magnitudes, b with its interval and Mc, recurrence.",
+    """What a run output holds and shows: its model, units, parameters and seed; the counts
+    of events and ruptures; over the ruptures (the events for outputs without them) the
+    magnitude range (M = (2/3) log10(moment)), the b-value with its 95 % bootstrap
+    interval and the magnitude of completeness Mc (maximum curvature + 0.2), or why there
+    is none (too few, or all of one size); the recurrence (mean and CV of the times
+    between successive starts) and the largest one. See docs/usage.md "Event
+    statistics".""",
+    [opt("out", type=Path, metavar="OUT", help="A run output (.nc or .zarr)."), JSON],
 )
 
 
@@ -770,7 +800,7 @@ SWEEP = Command(
 )
 
 
-COMMANDS = {c.name: c for c in (WAVE, SPEED, PAPER, RUN, PLOT_COMMAND, FRONT, SWEEP)}
+COMMANDS = {c.name: c for c in (WAVE, SPEED, PAPER, RUN, PLOT_COMMAND, STATS_COMMAND, FRONT, SWEEP)}
 
 
 def _main_parser() -> _Parser:

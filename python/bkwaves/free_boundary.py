@@ -29,6 +29,7 @@ from . import _core
 from . import _validate as V
 from . import noise as _noise
 from ._progress import RunProgress
+from .catalog import MOMENT_SCALE, describe
 from .params import Params
 
 __all__ = ["FreeBoundary", "FreeBoundaryResult", "NoCreepWarning", "speed_table", "threshold_field"]
@@ -146,15 +147,16 @@ class FreeBoundaryResult:
     events : pandas.DataFrame
         One row per event (first birth to the disappearance of the last shock):
         ``id, t_start, t_end, duration, x_start, nucleation, curvature, x_min, x_max,
-        extent, moment, slip_integral, swept, stress_drop, n_births, n_nucleations,
-        spontaneous, n_shocks, n_annihilations, n_exits, n_deaths, n_creep, complete,
-        first_block, last_block, n_blocks`` (n_births: at u = 1; n_nucleations: pairs
-        started by noise; spontaneous: the event began with one). ``slip_integral`` =
-        int A dx over the ruptured length (total slip, dx-free); ``moment`` =
-        slip_integral / params.dx, the chain's ``moment`` (sum of block slips) for blocks
-        at x[0] + i dx, like ``nucleation``, ``first_block``, ``last_block``,
-        ``n_blocks``; ``stress_drop`` = slip_integral / swept (mean A). Times and
-        positions in the paper's dimensionless units.
+        extent, moment, swept, stress_drop, n_births, n_nucleations, spontaneous,
+        n_shocks, n_annihilations, n_exits, n_deaths, n_creep, complete, first_block,
+        last_block, n_blocks`` (n_births: at u = 1; n_nucleations: pairs started by
+        noise; spontaneous: the event began with one). ``moment`` = int A dx over the
+        ruptured length, the moment of every catalog (:mod:`bkwaves.catalog`: the
+        chain's is dx times its sum of block slips); ``nucleation``, ``first_block``,
+        ``last_block``, ``n_blocks`` are the chain's, for blocks at x[0] + i dx;
+        ``stress_drop`` = moment / swept (mean A). Times and positions in the paper's
+        dimensionless units; ``events.attrs`` hold the columns' descriptions, units and
+        scales.
     shocks : pandas.DataFrame
         Shock path points: ``shock, event, t, x, dir, u_plus, u_minus, kind, creep``
         (kind: initial, birth, nucleation, node, annihilation, exit, death, creep_stop;
@@ -605,11 +607,9 @@ class FreeBoundary:
         ev["complete"] = np.isfinite(ev["t_end"]) if len(ev) else np.array([], dtype=bool)
         ev.insert(3, "duration", ev["t_end"] - ev["t_start"])
         ev.insert(ev.columns.get_loc("x_max") + 1, "extent", ev["x_max"] - ev["x_min"])
-        # The chain's catalog columns, for blocks at x[0] + i dx (params.dx): moment is the
-        # sum of block slips = int A dx / dx; slip_integral = int A dx is dx-free.
+        # moment = int A dx, as in every catalog (bkwaves.catalog); the chain's columns
+        # for blocks at x[0] + i dx (params.dx)
         dx = self.params.dx
-        ev = ev.rename(columns={"moment": "slip_integral"})
-        ev.insert(ev.columns.get_loc("slip_integral"), "moment", ev["slip_integral"] / dx)
         blocks = int(round((self.x[-1] - self.x[0]) / dx)) + (self.boundary == "free")
 
         def block(xx):
@@ -620,6 +620,7 @@ class FreeBoundary:
         ev["first_block"] = block(ev["x_min"])
         ev["last_block"] = block(ev["x_max"])
         ev["n_blocks"] = np.rint(ev["swept"] / dx).astype(np.int64)
+        describe(ev, units={"moment": "1"}, scales={"moment": MOMENT_SCALE})
         sh = pd.DataFrame(self._engine.path())
         meta = {
             "engine": "free_boundary",

@@ -418,6 +418,7 @@ class RunWriter:
                 "buf": [],
                 "units": json.loads(meta.get(b"bkwaves_units", b"{}")),
                 "scales": json.loads(meta.get(b"bkwaves_scales", b"{}")),
+                "descriptions": json.loads(meta.get(b"bkwaves_descriptions", b"{}")),
                 "csv": meta.get(b"bkwaves_csv", b"1") == b"1",
             }
 
@@ -500,17 +501,21 @@ class RunWriter:
         units: dict | None = None,
         csv: bool | None = None,
         scales: dict | None = None,
+        descriptions: dict | None = None,
     ):
         """Append the rows of the pandas table ``df`` to the table ``name`` (created on
         first use, with CSV beside the Parquet unless ``csv=False``). ``units`` gives the
-        units of columns, ``scales`` how dimensionless columns are scaled."""
+        units of columns, ``scales`` how dimensionless columns are scaled,
+        ``descriptions`` what columns are (read back into ``df.attrs``)."""
         tb = self._tables.setdefault(
-            name, {"rows": 0, "buf": [], "units": {}, "scales": {}, "csv": True}
+            name, {"rows": 0, "buf": [], "units": {}, "scales": {}, "descriptions": {}, "csv": True}
         )
         if units:
             tb["units"] = dict(units)
         if scales:
             tb["scales"] = dict(scales)
+        if descriptions:
+            tb["descriptions"] = dict(descriptions)
         if csv is not None:
             tb["csv"] = bool(csv)
         if len(df) or (tb["rows"] == 0 and not tb["buf"]):  # (an empty table: its schema)
@@ -596,6 +601,7 @@ class RunWriter:
         meta = dict(table.schema.metadata or {})
         meta[b"bkwaves_units"] = json.dumps(tb["units"]).encode()
         meta[b"bkwaves_scales"] = json.dumps(tb["scales"]).encode()
+        meta[b"bkwaves_descriptions"] = json.dumps(tb.get("descriptions", {})).encode()
         meta[b"bkwaves_version"] = __version__.encode()
         meta[b"bkwaves_run_id"] = self.run_id.encode()
         meta[b"bkwaves_csv"] = b"1" if tb["csv"] else b"0"
@@ -892,6 +898,7 @@ def load_tables(path):
         df = t.to_pandas()
         df.attrs["units"] = json.loads(meta.get(b"bkwaves_units", b"{}"))
         df.attrs["scales"] = json.loads(meta.get(b"bkwaves_scales", b"{}"))
+        df.attrs["descriptions"] = json.loads(meta.get(b"bkwaves_descriptions", b"{}"))
         tables[name] = df
     return ds, tables
 

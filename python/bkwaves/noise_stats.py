@@ -164,43 +164,80 @@ def first_slip(phi, noise: dict, v: float):
 
 
 def _resets(result):
-    """Node resets of a result's shock paths: the ``node`` rows, and a pair born exactly at
-    a node (its birth resets that node; recorded only in the two birth rows: one kept)."""
-    sh = result.shocks
-    h = float(result.meta["grid_spacing"])
-    x0 = float(result.snapshots.x.values[0])
-    nodes = sh[sh.kind == "node"]
+    """Node resets of a result's shock paths (:func:`_node_resets`)."""
+    return _node_resets(
+        result.shocks,
+        float(result.meta["grid_spacing"]),
+        float(result.snapshots.x.values[0]),
+        result.snapshots.x.size,
+        result.meta.get("boundary") == "periodic",
+    )
+
+
+def _node_resets(sh, h: float, x0: float, nodes: int, periodic: bool):
+    """Node resets of shock paths ``sh`` on the grid x0 + k h (``nodes`` nodes): the
+    ``node`` rows, and a pair born exactly at a node (its birth resets that node; recorded
+    only in the two birth rows: one kept)."""
+    nodes_rows = sh[sh.kind == "node"]
     born = sh[sh.kind.isin(ORIGINS[1:])]
     off = (born.x.to_numpy() - x0) / h
     at_node = born[np.abs(off - np.rint(off)) <= 1e-9].drop_duplicates(["t", "x", "kind"])
     if len(at_node):
         import pandas as pd
 
-        nodes = pd.concat([nodes, at_node]).sort_values("t", kind="stable")
-    out = nodes
+        nodes_rows = pd.concat([nodes_rows, at_node]).sort_values("t", kind="stable")
+    out = nodes_rows
     k = np.rint((out.x.to_numpy() - x0) / h).astype(np.int64)
-    if result.meta.get("boundary") == "periodic":
-        k = np.mod(k, result.snapshots.x.size)
+    if periodic:
+        k = np.mod(k, nodes)
     return out.assign(node=k)
 
 
-def ruptures(result, h: float | None = None, dx: float | None = None):
+#: Shock path rows that end a shock.
+ENDS = ("annihilation", "exit", "death", "creep_stop")
+
+
+def ruptures(result, h: float | None = None):
     """Per-rupture catalog of a free boundary result run with ``record_path=True``: one row
     per group of shocks born together (same time, place and kind), with ``t_start``,
     ``x_start``, ``spontaneous`` (started by noise), ``u_start`` (u where it started),
     ``shocks``, ``t_end`` (the last node crossing of its shocks), ``swept`` (grid nodes its
-    shocks reset, times h), ``slip_integral`` (sum of A h over them: int A dx),
-    ``moment`` (slip_integral / dx, the chain's sum of block slips) and ``mean_u_plus``.
-    Sizes are on the grid: each reset node stands for the cell h around it."""
-    import pandas as pd
-
+    shocks reset, times h), ``moment`` (sum of A h over them: int A dx, the catalogs'
+    ``moment``, :mod:`bkwaves.catalog`) and ``mean_u_plus``. Sizes are on the grid: each
+    reset node stands for the cell h around it. ``h``: the grid spacing (default: the
+    result's)."""
     meta = result.meta
     h = float(meta["grid_spacing"]) if h is None else V.number("h", h, lo=0.0, lo_open=True)
-    if dx is None:
-        import json
+    if not meta.get("record_path", 1):
+        V._fail("result", "shock paths without node crossings", "a run with record_path=True")
+    out = _fb_ruptures(
+        result.shocks,
+        h=h,
+        x0=float(result.snapshots.x.values[0]),
+        nodes=result.snapshots.x.size,
+        periodic=meta.get("boundary") == "periodic",
+    )
+    return out[
+        [
+            "t_start",
+            "x_start",
+            "spontaneous",
+            "u_start",
+            "shocks",
+            "t_end",
+            "swept",
+            "moment",
+            "mean_u_plus",
+        ]
+    ]
 
-        dx = float(json.loads(meta["params"])["dx"])
-    sh = result.shocks
+
+def _fb_ruptures(sh, *, h: float, x0: float, nodes: int, periodic: bool):
+    """:func:`ruptures` from the shock paths ``sh``, with the columns ``kind`` (of the
+    first shock: initial, birth, nucleation), ``event`` and ``complete`` (every shock
+    of it ended) besides."""
+    import pandas as pd
+
     cols = [
         "t_start",
         "x_start",
@@ -209,9 +246,11 @@ def ruptures(result, h: float | None = None, dx: float | None = None):
         "shocks",
         "t_end",
         "swept",
-        "slip_integral",
         "moment",
         "mean_u_plus",
+        "kind",
+        "event",
+        "complete",
     ]
     if not len(sh):
         return pd.DataFrame(columns=cols)
@@ -219,9 +258,9 @@ def ruptures(result, h: float | None = None, dx: float | None = None):
     key = origin[["t", "x", "kind"]].astype(str).agg("|".join, axis=1)
     rid = pd.factorize(key)[0]
     owner = pd.Series(rid, index=origin.shock.to_numpy())
-    nodes = _resets(result)
+    reset = _node_resets(sh, h, x0, nodes, periodic)
     # without record_path the paths hold births and ends only
-    if not meta.get("record_path", 1) or nodes.shock.map(owner).isna().any():
+    if reset.shock.map(owner).isna().any():
         V._fail("result", "shock paths without node crossings", "a run with record_path=True")
     first = origin.groupby(rid).first()
     out = pd.DataFrame(
@@ -233,20 +272,24 @@ def ruptures(result, h: float | None = None, dx: float | None = None):
             "shocks": origin.groupby(rid).size().to_numpy(),
         }
     )
-    r = nodes.shock.map(owner).to_numpy()
-    amp = (nodes.u_plus - nodes.u_minus).to_numpy()
+    r = reset.shock.map(owner).to_numpy()
+    amp = (reset.u_plus - reset.u_minus).to_numpy()
     n = len(out)
     count = np.bincount(r, minlength=n)
     slip = np.bincount(r, weights=amp * h, minlength=n)
-    up = np.bincount(r, weights=nodes.u_plus.to_numpy(), minlength=n)
+    up = np.bincount(r, weights=reset.u_plus.to_numpy(), minlength=n)
     t_end = out.t_start.to_numpy().copy()
-    np.maximum.at(t_end, r, nodes.t.to_numpy())
+    np.maximum.at(t_end, r, reset.t.to_numpy())
     out["t_end"] = t_end
     out["swept"] = count * h
-    out["slip_integral"] = slip
-    out["moment"] = slip / dx
+    out["moment"] = slip
     with np.errstate(invalid="ignore", divide="ignore"):
         out["mean_u_plus"] = np.where(count > 0, up / np.maximum(count, 1), np.nan)
+    out["kind"] = first.kind.to_numpy()
+    out["event"] = first.event.to_numpy() if "event" in first else -1
+    ended = set(sh.shock[sh.kind.isin(ENDS)].to_numpy().tolist())
+    alive = np.array([s not in ended for s in origin.shock.to_numpy()])
+    out["complete"] = np.bincount(rid, weights=alive, minlength=n) == 0
     return out
 
 
@@ -260,12 +303,11 @@ def chain_ruptures(result, boundary: str | None = None):
     ``x_start``, ``block``, ``spontaneous``, ``u_start`` (the starting block's u),
     ``t_end`` (its last slip's end; NaN while one of its slips runs, a run stopped
     mid-event), ``n_blocks`` (distinct blocks), ``swept``
-    (n_blocks dx), ``moment`` (sum of its slips, the free boundary's ``moment``),
+    (n_blocks dx), ``moment`` (dx times the sum of its slips: int slip dx, the free
+    boundary's ``moment``),
     ``event`` (the catalog event it belongs to). ``boundary``: the chain's (``periodic``
     wraps the neighbours); by default the one the result records, and refused if it
     differs from it."""
-    import pandas as pd
-
     kept = getattr(result, "boundary", None)
     if boundary is None:
         if kept is None:
@@ -274,6 +316,15 @@ def chain_ruptures(result, boundary: str | None = None):
     boundary = V.choice("boundary", boundary, ("free", "fixed", "periodic"))
     if kept is not None and boundary != kept:
         V._fail("boundary", boundary, f"the boundary the result was run with, {kept!r}")
+    return _chain_ruptures(result.slips, int(np.asarray(result.u).size), result.params.dx,
+                           boundary).drop(columns="kind")  # fmt: skip
+
+
+def _chain_ruptures(slips, n: int, dx: float, boundary: str):
+    """:func:`chain_ruptures` from the slips table of a chain of ``n`` blocks ``dx`` apart,
+    with the ``kind`` of each rupture's first slip besides."""
+    import pandas as pd
+
     cols = [
         "t_start",
         "x_start",
@@ -285,12 +336,11 @@ def chain_ruptures(result, boundary: str | None = None):
         "swept",
         "moment",
         "event",
+        "kind",
     ]
-    slips = result.slips
     if not len(slips):
         return pd.DataFrame(columns=cols)
-    n = int(np.asarray(result.u).size)
-    dx = float(result.params.dx)
+    dx = float(dx)
     order = np.lexsort((slips.block.to_numpy(), slips.t_start.to_numpy(), slips.event.to_numpy()))
     ev = slips.event.to_numpy()[order]
     blk = slips.block.to_numpy()[order].astype(np.int64)
@@ -324,17 +374,18 @@ def chain_ruptures(result, boundary: str | None = None):
     first = s.iloc[starts]
     m = len(starts)
     # a slip still running (a run stopped mid-event) has no slip yet: the finished ones
-    # count, as in the catalog's moment of an open event
-    moment = np.bincount(rid, weights=np.nan_to_num(s.slip.to_numpy(), nan=0.0), minlength=m)
+    # count, as in the catalog's moment of an open event; the moment is int slip dx
+    moment = dx * np.bincount(rid, weights=np.nan_to_num(s.slip.to_numpy(), nan=0.0), minlength=m)
     t_end = np.full(m, -np.inf)
     with np.errstate(invalid="ignore"):  # a slip still running (t_end NaN): NaN, no warning
         np.maximum.at(t_end, rid, s.t_end.to_numpy())
     distinct = pd.DataFrame({"r": rid, "b": blk}).drop_duplicates()
     count = np.bincount(distinct.r.to_numpy(), minlength=m)
+    x = first.x.to_numpy() if "x" in first else first.block.to_numpy() * dx
     return pd.DataFrame(
         {
             "t_start": first.t_start.to_numpy(),
-            "x_start": first.x.to_numpy(),
+            "x_start": x,
             "block": first.block.to_numpy(),
             "spontaneous": (first.kind == "noise").to_numpy(),
             "u_start": first.u_start.to_numpy(),
@@ -343,6 +394,7 @@ def chain_ruptures(result, boundary: str | None = None):
             "swept": count * dx,
             "moment": moment,
             "event": first.event.to_numpy(),
+            "kind": first.kind.to_numpy(),
         }
     )
 
@@ -371,21 +423,19 @@ def ring_statistics(
     t_end: float,
     burn_in: float = 0.0,
     seed: int = 1,
-    m_c_quantile: float = 0.5,
 ) -> dict:
     """One free boundary ring (``boundary="periodic"``, grid ``x``, start ``u0``) with
     ``noise`` (None: noiseless) run to ``t_end``; the ruptures starting after ``burn_in``
     and their statistics: ``ruptures`` (catalog), ``rate`` (ruptures per unit time and
-    length), ``spontaneous`` (fraction started by noise), ``b`` (:class:`bkwaves.stats.BValue`
-    of moment magnitudes M >= m_c, m_c the ``m_c_quantile`` quantile of M: the sizes have a
-    scale, not a power law, so b depends on m_c; the default, the median, is not set by
-    the few tiniest ruptures), ``recurrence`` (point recurrence times), ``u_start`` mean,
+    length), ``spontaneous`` (fraction started by noise), ``b``
+    (:class:`bkwaves.stats.GutenbergRichter` of the ruptures' moments, the estimator of
+    every bkwaves b: Mc by maximum curvature, a bootstrap interval, no b for a degenerate
+    or small catalog), ``recurrence`` (point recurrence times), ``u_start`` mean,
     ``swept`` mean."""
     from .free_boundary import FreeBoundary, NoCreepWarning
 
     t_end = V.number("t_end", t_end, lo=0.0, lo_open=True)
     burn_in = V.number("burn_in", burn_in, lo=0.0, hi=t_end, hi_open=True)
-    q = V.number("m_c_quantile", m_c_quantile, lo=0.0, hi=1.0, hi_open=True)
     x = V.array("x", x)
     length = float(x[-1] - x[0]) * x.size / (x.size - 1)
     with warnings.catch_warnings():
@@ -395,7 +445,7 @@ def ring_statistics(
     cat = ruptures(res)
     cat = cat[(cat.t_start >= burn_in) & (cat.swept > 0)].reset_index(drop=True)
     span = t_end - burn_in
-    out = {
+    return {
         "ruptures": cat,
         "length": length,
         "span": span,
@@ -404,14 +454,8 @@ def ring_statistics(
         "recurrence": point_recurrence(res, burn_in),
         "u_start": float(cat.u_start.mean()) if len(cat) else math.nan,
         "swept": float(cat.swept.mean()) if len(cat) else math.nan,
-        "b": None,
+        "b": _stats.gutenberg_richter(cat.moment.to_numpy(dtype=float)),
     }
-    mags = _stats.magnitudes(cat.moment.to_numpy(), "moment") if len(cat) else np.array([])
-    if np.sum(mags >= np.quantile(mags, q) if mags.size else 0) >= 2:
-        m_c = float(np.quantile(mags, q))
-        if np.mean(mags[mags >= m_c]) > m_c:
-            out["b"] = _stats.b_value(mags, m_c)
-    return out
 
 
 def statistics_vs_strength(
@@ -425,7 +469,6 @@ def statistics_vs_strength(
     t_end: float,
     burn_in: float = 0.0,
     seed: int = 1,
-    m_c_quantile: float = 0.5,
     length: float | None = None,
 ):
     """Ruptures on a ring against noise strength: for each nu in ``strengths`` (0: no
@@ -435,11 +478,11 @@ def statistics_vs_strength(
     Returns (table, runs): a pandas DataFrame with one row per strength (nu, rate,
     Lambda_mean = int_0^1 Lambda du, nu_R = Lambda_mean R_0 / v with R_0 the mean rupture
     length of the noiseless run when 0 is among the strengths, ruptures, spontaneous
-    fraction, rupture rate per unit length and time, b, its Aki and Shi-Bolt
-    uncertainties, mean u where ruptures start, mean swept length, mean and CV of the
-    point recurrence time, v times the mean recurrence, and the balance
-    rupture_rate * swept * recurrence, which is 1 in a steady state: every point is swept
-    once per recurrence) and the runs' dicts."""
+    fraction, rupture rate per unit length and time, b with its 95 % interval b_lo, b_hi
+    and m_c (:func:`bkwaves.stats.gutenberg_richter`; NaN without a b), mean u where
+    ruptures start, mean swept length, mean and CV of the point recurrence time, v times
+    the mean recurrence, and the balance rupture_rate * swept * recurrence, which is 1
+    in a steady state: every point is swept once per recurrence) and the runs' dicts."""
     import pandas as pd
 
     if not isinstance(params, Params):
@@ -466,7 +509,6 @@ def statistics_vs_strength(
             t_end=t_end,
             burn_in=burn_in,
             seed=seed,
-            m_c_quantile=m_c_quantile,
         )
         b = run["b"]
         rec = run["recurrence"]
@@ -479,9 +521,10 @@ def statistics_vs_strength(
                 "ruptures": len(run["ruptures"]),
                 "spontaneous": run["spontaneous"],
                 "rupture_rate": run["rate"],
-                "b": math.nan if b is None else b.b,
-                "b_sigma": math.nan if b is None else b.sigma_aki,
-                "b_sigma_shi_bolt": math.nan if b is None else b.sigma_shi_bolt,
+                "b": b.b,
+                "b_lo": b.lo,
+                "b_hi": b.hi,
+                "m_c": b.m_c,
                 "u_start": run["u_start"],
                 "swept": run["swept"],
                 "recurrence": mean_rec,

@@ -24,6 +24,7 @@ __all__ = [
     "profiles",
     "trajectories",
     "size_frequency",
+    "frequency_magnitude",
     "plot_run",
     "plot_sweep",
     "save",
@@ -334,16 +335,25 @@ def trajectories(
     return ax
 
 
-#: Fewest events for a b-value in a plot title: Aki's relative uncertainty of b is
-#: 1/sqrt(n), 14 % at n = 50 (a catalog of 6 events gave b = 21.9 +- 9); fewer events get no
-#: b-value.
+#: Fewest events above Mc for a b-value (:data:`bkwaves.stats.MIN_EVENTS`).
 MIN_EVENTS_B_VALUE = 50
+
+
+def _b_title(gr) -> str:
+    """A plot title: the b of :func:`bkwaves.stats.gutenberg_richter`, or why there is none."""
+    if gr.ok:
+        return (
+            f"b = {gr.b:.2f} [{gr.lo:.2f}, {gr.hi:.2f}] ({round(100 * gr.confidence)} %), "
+            f"Mc = {gr.m_c:.2f}, n = {gr.n}"
+        )
+    return f"n = {gr.n_total}: no b-value ({gr.reason.split(':')[0]})"
 
 
 @_styled
 def size_frequency(sizes, ax=None, label: str = "event size"):
-    """Size-frequency (complementary cumulative) plot, titled with the Aki b-value of the
-    amplitude magnitudes log10(size) when there are at least MIN_EVENTS_B_VALUE events."""
+    """Size-frequency (complementary cumulative) plot of moments, titled with their b
+    (:func:`bkwaves.stats.gutenberg_richter`: moment magnitudes, Mc by maximum curvature,
+    a bootstrap interval) or the reason there is none (too few events, one size)."""
     from . import stats
 
     if ax is None:
@@ -352,17 +362,43 @@ def size_frequency(sizes, ax=None, label: str = "event size"):
     s = s[np.isfinite(s) & (s > 0)]
     x, ccdf = stats.size_frequency(s)
     ax.loglog(x, ccdf, ".", ms=4, label="N(>= size) / N")
-    if s.size >= MIN_EVENTS_B_VALUE and np.ptp(s) > 0:
-        b = stats.b_value(stats.magnitudes(s))
-        ax.set_title(f"b = {b.b:.2f} +- {b.sigma_aki:.2f} (n = {b.n})", fontsize=9)
-    elif s.size < MIN_EVENTS_B_VALUE:
-        ax.set_title(
-            f"n = {s.size} events: too few for a b-value (needs {MIN_EVENTS_B_VALUE})", fontsize=9
-        )
-    else:
-        ax.set_title(f"n = {s.size} events of one size: no b-value", fontsize=9)
+    ax.set_title(_b_title(stats.gutenberg_richter(s)), fontsize=9)
     ax.set_xlabel(label)
     ax.set_ylabel("fraction of events >= size")
+    return ax
+
+
+@_styled
+def frequency_magnitude(moments, ax=None, what: str = "events"):
+    """The frequency-magnitude distribution of moments: the number of ``what`` with
+    magnitude >= M (M = (2/3) log10(moment)) and per bin of 0.1, the magnitude of
+    completeness Mc and the Gutenberg-Richter fit N(>= M) = N(>= Mc) 10^(-b (M - Mc))
+    above it (:func:`bkwaves.stats.gutenberg_richter`), or the reason there is no b."""
+    from . import stats
+
+    if ax is None:
+        ax = _new_axes((5, 4))
+    mom = np.asarray(moments, dtype=float)
+    mom = mom[np.isfinite(mom) & (mom > 0)]
+    m = np.sort(stats.moment_magnitude(mom))
+    gr = stats.gutenberg_richter(mom)
+    if m.size:
+        ax.semilogy(m[::-1], np.arange(1, m.size + 1), "-", color="C0", lw=1.2,
+                    label=f"{what} with magnitude >= M")  # fmt: skip
+        k = np.floor(m / stats.MC_BIN).astype(np.int64)
+        ks, counts = np.unique(k, return_counts=True)
+        ax.semilogy((ks + 0.5) * stats.MC_BIN, counts, "o", color="C1", ms=3,
+                    label=f"{what} per magnitude bin of {stats.MC_BIN}")  # fmt: skip
+    if gr.ok:
+        mm = np.linspace(gr.m_c, m.max(), 50)
+        ax.semilogy(mm, gr.n * 10 ** (-gr.b * (mm - gr.m_c)), "k--", lw=1,
+                    label=f"Gutenberg-Richter fit, b = {gr.b:.2f}")  # fmt: skip
+        ax.axvline(gr.m_c, color="0.5", ls=":", lw=1, label=f"Mc = {gr.m_c:.2f}")
+    ax.set_title(_b_title(gr), fontsize=9)
+    ax.set_xlabel("magnitude M = (2/3) log10(moment)")
+    ax.set_ylabel(f"number of {what}")
+    if m.size:
+        ax.legend(fontsize=7)
     return ax
 
 
@@ -422,13 +458,21 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
                 fontsize=8,
             )
             written.append(save(ax, outdir / f"{stem}_{name}.{fmt}"))
-    ev = events
-    if ev is not None and len(ev) >= 2:
-        col = next((c for c in ("moment", "slip", "total_slip", "size") if c in ev.columns), None)
-        if col is not None:
-            written.append(
-                save(size_frequency(ev[col], label=col), outdir / f"{stem}_size_frequency.{fmt}")
-            )
+    # the catalog statistics use: the ruptures when the run has them, else the events
+    what = "ruptures" if "ruptures" in tables else "events"
+    cat = tables.get(what)
+    if cat is not None and "complete" in cat:
+        cat = cat[cat["complete"].to_numpy(dtype=bool)]  # a cut one's slip is partial
+    if cat is not None and len(cat) >= 2 and "moment" in cat:
+        unit = cat.attrs.get("units", {}).get("moment")
+        label = f"moment of {what}" + (f" [{unit}]" if unit else "")
+        m = cat["moment"]
+        for ax, kind in (
+            (size_frequency(m, label=label), "size_frequency"),
+            (frequency_magnitude(m, what=what), "frequency_magnitude"),
+        ):
+            ax.set_title(run_title(ds.attrs) + "\n" + ax.get_title(), fontsize=8)
+            written.append(save(ax, outdir / f"{stem}_{kind}.{fmt}"))
     return written
 
 

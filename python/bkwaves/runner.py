@@ -40,6 +40,7 @@ import numpy as np
 
 from . import __version__
 from ._progress import ProgressBar
+from .catalog import DESCRIPTIONS, MOMENT_SCALE, MOMENT_SI
 from .config import RunConfig, disorder_arrays, initial_state, threshold_field
 from .io import NO_SPACE, RunWriter, human_bytes, partial_path
 
@@ -172,6 +173,7 @@ _SCALES = {
     "x": "x' = (x/a) sqrt(k_p/k_c) (paper eq. dimless)",
     "slip": "displacement in units of (f_r - f_s)/k_p",
     "u_t": "du/dt' (t' = t sqrt(k_p/m), paper eq. dimless)",
+    "moment": MOMENT_SCALE,
 }
 
 
@@ -212,7 +214,11 @@ class _Units:
         """Units and extra attributes of u_t."""
         return ("s-1", {}) if self.si else ("1", {"scale": _SCALES["u_t"]})
 
-    def convert_table(self, df, times=(), xs=(), slips=()):
+    def moment(self, m):
+        """int slip dx: slip (m) times length (m) in SI (bkwaves.catalog)."""
+        return self.u.slip(self.u.length(np.asarray(m))) if self.si else m
+
+    def convert_table(self, df, times=(), xs=(), slips=(), moments=()):
         """(df in output units, {column: units}, {column: scale})."""
         units, scales = {}, {}
         df = df.copy()
@@ -220,6 +226,7 @@ class _Units:
             (times, self.t, "s", "t"),
             (xs, self.x, "m", "x"),
             (slips, self.slip, "m", "slip"),
+            (moments, self.moment, MOMENT_SI, "moment"),
         ):
             for c in cols:
                 if c in df:
@@ -373,6 +380,7 @@ class _MemoryWriter:
         self.count = 0
         self.closed = False
         self._rows: dict = {}
+        self._attrs: dict = {}
 
     def start(self, x, variables, attrs, coord_units):
         self.x, self.variables, self.attrs, self.coord_units = x, variables, attrs, coord_units
@@ -392,8 +400,12 @@ class _MemoryWriter:
                 self.fields.setdefault(k, []).append(np.array(v, copy=True).reshape(len(t), -1))
         self.count += len(t)
 
-    def append_rows(self, name, df, units=None, csv=None, scales=None):
+    def append_rows(self, name, df, units=None, csv=None, scales=None, descriptions=None):
         self._rows.setdefault(name, []).append(df)
+        attrs = self._attrs.setdefault(name, {"units": {}, "scales": {}, "descriptions": {}})
+        for key, given in (("units", units), ("scales", scales), ("descriptions", descriptions)):
+            if given:
+                attrs[key] = dict(given)
         if units:
             self.table_units[name] = dict(units)
 
@@ -407,7 +419,9 @@ class _MemoryWriter:
         import pandas as pd
 
         for name, dfs in self._rows.items():
-            self.tables[name] = pd.concat(dfs, ignore_index=True)
+            df = pd.concat(dfs, ignore_index=True)
+            df.attrs = {k: dict(v) for k, v in self._attrs[name].items()}  # as bk.load
+            self.tables[name] = df
         self.closed = True
 
     def abandon(self):
@@ -453,39 +467,12 @@ class RunResult:
         return self.tables.get("events")
 
 
-B_VALUE_MIN_EVENTS = 50  # fewer events: no b-value (its error would be ~b/sqrt(n) > 14 %)
+def _event_statistics(events, ruptures=None) -> dict:
+    """The summary scalars of a run's catalogs (:func:`bkwaves.catalog.statistics`: over
+    the complete ruptures when there are, else the complete events)."""
+    from .catalog import statistics, summary_scalars
 
-
-def _event_statistics(events) -> dict:
-    """Scalars of the complete events of a catalog (an event still running when the run
-    stopped is left out: its slip is cut): count, the largest event, the mean recurrence
-    interval and, with at least B_VALUE_MIN_EVENTS events of positive moment, the b-value of their
-    moment magnitudes (Aki's maximum likelihood above the smallest) with its error."""
-    from .stats import b_value, magnitudes
-
-    out = {
-        "n_events": 0.0,
-        "max_moment": math.nan,
-        "mean_interval": math.nan,
-        "b_value": math.nan,
-        "b_value_err": math.nan,
-    }
-    if events is not None and "complete" in events:
-        events = events[events["complete"].to_numpy(dtype=bool)]  # an event cut by the end
-    if events is None or len(events) == 0:
-        return out
-    out["n_events"] = float(len(events))
-    if "moment" in events:
-        m = events["moment"].to_numpy(dtype=float)
-        m = m[np.isfinite(m) & (m > 0)]
-        if m.size:
-            out["max_moment"] = float(m.max())
-        if m.size >= B_VALUE_MIN_EVENTS:
-            b = b_value(magnitudes(m, "moment"))
-            out["b_value"], out["b_value_err"] = b.b, b.sigma_shi_bolt
-    if "t_start" in events and len(events) >= 2:
-        out["mean_interval"] = float(np.mean(np.diff(np.sort(events["t_start"].to_numpy()))))
-    return out
+    return summary_scalars(statistics(events, ruptures))
 
 
 def run_result(cfg: RunConfig, *, snapshots: bool = False, chunk: int = 20_000) -> RunResult:
@@ -496,7 +483,7 @@ def run_result(cfg: RunConfig, *, snapshots: bool = False, chunk: int = 20_000) 
     summary = {k: v for k, v in s.to_dict().items() if k not in ("out", "units")}
     summary.pop("counters", None)
     summary.pop("warnings", None)
-    summary.update(_event_statistics(mem.tables.get("events")))
+    summary.update(_event_statistics(mem.tables.get("events"), mem.tables.get("ruptures")))
     return RunResult(
         summary=summary,
         tables=mem.tables,
@@ -530,7 +517,7 @@ def simulate(cfg, out=None, *, snapshots: bool = False, progress: bool = False) 
     s = run(cfg, out, progress=progress)
     ds, tables = load_tables(out)
     summary = {k: v for k, v in s.to_dict().items() if k not in ("units", "counters", "warnings")}
-    summary.update(_event_statistics(tables.get("events")))
+    summary.update(_event_statistics(tables.get("events"), tables.get("ruptures")))
     return RunResult(
         summary=summary, tables=tables, snapshots=ds if snapshots else None, config=cfg
     )
@@ -678,6 +665,41 @@ def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
     )
 
 
+def _described(df) -> dict:
+    """The definitions of the columns of ``df`` that every catalog shares."""
+    return {c: DESCRIPTIONS[c] for c in df.columns if c in DESCRIPTIONS}
+
+
+def _ruptures(cfg, eng, x) -> object:
+    """The ruptures table of a run (:func:`bkwaves.catalog.run_ruptures`), dimensionless,
+    from the engine's whole record (the chain's slips, the free boundary's shock paths)."""
+    from .catalog import run_ruptures
+
+    p = cfg.params
+    if cfg.model == "chain":
+        sl = _frame(eng.slips())
+        if len(sl):
+            sl.insert(2, "x", sl["block"] * p.dx)
+        return run_ruptures("chain", sl, n=cfg.blocks, dx=p.dx, boundary=cfg.boundary)
+    h = float(x[1] - x[0])
+    return run_ruptures(
+        "free_boundary", _frame(eng.path()), n=len(x), dx=h, boundary=cfg.boundary, x0=x[0]
+    )
+
+
+def _write_ruptures(writer, units, rup) -> None:
+    """Write the ruptures table in the output units (the magnitude of the moment there)."""
+    from .stats import moment_magnitude
+
+    if writer is None:
+        return
+    rup, ru, rs = units.convert_table(
+        rup, times=("t_start", "t_end", "duration"), xs=("x_start", "swept"), moments=("moment",)
+    )
+    rup["magnitude"] = moment_magnitude(rup["moment"].to_numpy(dtype=float))
+    writer.append_rows("ruptures", rup, ru, scales=rs, descriptions=_described(rup))
+
+
 def _complete(first: int, rows: int, finished: int) -> np.ndarray:
     """The ``complete`` column of catalog rows ``first .. first + rows``: the engines finish
     events in order, so the rows before ``finished`` are complete; the one after (at most
@@ -767,7 +789,8 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         "u_t": (rate_units, "du/dt", "f8", rate_attrs),
         "sliding": ("1", "sliding state: 0 stuck, 1 forward, -1 backward", "i1"),
     }
-    resume_rows = {"events": eng.events_finished, "slips": eng.slips_final}
+    # the ruptures table is written once, at the end, from the whole record
+    resume_rows = {"events": eng.events_finished, "slips": eng.slips_final, "ruptures": 0}
     writer = _open_writer(
         out,
         cfg,
@@ -797,10 +820,11 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         if len(cat) or not final:  # (at the end: the table even when it is empty)
             cat["duration"] = cat["t_end"] - cat["t_start"]
             cat["complete"] = _complete(k, len(cat), eng.events_finished)
+            cat["moment"] = cat["moment"] * p.dx  # int slip dx (the core sums block slips)
             cat, cu, cs = units.convert_table(
-                cat, times=("t_start", "t_end", "duration"), slips=("moment",)
+                cat, times=("t_start", "t_end", "duration"), moments=("moment",)
             )
-            writer.append_rows("events", cat, cu, scales=cs)
+            writer.append_rows("events", cat, cu, scales=cs, descriptions=_described(cat))
         k = writer.table_rows("slips")
         sl = _frame(eng.slips(k, eng.slips_final if final else None))
         if len(sl) or not final:
@@ -833,9 +857,11 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
                 ctl.save(chain, writer)
         interrupted = not finished
         bar.close()
+        rup = _ruptures(cfg, eng, x)
 
         def give_all():
             give(final=False)
+            _write_ruptures(writer, units, rup)
             if writer is not None and writer.records == 0:
                 # no snapshot was asked for: the state at the end, as the free boundary
                 # run writes it (an output always holds a state; a resumed run drops it)
@@ -850,6 +876,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         _finish(writer, ctl, chain, None, give_all, interrupted)
     extra = {
         "blocks": cfg.blocks,
+        "ruptures": len(rup),
         "counters": chain._counters(),
         "signal": ctl.signal_name() if interrupted else None,
         "stop": stop,
@@ -902,7 +929,7 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     eng = fb._engine
     units = _Units(cfg)
     variables = {"u": ("1", "slow field u (0: kinetic level, 1: static threshold)", "f8")}
-    resume_rows = {"events": eng.completed_events, "shocks": len(eng.path()["t"])}
+    resume_rows = {"events": eng.completed_events, "shocks": len(eng.path()["t"]), "ruptures": 0}
     writer = _open_writer(out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows)
     t_end = cfg.t_end if cfg.t_end is not None else math.inf
     target_events = cfg.max_events if cfg.max_events is not None else 2**62
@@ -926,9 +953,9 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
                 ev,
                 times=("t_start", "t_end", "duration"),
                 xs=("x_start", "x_min", "x_max", "swept"),
-                slips=("moment",),
+                moments=("moment",),
             )
-            writer.append_rows("events", ev, eu, scales=es)
+            writer.append_rows("events", ev, eu, scales=es, descriptions=_described(ev))
         sh = _frame(eng.path(writer.table_rows("shocks")))
         if len(sh) or not final:
             sh, su, ss = units.convert_table(sh, times=("t",), xs=("x",))
@@ -985,12 +1012,14 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
                 ctl.save(fb, writer, runner_state())
         interrupted = not finished
         bar.close()
+        rup = _ruptures(cfg, eng, x)
 
         def give_all():
             # the state at the end (the cut, when interrupted: a resumed run drops it)
             if snapshots == 0 or interrupted or cfg.t_end is None:
                 snap()
             give(final=False)
+            _write_ruptures(writer, units, rup)
 
         if writer is None:
             if snapshots == 0 or interrupted or cfg.t_end is None:
@@ -1007,6 +1036,7 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         units=units.name,
         extra={
             "grid": len(x),
+            "ruptures": len(rup),
             "warnings": notes,
             "steps": int(eng.steps),
             "signal": ctl.signal_name() if interrupted else None,

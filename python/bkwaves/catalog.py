@@ -1,0 +1,334 @@
+"""The catalog columns every route gives (``Chain.run().catalog``,
+``FreeBoundary.run().events``, ``bk.run``, ``bkwaves run``, ``bk.load``): one definition,
+name and unit each, written into the tables' attributes (``df.attrs["descriptions"]``,
+``df.attrs["units"]``, and ``df.attrs["scales"]`` for dimensionless columns).
+
+The moment of a one-dimensional event is the slip integrated along the chain,
+
+    moment = int slip dx,
+
+in the run's units: dimensionless (the paper's x' and slips in (f_r - f_s)/k_p; the
+chain's blocks are dx apart, so its moment is dx times the sum of its block slips, and
+the free boundary's is int A dx over the ground its shocks swept: the two agree as
+dx -> 0), or m^2 in SI (slip in m times length in m: the potency per unit width of the
+fault, whose product with the shear modulus and the width is the seismic moment). It
+does not depend on dx at a fixed physical event, unlike a sum of block slips.
+
+The ``ruptures`` table (:func:`run_ruptures`) splits the events, which merge ruptures
+that overlap in time (with noise, a ring is one event that never ends), into ruptures:
+the slip a single nucleation causes (docs/usage.md "Ruptures").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .stats import MAGNITUDE_DEFINITION, moment_magnitude
+
+__all__ = [
+    "MOMENT_DEFINITION",
+    "MOMENT_SCALE",
+    "DESCRIPTIONS",
+    "RUPTURE_COLUMNS",
+    "describe",
+    "run_ruptures",
+    "statistics",
+    "summary_scalars",
+]
+
+MOMENT_DEFINITION = (
+    "int slip dx: the slip integrated along the chain (chain: dx times the sum of its "
+    "block slips; free boundary: int A dx over the swept ground)"
+)
+#: How the dimensionless moment is scaled (its unit is "1").
+MOMENT_SCALE = "slip (f_r - f_s)/k_p times length a sqrt(k_c/k_p) (paper eq. dimless)"
+#: The moment's unit in SI outputs: m (slip) times m (length), the potency per unit width.
+MOMENT_SI = "m2"
+
+#: Definitions of the columns shared by the catalogs of both engines and the ruptures.
+DESCRIPTIONS = {
+    "moment": MOMENT_DEFINITION,
+    "magnitude": MAGNITUDE_DEFINITION,
+    "t_start": "nucleation time: start of the first slip",
+    "t_end": "end of the last slip (NaN: still slipping when the run stopped)",
+    "duration": "t_end - t_start",
+    "x_start": "nucleation place",
+    "swept": "extent: length of chain that slipped (chain: blocks times dx; free "
+    "boundary: grid nodes reset times the grid spacing)",
+    "kind": "what started it: threshold (u - u_xx reached the static threshold), noise "
+    "(a spontaneous slip), trigger (a configured kick or release), initial (a shock of "
+    "the initial state)",
+    "spontaneous": "started by noise",
+    "u_start": "stress u where it started",
+    "event": "the event (catalog row) it belongs to",
+    "complete": "it ended before the run stopped",
+}
+
+RUPTURE_COLUMNS = (
+    "t_start",
+    "t_end",
+    "duration",
+    "x_start",
+    "swept",
+    "moment",
+    "magnitude",
+    "kind",
+    "spontaneous",
+    "u_start",
+    "event",
+    "complete",
+)
+
+
+def describe(df, units: dict | None = None, scales: dict | None = None):
+    """Set ``df.attrs``: the definitions of its columns (``descriptions``) and, when given,
+    their ``units`` and ``scales``. Returns ``df``."""
+    df.attrs["descriptions"] = {c: DESCRIPTIONS[c] for c in df.columns if c in DESCRIPTIONS}
+    if units is not None:
+        df.attrs["units"] = dict(units)
+    if scales is not None:
+        df.attrs["scales"] = dict(scales)
+    return df
+
+
+def _fb_kind(kind: str) -> str:
+    return {"birth": "threshold", "nucleation": "noise"}.get(kind, kind)
+
+
+def run_ruptures(engine: str, table, *, n: int, dx: float, boundary: str, x0: float = 0.0):
+    """The ruptures table of a run (:data:`RUPTURE_COLUMNS`), dimensionless, from the
+    engine's whole record: the chain's slips (``table``: the engine's slip columns and
+    ``x``; ``n`` blocks dx apart) or the free boundary's shock paths (``table``, every node
+    crossing recorded; ``n`` grid nodes ``dx`` apart from ``x0``: here ``dx`` is the grid
+    spacing h). Built by :func:`bkwaves.noise_stats.chain_ruptures` /
+    :func:`bkwaves.noise_stats.ruptures`, which define the rupture."""
+    import pandas as pd
+
+    from . import noise_stats as ns
+
+    if engine == "chain":
+        r = ns._chain_ruptures(table, n, dx, boundary)
+        kind = r.pop("kind")
+        out = pd.DataFrame(
+            {
+                "t_start": r.t_start,
+                "t_end": r.t_end,
+                "x_start": r.x_start,
+                "swept": r.swept,
+                "moment": r.moment,
+                "kind": kind,
+                "spontaneous": r.spontaneous,
+                "u_start": r.u_start,
+                "event": r.event,
+            }
+        )
+        out["complete"] = np.isfinite(out.t_end.to_numpy(dtype=float))
+    else:
+        r = ns._fb_ruptures(table, h=dx, x0=x0, nodes=n, periodic=boundary == "periodic")
+        out = pd.DataFrame(
+            {
+                "t_start": r.t_start,
+                "t_end": r.t_end,
+                "x_start": r.x_start,
+                "swept": r.swept,
+                "moment": r.moment,
+                "kind": [_fb_kind(k) for k in r.kind],
+                "spontaneous": r.spontaneous,
+                "u_start": r.u_start,
+                "event": r.event,
+                "complete": r.complete,
+            }
+        )
+        out.loc[~out.complete.to_numpy(dtype=bool), "t_end"] = np.nan
+    out.insert(2, "duration", out.t_end - out.t_start)
+    out.insert(out.columns.get_loc("moment") + 1, "magnitude", moment_magnitude(out.moment))
+    out = out.sort_values("t_start", kind="stable").reset_index(drop=True)
+    return out[list(RUPTURE_COLUMNS)]
+
+
+def _complete_rows(df):
+    """The rows of ``df`` that ended before the run stopped (a cut one's slip is partial)."""
+    if df is None:
+        return None
+    if "complete" in df:
+        return df[df["complete"].to_numpy(dtype=bool)]
+    return df
+
+
+def statistics(events, ruptures=None) -> dict:
+    """What a catalog shows, as every route reports it (the run summary, ``bkwaves
+    stats``, ``bkwaves plot``): over the complete ``ruptures`` when given (events merge
+    the ruptures that overlap in time), else over the complete events. Keys: ``catalog``
+    (which one), ``n_events``, ``n_ruptures`` (None without ruptures), ``n`` (rows of the
+    catalog used, complete), ``max_moment``, ``magnitude_min`` / ``magnitude_max``,
+    ``largest`` (the row of the largest moment, as a dict), ``mean_interval`` and
+    ``interval_cv`` (times between successive starts), and ``b`` (the
+    :class:`bkwaves.stats.GutenbergRichter` of the moments)."""
+    import math
+
+    from .stats import gutenberg_richter
+
+    ev = _complete_rows(events)
+    ru = _complete_rows(ruptures)
+    cat = ru if ru is not None else ev
+    out = {
+        "catalog": "ruptures" if ru is not None else "events",
+        "n_events": 0 if ev is None else len(ev),
+        "n_ruptures": None if ru is None else len(ru),
+        "n": 0 if cat is None else len(cat),
+        "max_moment": math.nan,
+        "magnitude_min": math.nan,
+        "magnitude_max": math.nan,
+        "largest": None,
+        "mean_interval": math.nan,
+        "interval_cv": math.nan,
+        "b": gutenberg_richter(np.array([])),
+    }
+    if cat is None or not len(cat):
+        return out
+    if "moment" in cat:
+        m = cat["moment"].to_numpy(dtype=float)
+        ok = np.isfinite(m) & (m > 0)
+        if ok.any():
+            mags = moment_magnitude(m[ok])
+            out["max_moment"] = float(m[ok].max())
+            out["magnitude_min"] = float(mags.min())
+            out["magnitude_max"] = float(mags.max())
+            row = cat.iloc[int(np.flatnonzero(ok)[np.argmax(m[ok])])]
+            out["largest"] = {
+                k: (v.item() if hasattr(v, "item") else v)
+                for k, v in row.items()
+                if k in ("t_start", "duration", "x_start", "swept", "moment", "kind", "n_blocks")
+            }
+            out["largest"]["magnitude"] = float(moment_magnitude(row["moment"]))
+        out["b"] = gutenberg_richter(m[ok])
+    if "t_start" in cat and len(cat) >= 2:
+        dt = np.diff(np.sort(cat["t_start"].to_numpy(dtype=float)))
+        out["mean_interval"] = float(dt.mean())
+        if dt.mean() > 0:
+            out["interval_cv"] = float(dt.std() / dt.mean())
+    return out
+
+
+def summary_scalars(stats: dict) -> dict:
+    """The scalars of :func:`statistics` that a run summary holds (``bk.run``'s
+    ``summary``, sweep outputs): counts, the largest moment, magnitudes, recurrence and
+    the b-value with its interval and Mc, or ``b_value_note`` saying why there is none."""
+    import math
+
+    b = stats["b"]
+    return {
+        "statistics_catalog": stats["catalog"],
+        "n_events": float(stats["n_events"]),
+        "n_ruptures": math.nan if stats["n_ruptures"] is None else float(stats["n_ruptures"]),
+        "max_moment": stats["max_moment"],
+        "magnitude_min": stats["magnitude_min"],
+        "magnitude_max": stats["magnitude_max"],
+        "mean_interval": stats["mean_interval"],
+        "interval_cv": stats["interval_cv"],
+        "b_value": b.b,
+        "b_value_lo": b.lo,
+        "b_value_hi": b.hi,
+        "m_c": b.m_c,
+        "b_value_note": b.reason or "",
+    }
+
+
+def _finite(x):
+    import math
+
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x
+
+
+def report(out) -> dict:
+    """What a run output holds and shows (``bkwaves stats OUT``): the model, units,
+    parameters and seed, the time reached, the counts of events and ruptures, the magnitude
+    range, the b-value with its interval and Mc (or why there is none), the recurrence
+    (mean and CV of the times between successive starts) and the largest one, over the
+    ruptures when the output has them (:func:`statistics`). JSON-ready (NaN -> None)."""
+    import json
+
+    from .io import load_tables
+
+    ds, tables = load_tables(out)
+    events, ruptures = tables.get("events"), tables.get("ruptures")
+    st = statistics(events, ruptures)
+    cat = ruptures if ruptures is not None else events
+    attrs = ds.attrs
+    try:
+        params = json.loads(attrs.get("params", "{}"))
+    except (TypeError, ValueError):
+        params = {}
+    units = (cat.attrs.get("units", {}) if cat is not None else {}).get("moment")
+    b = st["b"]
+    t = ds["t"].values
+    return {
+        "out": str(out),
+        "model": attrs.get("model"),
+        "units": attrs.get("units_system"),
+        "params": params,
+        "seed": attrs.get("seed"),
+        "t_end": _finite(float(t.max())) if t.size else None,
+        "catalog": st["catalog"],
+        "events": st["n_events"],
+        "events_running": 0 if events is None else len(events) - st["n_events"],
+        "ruptures": st["n_ruptures"],
+        "moment": {"units": units, "definition": MOMENT_DEFINITION},
+        "magnitude": {
+            "min": _finite(st["magnitude_min"]),
+            "max": _finite(st["magnitude_max"]),
+            "definition": MAGNITUDE_DEFINITION,
+        },
+        "b": {
+            "value": _finite(b.b),
+            "lo": _finite(b.lo),
+            "hi": _finite(b.hi),
+            "confidence": b.confidence,
+            "m_c": _finite(b.m_c),
+            "n": b.n,
+            "reason": b.reason,
+            "method": b.method,
+        },
+        "recurrence": {"mean": _finite(st["mean_interval"]), "cv": _finite(st["interval_cv"])},
+        "largest": st["largest"],
+    }
+
+
+def report_text(rep: dict) -> str:
+    """:func:`report` as lines of text."""
+
+    def g(x):
+        return "n/a" if x is None else f"{x:.4g}"
+
+    p = ", ".join(f"{k} = {v}" for k, v in rep["params"].items() if not isinstance(v, dict))
+    what = rep["catalog"]
+    lines = [
+        f"{rep['out']}: {rep['model']} run, {rep['units']}, t up to {g(rep['t_end'])}, "
+        f"seed {rep['seed'] if rep['seed'] not in ('', None) else 'none'}",
+        f"parameters: {p}",
+        f"events: {rep['events']} complete"
+        + (f" (+{rep['events_running']} cut by the end)" if rep["events_running"] else "")
+        + (f"; ruptures: {rep['ruptures']} complete" if rep["ruptures"] is not None else ""),
+        f"statistics over the {what}; moment = {rep['moment']['definition']}"
+        + (f" [{rep['moment']['units']}]" if rep["moment"]["units"] else ""),
+        f"magnitudes M = (2/3) log10(moment): {g(rep['magnitude']['min'])} to "
+        f"{g(rep['magnitude']['max'])}",
+    ]
+    b = rep["b"]
+    if b["value"] is None:
+        lines.append(f"b-value: none: {b['reason']}")
+    else:
+        lines.append(
+            f"b-value: {b['value']:.3f}, {round(100 * b['confidence'])} % interval "
+            f"[{b['lo']:.3f}, {b['hi']:.3f}] (bootstrap), Mc = {b['m_c']:.2f} (maximum "
+            f"curvature + 0.2), {b['n']} {what} above Mc"
+        )
+    r = rep["recurrence"]
+    lines.append(f"recurrence (between successive starts): mean {g(r['mean'])}, CV {g(r['cv'])}")
+    big = rep["largest"]
+    if big:
+        lines.append("largest: " + ", ".join(f"{k} = {v:.6g}" if isinstance(v, float) else
+                                            f"{k} = {v}" for k, v in big.items()))  # fmt: skip
+    return "\n".join(lines)
