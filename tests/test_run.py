@@ -72,7 +72,7 @@ def test_example_runs_and_describes_itself(example, tmp_path):
     # UDUNITS-parseable units; dimensionless ones say how they are scaled
     for v in (*ds.data_vars.values(), ds.t, ds.x):
         assert v.attrs["units"] in ("1", "m", "s", "s-1"), (v.name, v.attrs["units"])
-    assert all(u in ("1", "m", "s") for u in catalog.attrs["units"].values())
+    assert all(u in ("1", "m", "s", "m2") for u in catalog.attrs["units"].values())
     if cfg.physical:
         assert ds.t.attrs["units"] == "s" and ds.x.attrs["units"] == "m"
         assert catalog.attrs["units"]["t_start"] == "s"
