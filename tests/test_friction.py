@@ -61,6 +61,8 @@ def _reference_outputs(ones: bool) -> dict:
         # (every column of the engine of 78ca566; ``kind``, the cause of a slip, came later)
         for k in r.catalog.columns.drop("kind"):
             got[f"{name}/catalog/{k}"] = r.catalog[k].to_numpy()
+        # (the moment was then the sum of block slips; it is int slip dx = dx times it)
+        got[f"{name}/catalog/moment"] = r.catalog["moment"].to_numpy() / ch.params.dx
         for k in r.slips.columns.drop("kind"):
             got[f"{name}/slips/{k}"] = r.slips[k].to_numpy()
         for k in ("loader_work", "friction_work", "viscous_work", "stick_projection"):
