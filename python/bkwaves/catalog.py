@@ -36,6 +36,7 @@ __all__ = [
     "summary_scalars",
 ]
 
+#: What the ``moment`` column of every catalog is (its description in the tables' attrs).
 MOMENT_DEFINITION = (
     "int slip dx: the slip integrated along the chain (chain: dx times the sum of its "
     "block slips; free boundary: int A dx over the swept ground)"
@@ -64,6 +65,7 @@ DESCRIPTIONS = {
     "complete": "it ended before the run stopped",
 }
 
+#: The columns of the ruptures table of a run, in order.
 RUPTURE_COLUMNS = (
     "t_start",
     "t_end",

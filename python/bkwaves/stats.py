@@ -23,6 +23,11 @@ import numpy as np
 from . import _validate as V
 
 __all__ = [
+    "MAGNITUDE_DEFINITION",
+    "MC_BIN",
+    "MC_CORRECTION",
+    "MIN_EVENTS",
+    "MIN_SPREAD",
     "BValue",
     "GutenbergRichter",
     "gutenberg_richter",
