@@ -176,6 +176,21 @@ def test_local_cluster_of_processes(tmp_path):
     np.testing.assert_array_equal(r.dataset["c"].values, bk.front_speed(np.array([0.2, 0.4])))
 
 
+def test_a_scheduler_address_leaves_no_client_behind(tmp_path):
+    """bk.sweep(..., scheduler=ADDRESS) connects a client of its own and closes it: the
+    caller's cluster outlives the sweep without a dangling default client."""
+    from distributed import LocalCluster, default_client
+
+    doc = {"task": "speed", "axes": {"u_plus": {"values": [0.2, 0.4]}}}
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+        r = sweep(doc, tmp_path / "a.zarr", scheduler=cluster.scheduler_address)
+        assert r.computed == 2
+        with pytest.raises(ValueError, match="No clients found"):
+            default_client()
+
+
 # --------------------------------------------------------------------------- a real cluster
 
 

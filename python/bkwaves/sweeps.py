@@ -813,9 +813,11 @@ def sweep(
     dashboard = None
     nworkers = 0
     own = None
+    made_client = False  # a client made here (for a scheduler address or an own cluster)
     if todo:
         if client is None:
             client, own = _client(scheduler, workers, processes)
+            made_client = True
         dashboard = getattr(client, "dashboard_link", None)
         nworkers = _slots(client)
         try:
@@ -824,8 +826,9 @@ def sweep(
                     client, spec, store, todo, progress, dashboard, _stop_after
                 )
         finally:
-            if own is not None:
+            if made_client:
                 client.close()
+            if own is not None:
                 own.close()
     ds = load_sweep_result(out)
     return SweepResult(
