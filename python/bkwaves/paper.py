@@ -6,19 +6,18 @@ the paper with bkwaves' value, the paper's, and the verdict. Claims are checked 
 bkwaves' own engines (tip solver, ODE solutions, and the chain and free-boundary engines),
 never against the formulas being checked.
 
-No verdict is written by hand: a :class:`Claim` carries the :class:`Check` s computed in
-the run, and its verdict is derived from them (:attr:`Claim.verdict`). A row whose content
-holds by definition or by construction is an ``identity``; it still carries a check, which
-only a broken engine can fail.
+No verdict is written by hand: a :class:`~bkwaves.report.Claim` carries the
+:class:`~bkwaves.report.Check` s computed in the run, and its verdict is derived from them
+(:attr:`~bkwaves.report.Claim.verdict`); :mod:`bkwaves.report` writes the report. A row
+whose content holds by definition or by construction is an ``identity``; it still carries
+a check, which only a broken engine can fail.
 """
 
 from __future__ import annotations
 
-import html
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import matplotlib
@@ -27,221 +26,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from . import __version__, presets, theory  # noqa: E402
+from . import presets, theory  # noqa: E402
 from ._validate import ParameterError  # noqa: E402
+from .report import VERDICTS, Check, Claim, Report  # noqa: E402, F401 (re-exported)
+from .report import yes_no as _holds  # noqa: E402
 from .waves import front_speed, tip_solve, traveling_wave  # noqa: E402
 
-__all__ = ["Check", "Claim", "Report", "reproduce", "CLAIMS", "FIGURES", "VERDICTS"]
-
-#: Every verdict a claim can get, and what it means.
-VERDICTS = {
-    "confirmed": "bkwaves' computation agrees with the paper",
-    "refined": "right, and bkwaves sharpens it (exact form, order, domain)",
-    "corrected": "bkwaves' computation holds and the paper's number is off",
-    "rounding": "the paper's number differs from the unrounded data only by the paper's own "
-    "rounding of intermediate values (both numbers beside)",
-    "inconclusive": "the check that would decide cannot apply to what was measured (its "
-    "condition fails, or the measurement's uncertainty is too large to decide)",
-    "identity": "holds by definition or by construction; the check only tests the engine",
-    "disagrees": "a check of bkwaves' own computation failed",
-}
-
-
-@dataclass(frozen=True)
-class Check:
-    """One computed quantity and the range it must lie in (bounds included)."""
-
-    what: str
-    value: float
-    lo: float = -math.inf
-    hi: float = math.inf
-
-    @property
-    def holds(self) -> bool:
-        return bool(self.lo <= self.value <= self.hi)
-
-    def __str__(self) -> str:
-        lo = "" if self.lo == -math.inf else f"{self.lo:.3g} <= "
-        hi = "" if self.hi == math.inf else f" <= {self.hi:.3g}"
-        return f"{self.what}: {lo}{self.value:.6g}{hi}"
-
-
-def _holds(what: str, ok: bool) -> Check:
-    """A yes/no check (value 1 when it holds)."""
-    return Check(what, float(bool(ok)), lo=1.0)
-
-
-@dataclass
-class Claim:
-    """One quantitative statement of the paper and bkwaves' verdict on it.
-
-    ``checks`` test bkwaves' own computation (any failure: ``disagrees``); ``applies``
-    is the condition under which the deciding check can decide (it fails: ``inconclusive``,
-    e.g. a check that only applies to regular recurrence, or an uncertainty too large);
-    ``paper_check`` compares the paper's number with bkwaves' (failure: ``corrected``, or
-    ``rounding`` when ``rounding_check`` holds: the paper's number is reproduced by its own
-    rounding of intermediate values); ``kind`` is ``"claim"`` (``confirmed``),
-    ``"refinement"`` (``refined``) or ``"identity"``.
-    """
-
-    key: str
-    equation: str
-    statement: str
-    paper: str
-    bkwaves: str
-    checks: list[Check]
-    paper_check: Check | None = None
-    kind: str = "claim"
-    note: str = ""
-    applies: Check | None = None
-    rounding_check: Check | None = None
-
-    def __post_init__(self):
-        if not self.checks:
-            raise ValueError(f"claim {self.key!r}: a verdict needs at least one check")
-        if self.kind not in ("claim", "refinement", "identity"):
-            raise ValueError(f"claim {self.key!r}: kind {self.kind!r}")
-
-    @property
-    def verdict(self) -> str:
-        if not all(c.holds for c in self.checks):
-            return "disagrees"
-        if self.kind == "identity":
-            return "identity"
-        if self.applies is not None and not self.applies.holds:
-            return "inconclusive"
-        if self.paper_check is not None and not self.paper_check.holds:
-            if self.rounding_check is not None and self.rounding_check.holds:
-                return "rounding"
-            return "corrected"
-        return "refined" if self.kind == "refinement" else "confirmed"
-
-    @property
-    def evidence(self) -> str:
-        """The checks behind the verdict, as printed in the report."""
-        cs = [self.applies] if self.applies else []
-        cs += list(self.checks) + ([self.paper_check] if self.paper_check else [])
-        cs += [self.rounding_check] if self.rounding_check else []
-        return "; ".join(f"{c} ({'holds' if c.holds else 'fails'})" for c in cs)
-
-
-@dataclass
-class Report:
-    """What :func:`reproduce` returns: the verdict on every claim and the figures written.
-
-    Attributes
-    ----------
-    claims : list of Claim
-        Every claim of the paper checked, with its verdict and evidence.
-    figures : dict
-        Figure name -> the files written (PNG and PDF).
-    beyond : dict
-        The same for the figures of what the paper leaves open.
-    captions : dict
-        Figure name -> caption.
-    findings : list of str
-        What bkwaves finds that the paper does not state.
-    seconds : float
-        Wall time of the reproduction.
-    """
-
-    claims: list[Claim] = field(default_factory=list)
-    figures: dict[str, list[Path]] = field(default_factory=dict)
-    #: Figures of what the paper leaves open (``bkwaves.paper_beyond``), same format.
-    beyond: dict[str, list[Path]] = field(default_factory=dict)
-    captions: dict[str, str] = field(default_factory=dict)
-    findings: list[str] = field(default_factory=list)
-    seconds: float = 0.0
-
-    def to_markdown(self) -> str:
-        lines = [
-            "# bkwaves validation report",
-            "",
-            f"C. B. Muratov, Phys. Rev. E 59, 3847 (1999), reproduced by bkwaves {__version__} "
-            f"in {self.seconds:.1f} s.",
-            "",
-            "Verdicts: " + "; ".join(f"**{k}**: {v}" for k, v in VERDICTS.items()) + ".",
-            "",
-            "## Claims",
-            "",
-            "| claim | eq. | the paper | bkwaves | verdict | note | checks |",
-            "|---|---|---|---|---|---|---|",
-        ]
-
-        def cell(text: str) -> str:
-            return text.replace("|", "\\|")
-
-        for c in self.claims:
-            cells = [cell(x) for x in (c.statement, c.equation, c.paper, c.bkwaves)]
-            lines.append(
-                "| "
-                + " | ".join(cells)
-                + f" | **{c.verdict}** | {cell(c.note)} | {cell(c.evidence)} |"
-            )
-        lines += ["", "## What bkwaves found that the paper does not say", ""]
-        lines += [f"- {f}" for f in self.findings]
-
-        def figures_md(figures: dict[str, list[Path]]) -> list[str]:
-            return [
-                f"### {name}\n\n![{name}]({png[0].name})\n\n{self.captions.get(name, '')}\n"
-                for name, paths in figures.items()
-                if (png := [p for p in paths if p.suffix == ".png"])
-            ]
-
-        lines += ["", "## Figures", ""] + figures_md(self.figures)
-        if self.beyond:
-            lines += ["## Beyond the paper", "", BEYOND_INTRO, ""] + figures_md(self.beyond)
-        return "\n".join(lines) + "\n"
-
-    def to_html(self) -> str:
-        esc = html.escape
-        rows = "\n".join(
-            "<tr>"
-            + "".join(
-                f"<td>{esc(x)}</td>"
-                for x in (
-                    c.statement,
-                    c.equation,
-                    c.paper,
-                    c.bkwaves,
-                    c.verdict,
-                    c.note,
-                    c.evidence,
-                )
-            )
-            + "</tr>"
-            for c in self.claims
-        )
-        finds = "\n".join(f"<li>{esc(f)}</li>" for f in self.findings)
-        legend = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>" for k, v in VERDICTS.items())
-
-        def figures_html(figures: dict[str, list[Path]]) -> str:
-            return "\n".join(
-                f"<figure><h3>{esc(n)}</h3><img src='{esc(p.name)}' style='max-width:100%'>"
-                f"<figcaption>{esc(self.captions.get(n, ''))}</figcaption></figure>"
-                for n, ps in figures.items()
-                for p in ps
-                if p.suffix == ".png"
-            )
-
-        figs = figures_html(self.figures)
-        if self.beyond:
-            figs += f"<h2>Beyond the paper</h2><p>{esc(BEYOND_INTRO)}</p>" + figures_html(
-                self.beyond
-            )
-        return (
-            "<!doctype html><html><head><meta charset='utf-8'><title>bkwaves report</title>"
-            "<style>body{font-family:sans-serif;max-width:1100px;margin:auto}"
-            "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;"
-            "font-size:13px;vertical-align:top}figcaption{font-size:14px;margin-bottom:2em}"
-            "</style></head><body>"
-            f"<h1>bkwaves validation report</h1><p>bkwaves {esc(__version__)}, "
-            f"{self.seconds:.1f} s.</p><ul>{legend}</ul><h2>Claims</h2><table><tr>"
-            "<th>claim</th><th>eq.</th><th>the paper</th><th>bkwaves</th><th>verdict</th>"
-            f"<th>note</th><th>checks</th></tr>{rows}</table>"
-            "<h2>What bkwaves found that the paper does not say</h2>"
-            f"<ul>{finds}</ul><h2>Figures</h2>{figs}</body></html>"
-        )
+# Check, Claim, Report and VERDICTS live in bkwaves.report (importable from here too)
+__all__ = ["reproduce", "CLAIMS", "FIGURES"]
 
 
 def _rel(a, b):
@@ -1981,7 +1773,7 @@ def reproduce(outdir, *, quick: bool = False, progress: bool = True) -> Report:
     outdir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     _CACHE.clear()
-    report = Report(findings=list(FINDINGS))
+    report = Report(findings=list(FINDINGS), beyond_intro=BEYOND_INTRO)
     steps = (
         [("figure", n, f) for n, f in FIGURES.items()]
         + [("beyond", n, f) for n, f in BEYOND_FIGURES.items()]
