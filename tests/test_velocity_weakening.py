@@ -192,3 +192,15 @@ def test_cli_front_velocity_weakening_subsonic_is_converged_and_reports_the_puls
     assert d["regime"] == "pulse" and d["front"] == "steady"
     assert d["w"] > 0 and d["u_minus"] == pytest.approx(0.49378, abs=1e-4)
     assert all(d["convergence"][k] <= vw.TOLERANCE[k] for k in vw.TOLERANCE)
+
+
+def test_death_threshold_needs_converged_chains():
+    # near the threshold a front fades slowly and dies far out: at u_+ = 0.6, gamma = 0.3,
+    # dx = 0.1 the converged threshold is 0.72 v_f* (docs/velocity_weakening.md; an outside
+    # audit found the same); a chain 40 long called the front at 0.74 v_f* steady
+    u, gamma, dx = 0.6, 0.3, 0.1
+    star = vw.v_f_existence(u, gamma)
+    c6 = {"zone": math.inf, "u_minus": math.inf}  # c to TOLERANCE["c"] = 1e-6
+    fading = vw.front(u, gamma, dx, 0.74 * star, weakening=False, tolerance=c6)
+    assert fading.status == "dies" and fading.reached > 40.0, fading
+    assert vw.front(u, gamma, dx, 0.70 * star, weakening=False, tolerance=c6).status == "steady"
