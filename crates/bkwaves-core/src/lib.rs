@@ -19,6 +19,7 @@ pub mod chain;
 mod checkpoint_bytes;
 pub mod error;
 pub mod free_boundary;
+pub mod free_boundary_2d;
 pub mod friction;
 pub mod linalg;
 pub mod noise;

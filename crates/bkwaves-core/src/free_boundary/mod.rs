@@ -40,7 +40,6 @@ pub mod shock;
 pub mod speed_law;
 
 use crate::error::{check_at_least, Error, Result};
-use crate::wave::u_minus_from_speed;
 use births::{CellMax, MaxTree};
 use catalog::{FbEvent, PathKind, PathPoint};
 use field::{CellPoly, Field};
@@ -550,22 +549,9 @@ impl FreeBoundary {
     /// u_- for a given u_+ where the threshold is `thr`, and whether the creep rule was
     /// applied: the front there moves at c(u_+/thr) and leaves -u_+ E(c) (eq. um).
     fn u_minus(&self, u_plus: f64, thr: f64) -> (f64, bool) {
-        let g = self.opts.gamma;
-        let (u, r) = if self.threshold.is_some() {
-            (u_plus.min(thr), (u_plus / thr).min(1.0 - 1e-16))
-        } else {
-            let u = u_plus.min(1.0 - 1e-16);
-            (u, u)
-        };
-        if r > self.u_c {
-            if let Ok(c) = self.law.speed(r) {
-                if let Some(um) = u_minus_from_speed(u, c, g) {
-                    return (um, false);
-                }
-            }
-        }
-        // creep (u_+ <= u_c): both rules leave u_- = 0 where a reset happens at all
-        (0.0, true)
+        let thr = self.threshold.is_some().then_some(thr);
+        self.law
+            .reset_stress(u_plus, thr, self.opts.gamma, self.u_c)
     }
 
     /// The threshold's interpolant in cell j (the most centred cubic through the nodes;

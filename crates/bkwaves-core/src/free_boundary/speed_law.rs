@@ -201,6 +201,29 @@ impl SpeedLaw {
         }
     }
 
+    /// The stress left behind a front that meets u_+ where the threshold is `thr` (None:
+    /// the uniform threshold 1), and whether the creep rule was applied. The front moves at
+    /// c(u_+/thr) and leaves u_- = -u_+ E(c) (eq. um with that c); at or below the critical
+    /// ratio `u_c` (creep) both creep rules leave u_- = 0 where a reset happens at all. The
+    /// rule of both free boundary engines (1D and 2D): one source for it.
+    pub fn reset_stress(&self, u_plus: f64, thr: Option<f64>, gamma: f64, u_c: f64) -> (f64, bool) {
+        let (u, r) = match thr {
+            Some(thr) => (u_plus.min(thr), (u_plus / thr).min(1.0 - 1e-16)),
+            None => {
+                let u = u_plus.min(1.0 - 1e-16);
+                (u, u)
+            }
+        };
+        if r > u_c {
+            if let Ok(c) = self.speed(r) {
+                if let Some(um) = crate::wave::u_minus_from_speed(u, c, gamma) {
+                    return (um, false);
+                }
+            }
+        }
+        (0.0, true)
+    }
+
     /// The critical stress u_c(gamma) of this law: c(u_c) = 1/sqrt(1 - gamma^2) (eq.
     /// gammac: a pulse re-sticks iff c^2 (1 - gamma^2) > 1). gamma for the exact law.
     pub fn critical_stress(&self, gamma: f64) -> f64 {
