@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 mod chain;
 mod errors;
 mod free_boundary;
+mod free_boundary_2d;
 mod theory;
 mod tip;
 
@@ -17,6 +18,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     chain::register(m)?;
     free_boundary::register(m)?;
+    free_boundary_2d::register(m)?;
     theory::register(m)?;
     tip::register(m)?;
     Ok(())

@@ -1,0 +1,446 @@
+"""The free boundary problem in the plane: ruptures as fronts over a slowly loading field.
+
+Away from fronts u_t = v; a rupture starts where u reaches the threshold (1, or a threshold
+field s), spreads along its normal at c(u_+/s) with u_+ the stress ahead when the front
+arrives, and leaves u_-(u_+) behind (the 1D engine's laws, from the same Rust code). The
+arrival time T obeys |grad T| = 1/c(u_0 + v (T - t_0)), solved by second-order fast
+marching in the Rust engine ``bkwaves._core.FreeBoundary2DEngine``. See
+docs/free_boundary_2d.md.
+
+>>> import numpy as np, bkwaves as bk
+>>> p = bk.Params(gamma=0.3, v=0.0, dx=1e-2)
+>>> fb = bk.FreeBoundary2D(p, (41, 41), 0.25, 0.6, boundary="free", origin=(-5, -5))
+>>> fb.trigger(0.0, 0.0, radius=0.5)
+0
+>>> r = fb.run(max_events=1)
+>>> round(float(r.ruptures.loc[0, "area"]), 2)
+105.06
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+from . import _validate as V
+from . import noise as _noise
+from ._progress import RunProgress
+from .free_boundary import CREEP_RULES, speed_table
+from .params import Params
+
+__all__ = ["FreeBoundary2D", "FreeBoundary2DResult", "random_field"]
+
+BOUNDARIES = ("free", "periodic")
+
+
+def random_field(
+    shape, h: float, correlation_length: float, seed: int | None = None, periodic=(True, True)
+) -> np.ndarray:
+    """A zero-mean Gaussian random field on the grid of ``shape`` = (nx, ny) nodes of
+    spacing h (returned as an (ny, nx) array, like the snapshots) with a Gaussian
+    correlation of length ``correlation_length``, scaled to max |value| = 1: white noise
+    filtered in Fourier space by exp(-(k l)^2/4), periodic along an axis where
+    ``periodic`` (a pair for x, y, or one flag) says so, else drawn on a grid padded by
+    6 l and cut. Use it for correlated random initial stresses,
+    ``u0 = mean + amplitude * random_field(...)``, and threshold fields."""
+    try:
+        nx, ny = shape
+    except (TypeError, ValueError):
+        V._fail("shape", shape, "a pair (nx, ny) of node counts >= 1")
+    nx, ny = V.integer("shape", nx, lo=1), V.integer("shape", ny, lo=1)
+    h = V.number("h", h, lo=0.0, lo_open=True)
+    corr = V.number("correlation_length", correlation_length, lo=0.0, lo_open=True)
+    if isinstance(periodic, bool):
+        periodic = (periodic, periodic)
+    px, py = (V.flag("periodic", p) for p in periodic)
+    extra = int(math.ceil(6 * corr / h))
+    pad = [ny if py else ny + extra, nx if px else nx + extra]
+    rng = np.random.default_rng(seed)
+    white = rng.standard_normal(pad)
+    ky = 2 * np.pi * np.fft.fftfreq(pad[0], d=h)
+    kx = 2 * np.pi * np.fft.rfftfreq(pad[1], d=h)
+    filt = np.exp(-0.25 * corr**2 * (ky[:, None] ** 2 + kx[None, :] ** 2))
+    f = np.fft.irfft2(np.fft.rfft2(white) * filt, s=pad)[:ny, :nx]
+    f -= f.mean()
+    m = np.max(np.abs(f))
+    return f / m if m > 0 else f
+
+
+def _field(name, value, xx, yy, hi=None):
+    """A number, an (ny, nx) array or a callable f(x, y) on the grid, validated."""
+    if callable(value):
+        value = value(xx, yy)
+    a = V.array(name, np.broadcast_to(np.asarray(value, dtype=float), xx.shape).copy())
+    if hi is not None:
+        over = np.argwhere(a >= hi)
+        if over.size:
+            j, i = over[0]
+            V._fail(
+                name,
+                float(a[j, i]),
+                f"{name} < the threshold everywhere (at x = {xx[j, i]:.6g}, "
+                f"y = {yy[j, i]:.6g} it is {np.broadcast_to(hi, a.shape)[j, i]:.6g})",
+            )
+    return a
+
+
+@dataclass
+class FreeBoundary2DResult:
+    """What a two-dimensional free boundary run recorded.
+
+    ruptures: pandas DataFrame, one row per rupture: id, origin (birth, nucleation,
+        trigger), t_start, t_end (last arrival), duration, x_start, y_start, u_start,
+        n_nodes, area, moment (integral of u_+ - u_- over the area), mean_slip, perimeter,
+        n_stopped (nodes where the front stopped), n_creep, contacts (meetings with other
+        live ruptures), complete.
+    snapshots: xarray Dataset, u(t, y, x) and live(t) (running ruptures), with the
+        threshold field s(y, x) when there is one.
+    """
+
+    ruptures: object
+    snapshots: object
+    interrupted: bool = False
+    steps: int = 0
+    meta: dict = field(default_factory=dict)
+
+
+class FreeBoundary2D:
+    """The two-dimensional free boundary engine.
+
+    params: :class:`bkwaves.Params` (gamma < 1 and v are used).
+    shape: (nx, ny) nodes; h: their spacing (the same along x and y); origin: (x0, y0).
+    u0: the initial stress, a number, an (ny, nx) array or a callable u0(x, y) (x, y
+        arrays of shape (ny, nx)); below the threshold everywhere.
+    boundary: "free" or "periodic", or a pair (x axis, y axis).
+    creep, noise, seed, speed: as in :class:`bkwaves.FreeBoundary` (noise ``rate`` is per
+        unit area and time here).
+    threshold: the static threshold field s(x, y) (number, array or callable; default 1).
+    second_order: second-order upwind fast marching (default) or first order.
+    record_arrivals: keep each rupture's arrival times (:meth:`arrival_time`).
+    """
+
+    def __init__(
+        self,
+        params: Params,
+        shape,
+        h: float,
+        u0,
+        boundary="periodic",
+        *,
+        origin=(0.0, 0.0),
+        creep: str = "zero",
+        second_order: bool = True,
+        record_arrivals: bool = False,
+        noise: dict | None = None,
+        seed: int | None = None,
+        speed=None,
+        threshold=None,
+    ):
+        if not isinstance(params, Params):
+            V._fail("params", params, "a bkwaves.Params instance")
+        if params.gamma >= 1.0:
+            V._fail(
+                "gamma",
+                params.gamma,
+                "0 <= gamma < 1 (for gamma >= 1 every wave creeps: no free boundary problem)",
+            )
+        try:
+            nx, ny = shape
+        except (TypeError, ValueError):
+            V._fail("shape", shape, "a pair (nx, ny) of node counts >= 3")
+        self.nx = V.integer("shape", nx, lo=3)
+        self.ny = V.integer("shape", ny, lo=3)
+        self.h = V.number("h", h, lo=0.0, lo_open=True)
+        if isinstance(boundary, str):
+            boundary = (boundary, boundary)
+        if len(boundary) != 2 or any(b not in BOUNDARIES for b in boundary):
+            V._fail("boundary", boundary, '"free" or "periodic", or a pair of them (x, y)')
+        self.boundary = tuple(boundary)
+        if creep not in CREEP_RULES:
+            V._fail("creep", creep, '"zero" or "stop"')
+        self.creep = creep
+        self.origin = (V.number("origin", origin[0]), V.number("origin", origin[1]))
+        self.second_order = V.flag("second_order", second_order)
+        self.record_arrivals = V.flag("record_arrivals", record_arrivals)
+        self.params = params
+        self.x = self.origin[0] + self.h * np.arange(self.nx)
+        self.y = self.origin[1] + self.h * np.arange(self.ny)
+        xx, yy = np.meshgrid(self.x, self.y)
+        self.threshold = None if threshold is None else _field("threshold", threshold, xx, yy)
+        if self.threshold is not None and not np.all(self.threshold > 0):
+            V._fail("threshold", float(self.threshold.min()), "threshold > 0 everywhere")
+        u0 = _field("u0", u0, xx, yy, hi=1.0 if self.threshold is None else self.threshold)
+        self.noise = None if noise is None else _noise.check_noise(noise)
+        self.seed = _noise.noise_seed(seed, self.noise)
+        self.speed = speed_table(speed)
+        self._engine = self._new_engine(u0)
+        self._set_noise()
+        self._snap_t: list[float] = []
+        self._snap_u: list[np.ndarray] = []
+        self._snap_live: list[int] = []
+        self._take_snapshot()
+
+    def _new_engine(self, u0):
+        table = self.speed or {}
+        return _core.FreeBoundary2DEngine(
+            self.nx,
+            self.ny,
+            self.h,
+            self.origin[0],
+            self.origin[1],
+            np.ascontiguousarray(u0, dtype=float).ravel(),
+            float(self.params.gamma),
+            float(self.params.v),
+            self.boundary[0],
+            self.boundary[1],
+            self.creep,
+            self.second_order,
+            self.record_arrivals,
+            speed_u=np.array(table["u_plus"]) if table else None,
+            speed_c=np.array(table["c"]) if table else None,
+            threshold=None
+            if self.threshold is None
+            else np.ascontiguousarray(self.threshold).ravel(),
+        )
+
+    def _set_noise(self):
+        if self.noise is not None:
+            params = {k: v for k, v in self.noise.items() if k not in ("law", "rate")}
+            self._engine.set_noise(self.noise["law"], self.noise["rate"], self.seed, **params)
+
+    @property
+    def time(self) -> float:
+        """Current time of the engine."""
+        return self._engine.time
+
+    @property
+    def critical_stress(self) -> float:
+        """u_c of the front-speed law (gamma for the exact law)."""
+        return self._engine.critical_stress
+
+    def u(self) -> np.ndarray:
+        """u at the nodes now, shape (ny, nx)."""
+        return np.asarray(self._engine.u_nodes()).reshape(self.ny, self.nx)
+
+    def last_arrival(self) -> np.ndarray:
+        """The last arrival time of a front at each node, (ny, nx), NaN where none passed."""
+        return np.asarray(self._engine.last_arrival()).reshape(self.ny, self.nx)
+
+    def trigger(self, x: float, y: float, radius: float = 0.0) -> int:
+        """Start a rupture now on the disk of ``radius`` around (x, y) (at least the
+        nearest node); returns its id. Refused where a rupture is running."""
+        x, y = V.number("x", x), V.number("y", y)
+        radius = V.number("radius", radius, lo=0.0)
+        return self._engine.trigger_disk(x, y, radius)
+
+    def arrival_time(self, rupture: int) -> np.ndarray:
+        """The arrival time of rupture ``rupture`` at each node, (ny, nx), NaN outside it
+        (needs ``record_arrivals=True`` and a complete rupture)."""
+        if not self.record_arrivals:
+            V._fail("record_arrivals", False, "True to keep arrival times (FreeBoundary2D(...))")
+        nodes, times = self._engine.arrivals(V.integer("rupture", rupture, lo=0))
+        out = np.full(self.nx * self.ny, np.nan)
+        out[np.asarray(nodes, dtype=np.int64)] = times
+        return out.reshape(self.ny, self.nx)
+
+    def _take_snapshot(self):
+        t = self._engine.time
+        if self._snap_t and self._snap_t[-1] == t:
+            return
+        self._snap_t.append(t)
+        self._snap_u.append(self.u())
+        self._snap_live.append(self._engine.live)
+
+    # ------------------------------------------------------------------ run
+    def run(
+        self,
+        t_end: float | None = None,
+        *,
+        max_events: int | None = None,
+        snapshots=None,
+        progress: bool = False,
+        chunk: int = 200000,
+    ) -> FreeBoundary2DResult:
+        """Advance to ``t_end`` or until ``max_events`` more ruptures are complete.
+        ``snapshots``: an int n (n evenly spaced times up to a finite t_end) or an array
+        of times; the state is recorded at the start and the end too. Ctrl-C returns what
+        was computed (``result.interrupted``); ``run`` again continues."""
+        if t_end is None and max_events is None:
+            V._fail("t_end", None, "a finite end time, or max_events")
+        t0 = self.time
+        t_end = math.inf if t_end is None else V.number("t_end", t_end, lo=t0)
+        max_events = V.optional_integer("max_events", max_events, lo=1)
+        target = 2**62 if max_events is None else self._engine.completed + max_events
+        if snapshots is None:
+            times = np.array([], dtype=float)
+        elif V._is_int(snapshots):
+            n = V.integer("snapshots", snapshots, lo=1, hi=10**6)
+            if not math.isfinite(t_end):
+                V._fail("snapshots", snapshots, "an array of times when t_end is not given")
+            times = np.linspace(t0, t_end, n)
+        else:
+            times = np.sort(V.array("snapshots", snapshots, lo=t0).ravel())
+            if math.isfinite(t_end):
+                times = times[times <= t_end]
+        chunk = V.integer("chunk", chunk, lo=1)
+        interrupted = False
+        bar = RunProgress(
+            V.flag("progress", progress),
+            "free boundary 2D",
+            t0,
+            t_end,
+            max_events,
+            self._engine.completed,
+        )
+        try:
+            for stop in [*times.tolist(), t_end]:
+                while True:
+                    status = self._engine.advance(float(stop), chunk, target)
+                    bar.advance(self._engine.time, self._engine.completed)
+                    if status != "steps":
+                        break
+                if status == "events":
+                    break
+                if math.isfinite(stop):
+                    self._take_snapshot()
+        except KeyboardInterrupt:
+            interrupted = True
+            warnings.warn(
+                f"free boundary 2D run interrupted at t = {self.time:.6g}; "
+                "returning the results computed so far",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+        finally:
+            bar.close()
+        self._take_snapshot()
+        return self.result(interrupted=interrupted)
+
+    def result(self, interrupted: bool = False) -> FreeBoundary2DResult:
+        """The results recorded since the engine was built."""
+        import pandas as pd
+        import xarray as xr
+
+        cat = self._engine.ruptures()
+        order = [
+            "id",
+            "origin",
+            "t_start",
+            "t_end",
+            "duration",
+            "x_start",
+            "y_start",
+            "u_start",
+            "n_nodes",
+            "area",
+            "moment",
+            "mean_slip",
+            "perimeter",
+            "n_stopped",
+            "n_creep",
+            "contacts",
+            "complete",
+        ]
+        ru = pd.DataFrame({k: cat[k] for k in order})
+        meta = {
+            "engine": "free_boundary_2d",
+            "params": json.dumps(self.params.to_dict(), default=str),
+            "units": "dimensionless (paper eq. dimless)",
+            "bkwaves_version": _core.__version__,
+            "boundary": json.dumps(self.boundary),
+            "creep_rule": self.creep,
+            "grid_spacing": self.h,
+            "stencil": "second order" if self.second_order else "first order",
+            "noise": json.dumps(self.noise),
+            "seed": -1 if self.seed is None else self.seed,
+            "speed": "exact" if self.speed is None else json.dumps(self.speed),
+            "threshold": "uniform 1" if self.threshold is None else "field: variable threshold",
+        }
+        counters = self._engine.noise_counters
+        if counters is not None:
+            meta["noise_candidates"], meta["noise_nucleations"] = counters
+        data = {
+            "u": (("t", "y", "x"), np.array(self._snap_u), {"long_name": "slow field u"}),
+            "live": (("t",), np.array(self._snap_live), {"long_name": "running ruptures"}),
+        }
+        if self.threshold is not None:
+            data["threshold"] = (("y", "x"), self.threshold, {"long_name": "static threshold s"})
+        ds = xr.Dataset(
+            data,
+            coords={
+                "t": ("t", np.array(self._snap_t), {"long_name": "time", "units": "1"}),
+                "y": ("y", self.y, {"long_name": "position across", "units": "1"}),
+                "x": ("x", self.x, {"long_name": "position along the slip", "units": "1"}),
+            },
+            attrs=meta,
+        )
+        return FreeBoundary2DResult(ru, ds, interrupted, self._engine.steps, meta)
+
+    # ------------------------------------------------------------------ checkpoints
+    def _record(self) -> tuple[dict, dict]:
+        from ._checkpoint import params_record
+
+        meta = {
+            "params": params_record(self.params),
+            "shape": [self.nx, self.ny],
+            "h": self.h,
+            "origin": list(self.origin),
+            "boundary": list(self.boundary),
+            "creep": self.creep,
+            "second_order": self.second_order,
+            "record_arrivals": self.record_arrivals,
+            "noise": self.noise,
+            "seed": self.seed,
+            "speed": self.speed,
+        }
+        arrays = {
+            "engine": np.frombuffer(self._engine.checkpoint(), dtype=np.uint8),
+            "snap_t": np.asarray(self._snap_t, dtype=float),
+            "snap_u": np.asarray(self._snap_u, dtype=float).reshape(-1, self.ny, self.nx),
+            "snap_live": np.asarray(self._snap_live, dtype=np.int64),
+            "threshold": np.zeros(0) if self.threshold is None else self.threshold,
+        }
+        return meta, arrays
+
+    def save(self, path) -> None:
+        """Write a checkpoint of the whole state, snapshots included (data only, never a
+        pickle). ``FreeBoundary2D.load(path).run(...)`` continues bit for bit like the
+        uninterrupted run when it makes the same engine calls."""
+        from . import _checkpoint
+
+        _checkpoint.write(path, "free_boundary_2d", *self._record())
+
+    @staticmethod
+    def load(path) -> FreeBoundary2D:
+        """Read a checkpoint written by :meth:`save` (others are refused)."""
+        from . import _checkpoint
+        from ._checkpoint import params_from_record, restore_engine
+
+        meta, arrays = _checkpoint.read(path, "free_boundary_2d", "FreeBoundary2D.save")
+        fb = FreeBoundary2D.__new__(FreeBoundary2D)
+        fb.params = params_from_record(meta["params"])
+        fb.nx, fb.ny = (int(n) for n in meta["shape"])
+        fb.h = float(meta["h"])
+        fb.origin = tuple(float(o) for o in meta["origin"])
+        fb.boundary = tuple(meta["boundary"])
+        fb.creep = meta["creep"]
+        fb.second_order = bool(meta["second_order"])
+        fb.record_arrivals = bool(meta["record_arrivals"])
+        fb.noise, fb.seed, fb.speed = meta.get("noise"), meta.get("seed"), meta.get("speed")
+        fb.x = fb.origin[0] + fb.h * np.arange(fb.nx)
+        fb.y = fb.origin[1] + fb.h * np.arange(fb.ny)
+        th = arrays.get("threshold")
+        fb.threshold = None if th is None or th.size == 0 else np.array(th, dtype=float)
+        u0 = np.zeros((fb.ny, fb.nx)) if fb.threshold is None else 0.5 * fb.threshold
+        fb._engine = fb._new_engine(u0)
+        fb._set_noise()
+        restore_engine(fb._engine, arrays, path)
+        fb._snap_t = [float(t) for t in arrays["snap_t"]]
+        fb._snap_u = [np.array(u) for u in arrays["snap_u"]]
+        fb._snap_live = [int(n) for n in arrays["snap_live"]]
+        return fb
