@@ -23,6 +23,7 @@ __all__ = [
     "slip_causes",
     "defaults",
     "FreeBoundaryEngine",
+    "FreeBoundary2DEngine",
     "front_speed",
     "u_plus_of_speed",
     "lattice_front_speed",
@@ -230,3 +231,59 @@ class FreeBoundaryEngine:
     def shocks(self) -> dict[str, NDArray[Any]]: ...
     def events(self, start: int = 0) -> dict[str, NDArray[Any]]: ...
     def path(self, start: int = 0) -> dict[str, Any]: ...
+
+# ------------------------------------------------ free boundary in the plane (free_boundary_2d.rs)
+@final
+class FreeBoundary2DEngine:
+    def __new__(
+        cls,
+        nx: int,
+        ny: int,
+        h: float,
+        x0: float,
+        y0: float,
+        u0: NDArray[np.float64],
+        gamma: float,
+        v: float,
+        boundary_x: str = "periodic",
+        boundary_y: str = "periodic",
+        creep: str = "zero",
+        second_order: bool = True,
+        record_arrivals: bool = False,
+        speed_u: NDArray[np.float64] | None = None,
+        speed_c: NDArray[np.float64] | None = None,
+        threshold: NDArray[np.float64] | None = None,
+    ) -> FreeBoundary2DEngine: ...
+    def advance(
+        self, t_stop: float, max_steps: int, max_events: int
+    ) -> Literal["time", "steps", "events"]: ...
+    def set_noise(
+        self,
+        law: str,
+        rate: float,
+        seed: int,
+        phi0: float = ...,
+        exponent: float = ...,
+        u: list[float] = ...,
+        g: list[float] = ...,
+    ) -> None: ...
+    @property
+    def noise_counters(self) -> tuple[int, int] | None: ...
+    def trigger(self, nodes: NDArray[np.int64], times: NDArray[np.float64]) -> int: ...
+    def trigger_disk(self, x: float, y: float, radius: float) -> int: ...
+    def checkpoint(self) -> bytes: ...
+    def restore(self, data: bytes) -> None: ...
+    @property
+    def critical_stress(self) -> float: ...
+    @property
+    def time(self) -> float: ...
+    @property
+    def steps(self) -> int: ...
+    @property
+    def completed(self) -> int: ...
+    @property
+    def live(self) -> int: ...
+    def u_nodes(self) -> _F: ...
+    def last_arrival(self) -> _F: ...
+    def arrivals(self, id: int) -> tuple[NDArray[np.int64], _F]: ...
+    def ruptures(self, start: int = 0) -> dict[str, Any]: ...

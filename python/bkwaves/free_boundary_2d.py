@@ -2,8 +2,8 @@
 
 Away from fronts u_t = v; a rupture starts where u reaches the threshold (1, or a threshold
 field s), spreads along its normal at c(u_+/s) with u_+ the stress ahead when the front
-arrives, and leaves u_-(u_+) behind (the 1D engine's laws, from the same Rust code). The
-arrival time T obeys |grad T| = 1/c(u_0 + v (T - t_0)), solved by second-order fast
+arrives, and leaves ``u_-(u_+)`` behind (the 1D engine's laws, from the same Rust code).
+The arrival time T obeys ``|grad T| = 1/c(u_0 + v (T - t_0))``, solved by second-order fast
 marching in the Rust engine ``bkwaves._core.FreeBoundary2DEngine``. See
 docs/free_boundary_2d.md.
 
@@ -43,8 +43,8 @@ def random_field(
 ) -> np.ndarray:
     """A zero-mean Gaussian random field on the grid of ``shape`` = (nx, ny) nodes of
     spacing h (returned as an (ny, nx) array, like the snapshots) with a Gaussian
-    correlation of length ``correlation_length``, scaled to max |value| = 1: white noise
-    filtered in Fourier space by exp(-(k l)^2/4), periodic along an axis where
+    correlation of length ``correlation_length``, scaled to a largest absolute value of
+    1: white noise filtered in Fourier space by exp(-(k l)^2/4), periodic along an axis where
     ``periodic`` (a pair for x, y, or one flag) says so, else drawn on a grid padded by
     6 l and cut. Use it for correlated random initial stresses,
     ``u0 = mean + amplitude * random_field(...)``, and threshold fields."""
@@ -95,7 +95,8 @@ class FreeBoundary2DResult:
 
     ruptures: pandas DataFrame, one row per rupture: id, origin (birth, nucleation,
         trigger), t_start, t_end (last arrival), duration, x_start, y_start, u_start,
-        n_nodes, area, moment (integral of u_+ - u_- over the area), mean_slip, perimeter,
+        n_nodes, area, moment (integral of ``u_+ - u_-`` over the area), mean_slip,
+        perimeter,
         n_stopped (nodes where the front stopped), n_creep, contacts (meetings with other
         live ruptures), complete.
     snapshots: xarray Dataset, u(t, y, x) and live(t) (running ruptures), with the
@@ -113,14 +114,23 @@ class FreeBoundary2D:
     """The two-dimensional free boundary engine.
 
     params: :class:`bkwaves.Params` (gamma < 1 and v are used).
-    shape: (nx, ny) nodes; h: their spacing (the same along x and y); origin: (x0, y0).
+
+    shape: (nx, ny) nodes; h: their spacing (the same along x and y); origin: (x0, y0),
+        the place of node (0, 0).
+
     u0: the initial stress, a number, an (ny, nx) array or a callable u0(x, y) (x, y
         arrays of shape (ny, nx)); below the threshold everywhere.
+
     boundary: "free" or "periodic", or a pair (x axis, y axis).
+
     creep, noise, seed, speed: as in :class:`bkwaves.FreeBoundary` (noise ``rate`` is per
         unit area and time here).
-    threshold: the static threshold field s(x, y) (number, array or callable; default 1).
+
+    threshold: the static threshold field s(x, y) (number, array or callable; default
+        1 everywhere).
+
     second_order: second-order upwind fast marching (default) or first order.
+
     record_arrivals: keep each rupture's arrival times (:meth:`arrival_time`).
     """
 

@@ -1,0 +1,126 @@
+"""Cost of the two-dimensional free boundary engine per rupture, and a long run.
+
+Run: python benchmarks/bench_free_boundary_2d.py [--scaling] [--long] [--json FILE]
+  --scaling: on one 1024 x 1024 periodic grid (h = 0.25, v = 0), a disk of radius R
+      stressed to u = 0.6 in u = -0.2 is triggered at its centre; the front sweeps the
+      A ~ pi R^2/h^2 nodes of the disk and stops at its edge. CPU time of the sweep
+      (median of 5 rounds, a fresh engine each, construction not timed) for A from 1e3 to
+      8e5 nodes: time per node and per node and log2(A), as ratios to the smallest disk
+      measured in the same run (the baseline).
+  --long: a 1024 x 1024 periodic grid (h = 0.5), gamma = 0.3, v = 1e-3, creep rule
+      "stop", u0 = 0.3 x a random field of correlation length 3, noise law "power"
+      (exponent 8, rate 1 per unit area and time at u = 1), run until 1e5 ruptures are
+      complete: CPU time, ruptures, areas.
+Timed by CPU time (time.process_time() around the engine call: the machine is shared).
+Prints markdown tables; --json writes the numbers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import statistics
+import time
+
+import numpy as np
+
+import bkwaves as bk
+from bkwaves.free_boundary_2d import random_field
+
+
+def disk_sweep(n: int, h: float, radius: float) -> tuple[float, int]:
+    """CPU seconds of the sweep of a stressed disk of `radius`, and the nodes swept."""
+    x = (np.arange(n) - n // 2) * h
+    xx, yy = np.meshgrid(x, x)
+    u0 = np.where(np.hypot(xx, yy) <= radius, 0.6, -0.2)
+    fb = bk.FreeBoundary2D(
+        bk.Params(gamma=0.3, v=0.0, dx=1e-2), (n, n), h, u0, "periodic", origin=(x[0], x[0])
+    )
+    fb.trigger(0.0, 0.0)
+    t0 = time.process_time()
+    fb._engine.advance(math.inf, 2**62, 1)
+    dt = time.process_time() - t0
+    return dt, int(fb._engine.ruptures()["n_nodes"][0])
+
+
+def scaling(rounds: int = 5) -> list[dict]:
+    n, h = 1024, 0.25
+    rows = []
+    for area in (1e3, 1e4, 1e5, 8e5):
+        radius = math.sqrt(area / math.pi) * h
+        times, nodes = [], 0
+        for _ in range(rounds):
+            dt, nodes = disk_sweep(n, h, radius)
+            times.append(dt)
+        med = statistics.median(times)
+        rows.append({"area_nodes": nodes, "cpu_s": med, "per_node_ns": 1e9 * med / nodes})
+    base = rows[0]
+    for r in rows:
+        r["per_node_ratio"] = r["per_node_ns"] / base["per_node_ns"]
+        r["per_node_log_ratio"] = (
+            r["per_node_ratio"] * math.log2(base["area_nodes"]) / (math.log2(r["area_nodes"]))
+        )
+    print("| nodes swept A | CPU s (median) | ns per node | per node / smallest | "
+          "per (node log2 A) / smallest |")  # fmt: skip
+    print("|---|---|---|---|---|")
+    for r in rows:
+        print(
+            f"| {r['area_nodes']} | {r['cpu_s']:.4f} | {r['per_node_ns']:.0f} | "
+            f"{r['per_node_ratio']:.2f} | {r['per_node_log_ratio']:.2f} |"
+        )
+    return rows
+
+
+def long_run(target: int = 100_000) -> dict:
+    n, h = 1024, 0.5
+    p = bk.Params(gamma=0.3, v=1e-3, dx=1e-2)
+    u0 = 0.3 * random_field((n, n), h, 3.0, seed=1)
+    fb = bk.FreeBoundary2D(
+        p, (n, n), h, u0, "periodic", creep="stop",
+        noise={"law": "power", "rate": 1.0, "exponent": 8.0}, seed=2,
+    )  # fmt: skip
+    t0, w0 = time.process_time(), time.perf_counter()
+    status = "steps"
+    while status == "steps":
+        status = fb._engine.advance(math.inf, 50_000_000, target)
+    cpu, wall = time.process_time() - t0, time.perf_counter() - w0
+    ru = fb._engine.ruptures()
+    done = ru["complete"]
+    nodes = ru["n_nodes"][done]
+    out = {
+        "ruptures_complete": int(done.sum()),
+        "time": fb.time,
+        "cpu_s": cpu,
+        "wall_s": wall,
+        "engine_events": fb._engine.steps,
+        "noise_candidates": fb._engine.noise_counters[0],
+        "mean_nodes": float(nodes.mean()),
+        "median_nodes": float(np.median(nodes)),
+        "max_nodes": int(nodes.max()),
+        "nodes_swept": int(nodes.sum()),
+    }
+    print("| quantity | value |\n|---|---|")
+    for k, v in out.items():
+        print(f"| {k} | {v:.6g} |" if isinstance(v, float) else f"| {k} | {v} |")
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scaling", action="store_true")
+    ap.add_argument("--long", action="store_true")
+    ap.add_argument("--json")
+    a = ap.parse_args()
+    out = {}
+    if a.scaling or not a.long:
+        out["scaling"] = scaling()
+    if a.long:
+        out["long"] = long_run()
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(out, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
