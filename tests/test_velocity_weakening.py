@@ -177,6 +177,13 @@ def test_front_tolerance_and_length_are_checked():
         vw.front(0.6, 0.3, 0.1, 0.1, tolerance={"c": -1.0})
     with pytest.raises(bk.ParameterError, match="length"):
         vw.front(0.6, 0.3, 0.1, 0.1, length=1.0)
+    # only c asked for: the zone may be unmeasured on the short chains (the window blocks
+    # still slide at the end), and the report says so
+    f = vw.front(
+        0.8, 0.3, 0.1, 0.003, weakening=False, tolerance={"zone": math.inf, "u_minus": math.inf}
+    )
+    assert f.status == "steady" and f.convergence["c"] <= vw.TOLERANCE["c"]
+    assert f.convergence["zone"] is None and "unmeasured" in f.reason
 
 
 def test_cli_front_velocity_weakening_subsonic_is_converged_and_reports_the_pulse():

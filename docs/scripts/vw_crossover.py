@@ -81,7 +81,9 @@ def continuum_table() -> list[dict]:
 
 #: (gamma, u_+) at dx = 0.1 for the approach to the Coulomb chain, v_f/dx -> 0.
 SMALL = [(0.3, 0.4), (0.3, 0.6), (0.3, 0.8), (0.0, 0.6)]
-SMALL_RATIOS = (0.03, 0.01, 0.003, 0.001, 0.0003)
+#: (v_f/dx = 3e-4 costs ~1/v_f: out of reach of the converged measurement until the
+#: onset's cost is bounded, docs/benchmarks.md)
+SMALL_RATIOS = (0.03, 0.01, 0.003, 0.001)
 
 
 def small_table() -> list[dict]:

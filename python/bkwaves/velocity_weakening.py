@@ -317,10 +317,14 @@ def front(
         )
     status = "steady" if not reason else "undecided"
     if status == "steady":
+
+        def moved(k):
+            return "unmeasured" if conv[k] is None else f"{conv[k]:.1e}"
+
         reason = (
             f"converged: doubling the chain from {runs[-2]['length']:g} to "
-            f"{last['length']:g} moved c by {conv['c']:.1e}, the zone by {conv['zone']:.1e}, "
-            f"u_- by {conv['u_minus']:.1e}"
+            f"{last['length']:g} moved c by {moved('c')}, the zone by {moved('zone')}, "
+            f"u_- by {moved('u_minus')}"
         )
     weak = peak = None
     if weakening:
