@@ -202,6 +202,9 @@ def test_one_catalog_gives_one_b_through_every_route(tmp_path):
     assert rep["recurrence"]["mean"] == pytest.approx(np.diff(t).mean(), rel=1e-12)
     text = cli("stats", out).stdout
     assert f"b-value: {gr.b:.3f}" in text and "Mc = " in text
+    # one-block slips and system-size ruptures: b summarises them, no Gutenberg-Richter law
+    assert rep["b"]["fit_p"] == gr.fit_p == s["b_value_fit_p"] < 0.05
+    assert "not a Gutenberg-Richter law above Mc" in text
     from bkwaves import plot
 
     title = plot.frequency_magnitude(rup.moment[rup.complete]).get_title()

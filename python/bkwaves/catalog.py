@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .stats import MAGNITUDE_DEFINITION, moment_magnitude
+from .stats import FIT_P_MIN, MAGNITUDE_DEFINITION, moment_magnitude
 
 __all__ = [
     "MOMENT_DEFINITION",
@@ -232,6 +232,7 @@ def summary_scalars(stats: dict) -> dict:
         "b_value_lo": b.lo,
         "b_value_hi": b.hi,
         "m_c": b.m_c,
+        "b_value_fit_p": b.fit_p,
         "b_value_note": b.reason or "",
     }
 
@@ -290,6 +291,7 @@ def report(out) -> dict:
             "confidence": b.confidence,
             "m_c": _finite(b.m_c),
             "n": b.n,
+            "fit_p": _finite(b.fit_p),
             "reason": b.reason,
             "method": b.method,
         },
@@ -327,6 +329,11 @@ def report_text(rep: dict) -> str:
             f"[{b['lo']:.3f}, {b['hi']:.3f}] (bootstrap), Mc = {b['m_c']:.2f} (maximum "
             f"curvature + 0.2), {b['n']} {what} above Mc"
         )
+        if b["fit_p"] is not None and b["fit_p"] < FIT_P_MIN:
+            lines.append(
+                f"  not a Gutenberg-Richter law above Mc (Kolmogorov-Smirnov p = "
+                f"{b['fit_p']:.2g}): b summarises the catalog, it is no power-law exponent"
+            )
     r = rep["recurrence"]
     lines.append(f"recurrence (between successive starts): mean {g(r['mean'])}, CV {g(r['cv'])}")
     big = rep["largest"]

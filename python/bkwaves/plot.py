@@ -345,6 +345,7 @@ def _b_title(gr) -> str:
         return (
             f"b = {gr.b:.2f} [{gr.lo:.2f}, {gr.hi:.2f}] ({round(100 * gr.confidence)} %), "
             f"Mc = {gr.m_c:.2f}, n = {gr.n}"
+            + ("" if gr.fits else f"; not Gutenberg-Richter (KS p = {gr.fit_p:.2g})")
         )
     return f"n = {gr.n_total}: no b-value ({gr.reason.split(':')[0]})"
 

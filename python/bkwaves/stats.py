@@ -28,6 +28,7 @@ __all__ = [
     "MC_CORRECTION",
     "MIN_EVENTS",
     "MIN_SPREAD",
+    "FIT_P_MIN",
     "BValue",
     "GutenbergRichter",
     "gutenberg_richter",
@@ -108,6 +109,9 @@ MC_BIN = 0.1
 MC_CORRECTION = 0.2
 #: Fewest events above Mc for a b: Aki's relative error 1/sqrt(n) is 14 % at n = 50.
 MIN_EVENTS = 50
+#: Below this Kolmogorov-Smirnov p-value the magnitudes above Mc are reported as not
+#: following a Gutenberg-Richter law (b is still given: it then summarises the catalog).
+FIT_P_MIN = 0.05
 #: Smallest standard deviation of the magnitudes above Mc for a b: a Gutenberg-Richter law
 #: spreads them by sd = log10(e)/b, 0.01 only at b = 43; less is a catalog of one size.
 MIN_SPREAD = 0.01
@@ -162,26 +166,37 @@ class GutenbergRichter:
     m_max: float
     dm: float = 0.0
     reason: str | None = None
+    fit_p: float = math.nan  # KS p-value of the Gutenberg-Richter law above Mc
     magnitude: str = MAGNITUDE_DEFINITION
     method: str = (
         "Aki-Utsu maximum likelihood b = log10(e)/(mean(M) - (Mc - dm/2)) over M >= Mc; "
         "Mc by maximum curvature (bins of 0.1) + 0.2; interval: bootstrap percentiles "
-        "(Mc and b recomputed on each resample)"
+        "(Mc and b recomputed on each resample); fit: Kolmogorov-Smirnov p-value of the "
+        "exponential law of M - Mc with the fitted b (Lilliefors, by simulation)"
     )
 
     @property
     def ok(self) -> bool:
         return self.reason is None
 
+    @property
+    def fits(self) -> bool:
+        """Whether the magnitudes above Mc are consistent with a Gutenberg-Richter law
+        (KS p >= :data:`FIT_P_MIN`; True when untested: binned magnitudes)."""
+        return not self.fit_p < FIT_P_MIN
+
     def text(self) -> str:
         """One line: the b with its interval and Mc, or why there is none."""
         if not self.ok:
             return f"no b-value: {self.reason}"
         pct = round(100 * self.confidence)
-        return (
+        out = (
             f"b = {self.b:.3g} [{self.lo:.3g}, {self.hi:.3g}] ({pct} %), Mc = {self.m_c:.3g}, "
             f"n = {self.n} of {self.n_total}"
         )
+        if not self.fits:
+            out += f"; not a Gutenberg-Richter law above Mc (KS p = {self.fit_p:.2g})"
+        return out
 
     def to_dict(self) -> dict:
         from dataclasses import asdict
@@ -207,6 +222,30 @@ def _b_rows(mags, dm: float, k0: int, w: float):
     return np.where(n >= 2, b, np.nan)
 
 
+def _ks_exponential(x):
+    """Kolmogorov-Smirnov distance of each row of ``x`` (>= 0) from the exponential law of
+    its own mean."""
+    x = np.sort(x, axis=-1)
+    n = x.shape[-1]
+    f = -np.expm1(-x / x.mean(axis=-1, keepdims=True))
+    i = np.arange(1, n + 1)
+    return np.maximum((i / n - f).max(axis=-1), (f - (i - 1) / n).max(axis=-1))
+
+
+def _fit_p(excess, rng, sims: int = 400) -> float:
+    """p-value of the exponential law for ``excess`` = M - Mc, its rate fitted: the share
+    of ``sims`` simulated exponential samples of the same size (rate refitted on each:
+    Lilliefors' test; the law of D does not depend on the rate) at least as far from
+    their fitted law."""
+    d = float(_ks_exponential(excess[None, :])[0])
+    n = excess.size
+    per = max(1, 4_000_000 // n)
+    ds = []
+    for start in range(0, sims, per):
+        ds.append(_ks_exponential(rng.exponential(1.0, (min(per, sims - start), n))))
+    return float((np.sum(np.concatenate(ds) >= d) + 1) / (sims + 1))
+
+
 def gutenberg_richter(
     moment=None,
     *,
@@ -225,7 +264,10 @@ def gutenberg_richter(
     width; 0 for continuous magnitudes, as a simulation's); the ``confidence`` interval
     from ``n_boot`` bootstrap resamples of the whole catalog, Mc chosen anew on each (a
     fixed ``seed``: the same catalog always gets the same interval). Shi & Bolt's sigma
-    is given beside it.
+    is given beside it. ``fit_p`` tests the law itself: the Kolmogorov-Smirnov p-value of
+    the exponential distribution of M - Mc with the fitted b (Lilliefors, by simulation;
+    continuous magnitudes only); below :data:`FIT_P_MIN` the text says the catalog is not
+    a Gutenberg-Richter law above Mc, and b only summarises it.
 
     No b (NaN, with ``reason``) for fewer than :data:`MIN_EVENTS` events above Mc, or
     magnitudes above Mc spread by less than :data:`MIN_SPREAD` (events of one size, e.g.
@@ -280,6 +322,7 @@ def gutenberg_richter(
     b = LOG10_E / (mean - lo_edge)
     sigma_sb = 2.3 * b * b * math.sqrt(float(np.sum((sel - mean) ** 2)) / (n * (n - 1)))
     lo = hi = nan
+    fit_p = _fit_p(sel - m_c, np.random.default_rng([seed, 1])) if dm == 0 else nan
     if n_boot:
         rng = np.random.default_rng(seed)
         k, w, _ = _mode_bins(m, dm)
@@ -301,6 +344,7 @@ def gutenberg_richter(
         sigma_shi_bolt=sigma_sb,
         m_c=m_c,
         n=n,
+        fit_p=fit_p,
         **base,
     )
 
