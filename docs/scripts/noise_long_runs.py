@@ -136,23 +136,18 @@ def sizes(length=1000.0, t_end=1e6, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96):
     rup = ns.ruptures(fb.run(t_end=t_end))
     burn = 2 * (u_star + 0.1) / v  # two loadings
     per, rup = per[per.t_start > burn], rup[rup.t_start > burn]
-    mags = {
-        k: bk.stats.magnitudes(r.moment.to_numpy(), "moment")
-        for k, r in (("chain", per), ("fb", rup))
-    }
-    m_c = float(np.median(np.concatenate(list(mags.values()))))
     print(f"ring of length {length} ({n} blocks), gamma = {gamma}, v = {v}, t = {burn:g}-{t_end:g}")
     print(f"  open chain events: {chain_result.catalog.t_end.isna().sum()}")
-    for name, r, m in (("chain", per, mags["chain"]), ("free boundary", rup, mags["fb"])):
-        b = bk.stats.b_value(m, m_c)
+    for name, r in (("chain", per), ("free boundary", rup)):
+        # the estimator of every bkwaves b (docs/usage.md "Event statistics")
+        b = bk.stats.gutenberg_richter(r.moment.to_numpy())
         q = np.percentile(r.swept, [10, 50, 90])
         print(
             f"  {name}: {len(r)} ruptures ({r.spontaneous.mean():.2f} spontaneous), rate "
             f"{len(r) / (t_end - burn):.3e} +- {math.sqrt(len(r)) / (t_end - burn):.1e}; u_start "
             f"{r.u_start.mean():.4f} (sd {r.u_start.std():.4f}); swept 10/50/90 % "
             f"{q[0]:.0f}/{q[1]:.0f}/{q[2]:.0f}, mean {r.swept.mean():.1f}; mean slip "
-            f"{(r.moment / r.swept).mean() * DX:.4f}; b (M >= {m_c:.2f}) = {b.b:.2f} "
-            f"+- {b.sigma_aki:.2f}"
+            f"{(r.moment / r.swept).mean():.4f}; {b.text()}"
         )
         # the k-th rupture of its loading (a new loading after a gap of over 0.3 u_star / v)
         t = r.t_start.to_numpy()

@@ -51,14 +51,14 @@ DESCRIPTIONS = {
     "moment": MOMENT_DEFINITION,
     "magnitude": MAGNITUDE_DEFINITION,
     "t_start": "nucleation time: start of the first slip",
-    "t_end": "end of the last slip (NaN: still slipping when the run stopped)",
+    "t_end": "end of the last slip (not finite: still slipping when the run stopped)",
     "duration": "t_end - t_start",
     "x_start": "nucleation place",
     "swept": "extent: length of chain that slipped (chain: blocks times dx; free "
     "boundary: grid nodes reset times the grid spacing)",
     "kind": "what started it: threshold (u - u_xx reached the static threshold), noise "
-    "(a spontaneous slip), trigger (a configured kick or release), initial (a shock of "
-    "the initial state)",
+    "(a spontaneous slip), trigger (a configured kick or release), initial (sliding in "
+    "the initial state: a chain block moving at t = 0, a shock given at the start)",
     "spontaneous": "started by noise",
     "u_start": "stress u where it started",
     "event": "the event (catalog row) it belongs to",
