@@ -246,3 +246,14 @@ def test_a_degenerate_catalog_gets_no_b_anywhere(tmp_path):
 def test_stats_command_refuses_a_missing_output(tmp_path):
     r = cli("stats", tmp_path / "nothing.nc")
     assert r.returncode == 2 and "output not found" in r.stderr
+
+
+def test_stats_command_refuses_a_sweep_store(tmp_path):
+    import xarray as xr
+
+    store = tmp_path / "sweep.zarr"
+    xr.Dataset({"c": ("u_plus", [1.1, 1.2])}, attrs={"bkwaves_sweep": "bkwaves-sweep 1"}).to_zarr(
+        store
+    )
+    r = cli("stats", store)
+    assert r.returncode == 2 and "OUT" in r.stderr and "not a sweep store" in r.stderr

@@ -252,9 +252,15 @@ def report(out) -> dict:
     (mean and CV of the times between successive starts) and the largest one, over the
     ruptures when the output has them (:func:`statistics`). JSON-ready (NaN -> None)."""
     import json
+    from pathlib import Path
 
     from .io import load_tables
+    from .plot import _is_sweep
 
+    if _is_sweep(Path(out)):
+        from ._validate import _fail
+
+        _fail("OUT", str(out), "a run output (.nc or .zarr of bkwaves run), not a sweep store")
     ds, tables = load_tables(out)
     events, ruptures = tables.get("events"), tables.get("ruptures")
     st = statistics(events, ruptures)
@@ -266,7 +272,7 @@ def report(out) -> dict:
         params = {}
     units = (cat.attrs.get("units", {}) if cat is not None else {}).get("moment")
     b = st["b"]
-    t = ds["t"].values
+    t = ds["t"].values if "t" in ds.coords else np.array([])
     return {
         "out": str(out),
         "model": attrs.get("model"),
