@@ -94,15 +94,16 @@ def test_gutenberg_richter_recovers_b_within_its_interval(b):
     assert abs(naive - b) > 3 * (est.hi - est.lo)
 
 
-def test_gutenberg_richter_interval_covers_b_at_its_confidence():
+@pytest.mark.parametrize("b", [0.8, 1.0, 1.5])
+def test_gutenberg_richter_interval_covers_b_at_its_confidence(b):
     # over independent catalogs the 95 % interval holds the true b in about 95 % of them
     rng = np.random.default_rng(5)
     hits = []
-    for _ in range(200):
-        est = stats.gutenberg_richter(magnitudes=incomplete_gr(1.0, 400, rng), n_boot=300)
-        hits.append(est.lo <= 1.0 <= est.hi)
-    # binomial sd at p = 0.95, 200 catalogs: 0.015
-    assert 0.9 <= np.mean(hits) <= 0.99
+    for _ in range(160):
+        est = stats.gutenberg_richter(magnitudes=incomplete_gr(b, 400, rng), n_boot=300)
+        hits.append(est.lo <= b <= est.hi)
+    # binomial sd at p = 0.95, 160 catalogs: 0.017
+    assert 0.89 <= np.mean(hits) <= 0.995
 
 
 def test_gutenberg_richter_binned_magnitudes_use_utsu_correction():
