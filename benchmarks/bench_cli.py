@@ -1,4 +1,6 @@
-"""Start-up time of the command line (issue 12: a command line that answers at once).
+"""Start-up time of the command line (issue 12: a command line that answers at once), and
+what the first result of a call costs beyond its own work (issue 27: `bkwaves front` and
+`Chain.run` must not pay for xarray/dask/pandas they do not use).
 
 Run: python benchmarks/bench_cli.py [--repeat N] [--before PYTHONPATH]
 Every command is a fresh interpreter (subprocess); the rounds interleave the commands so
@@ -19,6 +21,11 @@ import sys
 import time
 
 PY = sys.executable
+# a first result of the Python API: a short front in a small chain, reading its counters
+CHAIN_RUN = (
+    "import bkwaves as bk; ch = bk.Chain(200, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6); "
+    "ch.kick(0, -2.0); r = ch.run(t_end=5.0, progress=False); r.counters"
+)
 BASELINES = {
     "python -c pass": [PY, "-c", "pass"],
     'python -c "import numpy"': [PY, "-c", "import numpy"],
@@ -28,6 +35,14 @@ BKWAVES = {
     "bkwaves --help": [PY, "-m", "bkwaves", "--help"],
     "bkwaves speed 0.5 --json": [PY, "-m", "bkwaves", "speed", "0.5", "--json"],
     "bkwaves run --help": [PY, "-m", "bkwaves", "run", "--help"],
+    "bkwaves front --u-plus 0.6 --gamma 0.3 --dx 0.05 --json": [
+        PY,
+        "-m",
+        "bkwaves",
+        "front",
+        *("--u-plus", "0.6", "--gamma", "0.3", "--dx", "0.05", "--json"),
+    ],
+    "Chain.run (200 blocks, a kick, t_end = 5)": [PY, "-c", CHAIN_RUN],
 }
 
 
@@ -90,7 +105,7 @@ def main():
             f"| {cpu[k] * 1e3:.0f} ms | {wall[k] / wall[base]:.2f} "
             f"| {wall[k] / wall[np_base]:.2f} | {cpu[k] / cpu[np_base]:.2f} |"
         )
-    for k in ("bkwaves --help", "bkwaves speed 0.5 --json"):
+    for k in ("bkwaves --help", "bkwaves speed 0.5 --json", *list(BKWAVES)[-2:]):
         print(f"\nlargest top-level imports of `{k}` (python -X importtime, ms):")
         for ms, name in top_imports(BKWAVES[k]):
             print(f"  {ms:8.1f}  {name}")

@@ -349,3 +349,82 @@ def test_plot_gives_no_b_value_for_a_small_catalog():
     assert "b =" not in ax.get_title() and "too few" in ax.get_title()
     ax = plot.size_frequency(10 ** rng.exponential(1.0, 400))
     assert ax.get_title().startswith("b = ")
+
+
+def _paper_cli(*args):
+    return subprocess.run(
+        [sys.executable, "-m", "bkwaves", "paper", "--quick", *map(str, args)],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+
+
+def test_paper_refuses_a_users_report(tmp_path):
+    """`bkwaves paper -o DIR` never replaces a file it did not write: refused before any
+    work without --overwrite, and with it too (no record that bkwaves wrote it)."""
+    mine = tmp_path / "report.md"
+    mine.write_text("my notes\n")
+    (tmp_path / "data.csv").write_text("1,2\n")
+    for extra in ([], ["--overwrite"]):
+        r = _paper_cli("-o", tmp_path, *extra)
+        assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
+        line = r.stderr.strip()
+        assert line.startswith("Error: ") and "\n" not in line and "report.md" in line
+        assert ("--overwrite" in line) != bool(extra)
+        assert "not written by bkwaves" in line or not extra
+    assert mine.read_text() == "my notes\n" and (tmp_path / "data.csv").read_text() == "1,2\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["data.csv", "report.md"]
+
+
+def test_paper_output_is_recorded_and_guarded(paper):
+    """What `bkwaves paper` wrote is in its manifest with checksums; a second run into the
+    folder is refused without --overwrite, and a file the user changed since is refused
+    with it."""
+    import hashlib
+
+    from bkwaves.paper import MANIFEST, output_files
+
+    out, _ = paper
+    doc = json.loads((out / MANIFEST).read_text())
+    assert sorted(doc["files"]) == sorted(output_files())
+    for name, digest in doc["files"].items():
+        assert hashlib.sha256((out / name).read_bytes()).hexdigest() == digest
+    r = _paper_cli("-o", out)
+    assert r.returncode == 2 and "--overwrite" in r.stderr and "Traceback" not in r.stderr
+    html = out / "report.html"
+    before = html.read_bytes()
+    try:
+        html.write_bytes(before + b"<!-- my edit -->")
+        r = _paper_cli("-o", out, "--overwrite")
+        assert r.returncode == 2 and "report.html" in r.stderr and "changed since" in r.stderr
+        assert html.read_bytes().endswith(b"<!-- my edit -->")
+    finally:
+        html.write_bytes(before)
+
+
+def test_owned_files_replace_only_their_own(tmp_path):
+    """The policy behind `bkwaves paper`: a recorded, unchanged file is replaced with
+    overwrite; a user's file beside it is untouched; a user's file in the way is not."""
+    from bkwaves._core import ParameterError
+    from bkwaves._paths import OwnedFiles
+
+    (tmp_path / "notes.txt").write_text("mine")
+    a = OwnedFiles(tmp_path, "m.json", command="test")
+    a.claim(["f.txt"], overwrite=False)
+    a.write("f.txt", lambda p: p.write_text("one"))
+    with pytest.raises(ParameterError, match="--overwrite"):
+        OwnedFiles(tmp_path, "m.json", command="test").claim(["f.txt"], overwrite=False)
+    b = OwnedFiles(tmp_path, "m.json", command="test")
+    b.claim(["f.txt", "g.txt"], overwrite=True)
+    b.write("f.txt", lambda p: p.write_text("two"))
+    assert (tmp_path / "f.txt").read_text() == "two"
+    (tmp_path / "g.txt").write_text("the user's")
+    with pytest.raises(ParameterError, match="g.txt"):
+        OwnedFiles(tmp_path, "m.json", command="test").claim(["f.txt", "g.txt"], True)
+    (tmp_path / "m.json").write_text("not a manifest")
+    (tmp_path / "g.txt").unlink()
+    with pytest.raises(ParameterError, match="m.json"):
+        OwnedFiles(tmp_path, "m.json", command="test").claim(["f.txt"], True)
+    assert (tmp_path / "notes.txt").read_text() == "mine"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.txt", "m.json", "notes.txt"]

@@ -150,9 +150,6 @@ class ChainResult:
 
     params: Params
     t: float
-    catalog: object
-    slips: object
-    snapshots: object
     energy: dict
     counters: dict
     interrupted: bool = False
@@ -162,6 +159,30 @@ class ChainResult:
     u: np.ndarray = field(default=None, repr=False)
     u_t: np.ndarray = field(default=None, repr=False)
     boundary: str | None = None
+    #: the builders of catalog, slips and snapshots (pandas, xarray), called on first use
+    #: so that a run that reads neither does not import them (docs/benchmarks.md)
+    _build: dict = field(default_factory=dict, repr=False, compare=False)
+    _built: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def _get(self, name: str):
+        if name not in self._built:
+            self._built[name] = self._build[name]()
+        return self._built[name]
+
+    @property
+    def catalog(self):
+        """One row per event (pandas DataFrame; units in ``catalog.attrs["units"]``)."""
+        return self._get("catalog")
+
+    @property
+    def slips(self):
+        """Every slip interval of every block (pandas DataFrame)."""
+        return self._get("slips")
+
+    @property
+    def snapshots(self):
+        """u(t, x), u_t(t, x) at the snapshot times (xarray Dataset, with attrs)."""
+        return self._get("snapshots")
 
     def first_slip_times(self, event: int | None = None) -> np.ndarray:
         """First slip time of every block (NaN if it did not slip), optionally within
@@ -514,30 +535,42 @@ class Chain:
 
     # --- outputs -------------------------------------------------------------------
     def _result(self, stop, interrupted, wall) -> ChainResult:
-        import pandas as pd
-
         eng = self._engine
         p = self.params
-        cat = pd.DataFrame(eng.catalog())
-        cat["duration"] = cat["t_end"] - cat["t_start"]
-        cat["moment"] = cat["moment"] * p.dx  # int slip dx (the core sums block slips)
-        describe(cat)
-        cat.attrs["units"] = {
-            "t_start": UNITS["t"],
-            "t_end": UNITS["t"],
-            "duration": UNITS["t"],
-            "moment": "1",  # scaled as attrs["scales"] says, as in every route's catalog
-            "stress_drop": "f_r - f_s (mean over slipped blocks)",
-        }
-        cat.attrs["scales"] = {"moment": MOMENT_SCALE}
-        slips = pd.DataFrame(eng.slips())
-        slips.insert(2, "x", slips["block"] * p.dx)
-        slips.attrs["units"] = {k: UNITS["t"] for k in ("t_start", "t_end")} | {
-            "x": UNITS["x"],
-            "u_start": UNITS["u"],
-            "u_end": UNITS["u"],
-            "slip": UNITS["slip"],
-        }
+        # the engine's records now (the chain may run on); tables and Dataset on first use
+        raw_catalog, raw_slips = eng.catalog(), eng.slips()
+        snapshots = self._snapshots_builder()
+
+        def catalog():
+            import pandas as pd
+
+            cat = pd.DataFrame(raw_catalog)
+            cat["duration"] = cat["t_end"] - cat["t_start"]
+            cat["moment"] = cat["moment"] * p.dx  # int slip dx (the core sums block slips)
+            describe(cat)
+            cat.attrs["units"] = {
+                "t_start": UNITS["t"],
+                "t_end": UNITS["t"],
+                "duration": UNITS["t"],
+                "moment": "1",  # scaled as attrs["scales"] says, as in every route's catalog
+                "stress_drop": "f_r - f_s (mean over slipped blocks)",
+            }
+            cat.attrs["scales"] = {"moment": MOMENT_SCALE}
+            return cat
+
+        def slips():
+            import pandas as pd
+
+            df = pd.DataFrame(raw_slips)
+            df.insert(2, "x", df["block"] * p.dx)
+            df.attrs["units"] = {k: UNITS["t"] for k in ("t_start", "t_end")} | {
+                "x": UNITS["x"],
+                "u_start": UNITS["u"],
+                "u_end": UNITS["u"],
+                "slip": UNITS["slip"],
+            }
+            return df
+
         kin, coup, load = eng.energy()
         led = eng.ledger()
         e1 = kin + coup + load
@@ -561,9 +594,6 @@ class Chain:
         return ChainResult(
             params=p,
             t=self.t,
-            catalog=cat,
-            slips=slips,
-            snapshots=self._snapshots(),
             energy=energy,
             counters=self._counters(),
             interrupted=interrupted,
@@ -573,6 +603,7 @@ class Chain:
             u=eng.u(),
             u_t=eng.u_t(),
             boundary=self.boundary,
+            _build={"catalog": catalog, "slips": slips, "snapshots": snapshots},
         )
 
     def _counters(self) -> dict:
@@ -583,56 +614,62 @@ class Chain:
             c["noise_candidates"], c["noise_slips"] = noise
         return c
 
-    def _snapshots(self):
-        import xarray as xr
-
+    def _snapshots_builder(self):
+        """A function building the snapshots Dataset from the records and settings of now
+        (the chain may go on running): xarray is imported when it is called."""
         from . import __version__
 
         t, u, ut = self._engine.snapshots()
         p = self.params
         x = np.arange(self.n) * p.dx
-        ds = xr.Dataset(
-            {
-                "u": (("t", "x"), u, {"units": UNITS["u"], "long_name": "stress u"}),
-                "u_t": (("t", "x"), ut, {"units": UNITS["u_t"], "long_name": "du/dt"}),
-            },
-            coords={
-                "t": ("t", t, {"units": UNITS["t"]}),
-                "x": ("x", x, {"units": UNITS["x"]}),
-                "block": ("x", np.arange(self.n)),
-            },
-        )
         params = {k: v for k, v in p.to_dict().items() if k != "units"}
         law, law_values = self._engine.friction()
-        ds.attrs.update(
-            {
-                "params": repr(params),
-                "gamma": p.gamma,
-                "v": p.v,
-                "dx": p.dx,
-                "beta": p.beta,
-                "friction": p.friction,
-                "friction_law": law,
-                **{f"friction_{k}": x for k, x in law_values.items()},
-                "properties": ", ".join(k for k, x in self.properties.items() if x is not None)
-                or "uniform",
-                "boundary": self.boundary,
-                **self.integration_attrs(),
-                "units": repr(UNITS),
-                "version": __version__,
-                "seed": "none" if self.seed is None else int(self.seed),
-                "noise": json.dumps(self.noise),
-            }
+        attrs = {
+            "params": repr(params),
+            "gamma": p.gamma,
+            "v": p.v,
+            "dx": p.dx,
+            "beta": p.beta,
+            "friction": p.friction,
+            "friction_law": law,
+            **{f"friction_{k}": x for k, x in law_values.items()},
+            "properties": ", ".join(k for k, x in self.properties.items() if x is not None)
+            or "uniform",
+            "boundary": self.boundary,
+            **self.integration_attrs(),
+            "units": repr(UNITS),
+            "version": __version__,
+            "seed": "none" if self.seed is None else int(self.seed),
+            "noise": json.dumps(self.noise),
+        }
+        return lambda: _snapshot_dataset(t, u, ut, x, self.n, p, attrs)
+
+
+def _snapshot_dataset(t, u, ut, x, n, p, attrs):
+    """The snapshots as an xarray Dataset (see ChainResult.snapshots)."""
+    import xarray as xr
+
+    ds = xr.Dataset(
+        {
+            "u": (("t", "x"), u, {"units": UNITS["u"], "long_name": "stress u"}),
+            "u_t": (("t", "x"), ut, {"units": UNITS["u_t"], "long_name": "du/dt"}),
+        },
+        coords={
+            "t": ("t", t, {"units": UNITS["t"]}),
+            "x": ("x", x, {"units": UNITS["x"]}),
+            "block": ("x", np.arange(n)),
+        },
+    )
+    ds.attrs.update(attrs)
+    if p.units is not None:
+        un = p.units
+        ds = ds.assign_coords(
+            t_si=("t", un.time(t), {"units": "s"}),
+            x_si=("x", un.length(x), {"units": "m"}),
         )
-        if p.units is not None:
-            un = p.units
-            ds = ds.assign_coords(
-                t_si=("t", un.time(t), {"units": "s"}),
-                x_si=("x", un.length(x), {"units": "m"}),
-            )
-            ds["X"] = (("t", "x"), un.displacement(u), {"units": "m"})
-            ds.attrs["physical"] = repr(un)
-        return ds
+        ds["X"] = (("t", "x"), un.displacement(u), {"units": "m"})
+        ds.attrs["physical"] = repr(un)
+    return ds
 
 
 def _property(name, value, n):

@@ -156,18 +156,37 @@ def _json(d, **kw) -> str:
     return json.dumps(d, **kw)
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one clean line on stderr (no file path or source line)."""
+    text = " ".join(str(message).split())
+    _echo(f"Warning: {text}", err=True)
+
+
 def _fail(err: Exception):
     _echo(f"Error: {err}", err=True)
     sys.exit(2)
 
 
 def _check_plot(plot: Path | None) -> None:
-    """Refuse a --plot file of a format bkwaves does not write, before any work."""
+    """Refuse, before any work, a --plot file of a format bkwaves does not write or in a
+    place it cannot write."""
     if plot is not None:
+        from ._paths import check_writable
         from .plot import check_path
 
         try:
-            check_path(plot, "--plot")
+            check_writable(check_path(plot, "--plot"), "--plot")
+        except ParameterError as e:
+            _fail(e)
+
+
+def _check_out(path: Path | None, name: str, *, directory: bool = False) -> None:
+    """Refuse, before any work, an output bkwaves cannot write (exit status 2)."""
+    if path is not None:
+        from ._paths import check_writable
+
+        try:
+            check_writable(path, name, directory=directory)
         except ParameterError as e:
             _fail(e)
 
@@ -305,7 +324,16 @@ def _check_dict(check) -> dict:
 def paper(args) -> None:
     from .paper import reproduce
 
-    rep = reproduce(args.out, quick=args.quick, progress=not args.quiet and not args.json_out)
+    _check_out(args.out, "-o", directory=True)
+    try:
+        rep = reproduce(
+            args.out,
+            quick=args.quick,
+            progress=not args.quiet and not args.json_out,
+            overwrite=args.overwrite,
+        )
+    except ParameterError as e:
+        _fail(e)
     verdicts = {}
     for c in rep.claims:
         verdicts[c.verdict] = verdicts.get(c.verdict, 0) + 1
@@ -351,7 +379,13 @@ PAPER = Command(
     "paper",
     paper,
     "Regenerate the paper's figures and a claim-by-claim validation report in OUT.",
-    "Regenerate the paper's figures and a claim-by-claim validation report in OUT.",
+    """Regenerate the paper's figures and a claim-by-claim validation report in OUT.
+
+    OUT gets one PNG and one PDF per figure, report.md, report.html and
+    bkwaves-paper.json (what bkwaves wrote there, with checksums). An OUT that already
+    holds one of these files is refused unless --overwrite; even then only files bkwaves
+    wrote and nobody changed since are replaced, and other files in OUT are never
+    touched. An OUT that cannot be written is refused before any work.""",
     [
         opt(
             "-o",
@@ -360,6 +394,12 @@ PAPER = Command(
             default=Path("bkwaves-paper"),
             metavar="OUT",
             help="Output directory.",
+        ),
+        opt(
+            "--overwrite",
+            flag=True,
+            help="Replace the files an earlier `bkwaves paper` wrote in OUT (only those, "
+            "and only if unchanged since).",
         ),
         opt(
             "--quick",
@@ -376,6 +416,12 @@ PAPER = Command(
 
 # ---------------------------------------------------------------------------------------
 # run
+
+
+def _time_text(summary) -> str:
+    """The time a run reached, with its unit: ``2e-06 s``, or ``60 (dimensionless)``."""
+    unit = "s" if summary.units == "SI" else "(dimensionless)"
+    return f"{summary.t:.6g} {unit}"
 
 
 def run(args) -> int | None:
@@ -423,8 +469,8 @@ def run(args) -> int | None:
     if summary.interrupted:
         name = summary.extra.get("signal") or "SIGINT"
         _echo(
-            f"{summary.model}: interrupted by {name} at t = {summary.t:.6g} "
-            f"({summary.units}): kept {_count(summary.snapshots, 'snapshot')} and "
+            f"{summary.model}: interrupted by {name} at t = {_time_text(summary)}: kept "
+            f"{_count(summary.snapshots, 'snapshot')} and "
             f"{_count(summary.events, 'event')} in {summary.out}.partial; continue with "
             f"`bkwaves run --resume {summary.out}`",
             err=True,
@@ -434,7 +480,7 @@ def run(args) -> int | None:
     if not args.json_out:
         state = "stopped (an event does not end)" if runaway else "done"
         _echo(
-            f"{summary.model}: {state} at t = {summary.t:.6g} ({summary.units}), "
+            f"{summary.model}: {state} at t = {_time_text(summary)}, "
             f"{_count(summary.events, 'event')}, "
             f"{_count(summary.extra.get('ruptures', 0), 'rupture')}, "
             f"{_count(summary.snapshots, 'snapshot')}, {summary.wall_s:.2f} s -> {summary.out}"
@@ -459,7 +505,17 @@ RUN = Command(
     for bit like an uninterrupted run. A full disk keeps what was written (exit status 1).
     An event that does not end (creep, steady sliding; bounds run.max_event_slips and
     run.max_event_duration) stops the run with everything kept (exit status 3).
-    See docs/usage.md for the schema.""",
+
+    Paths: -o is relative to the working directory; paths written in the config
+    ([output] path, [initial] path) are relative to the config file's folder, as in
+    `bkwaves sweep`.
+
+    An initial state over the static threshold (e.g. [initial] value = 1.5): the
+    chain's blocks where u - Lap u/dx^2 >= 1 slide from t = 0 (a chain can be
+    overloaded); the free-boundary model refuses u >= 1, naming the key (its field is the
+    stress of stuck blocks). [friction] laws other than coulomb run in the chain only. Snapshots
+    every dt are taken at t_k = k dt, the last one at t_end when t_end is a multiple of
+    dt (to 1e-9 dt). See docs/usage.md for the schema.""",
     [
         opt(
             "config",
@@ -506,6 +562,7 @@ RUN = Command(
 def plot(args) -> None:
     from .plot import plot_run
 
+    _check_out(args.outdir, "-o", directory=True)
     try:
         files = plot_run(args.out, args.outdir, fmt=args.format)
     except (ParameterError, ConvergenceError) as e:
@@ -607,6 +664,16 @@ def _front_law(args):
 
     given = {k: getattr(args, f"law_{k}") for k in _LAW_PARAMS}
     given = {k: x for k, x in given.items() if x is not None}
+    own = {d["name"]: {p["name"] for p in d["params"]} for d in _LAWS}
+    for k in given:
+        if args.law in own and k not in own[args.law]:
+            laws = [r["law"] for r in _LAW_PARAMS[k]]
+            flag = "--" + k.replace("_", "-")
+            now = "" if args.law == _core.defaults()["law"] else f" instead of --law {args.law}"
+            raise ParameterError(
+                f"{flag} is a parameter of the friction law {' or '.join(laws)}, not of "
+                f"{args.law}: add --law {laws[0]}{now}"
+            )
     return Law(args.law, tuple(given.items()))
 
 
@@ -722,6 +789,7 @@ FRONT = Command(
 def sweep(args) -> int | None:
     from .sweeps import sweep as run_sweep
 
+    _check_out(args.out, "-o", directory=True)
     try:
         r = run_sweep(
             args.sweep_file,
@@ -759,7 +827,9 @@ SWEEP = Command(
     """A parameter sweep on Dask: every point of SWEEP.toml's axes is one task, the
     summaries go into one Zarr store (an xarray Dataset indexed by the axes) as points
     finish. Re-running computes only the points not yet done; Ctrl-C keeps every
-    finished point. See docs/sweeps.md for the schema.""",
+    finished point. -o is relative to the working directory, [output] path (and the
+    default SWEEP.zarr) to the sweep file's folder, as in `bkwaves run`. See
+    docs/sweeps.md for the schema.""",
     [
         opt(
             "sweep_file",
@@ -830,8 +900,11 @@ def main(argv: list[str] | None = None) -> None:
     """The entry point: parse ``argv`` (default: the process's), run the command, exit with
     its status (0 done, 1 a full disk, 2 bad input, 3 an event that does not end (runaway),
     130/143 interrupted by SIGINT/SIGTERM)."""
+    import warnings
+
     # pictures are written to files: draw off-screen unless the user chose a backend
     os.environ.setdefault("MPLBACKEND", "Agg")
+    warnings.showwarning = _show_warning
     argv = sys.argv[1:] if argv is None else list(argv)
     top = _main_parser()
     try:
@@ -854,6 +927,11 @@ def main(argv: list[str] | None = None) -> None:
     except BrokenPipeError:  # e.g. `bkwaves speed ... | head -1`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         sys.exit(1)
+    except OSError as e:  # a file that could not be read or written: one line, no traceback
+        from ._paths import os_error_line
+
+        _echo(f"Error: {os_error_line(e)}", err=True)
+        sys.exit(2)
     sys.exit(status or 0)
 
 

@@ -605,6 +605,15 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     seed = _cfg(doc, "seed", "", None)
     title = _cfg(doc, "title", "", "")
     params = _params(doc)
+    if model == "free_boundary" and params.law.name != "coulomb":
+        phys = doc.get("physical")
+        key = "physical.V_f" if isinstance(phys, dict) and "V_f" in phys else "friction.law"
+        _err(
+            key,
+            f"friction law {params.law.name!r}: the free boundary model is the continuum "
+            "limit of the chain with Coulomb friction (its front speed c(u_+) is the Coulomb "
+            'tip problem\'s); other laws run in the chain model (model = "chain")',
+        )
 
     d = _table(doc.get("domain", {}), "domain")
     if model == "chain":
@@ -687,6 +696,9 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     out_path = _cfg(o, "path", "output", None)
     if out_path is not None and not out_path:
         _err("output.path", "expected a file name, got ''")
+    if out_path is not None and base_dir is not None and not Path(out_path).is_absolute():
+        # like initial.path (and a sweep's output.path): relative to the config's folder
+        out_path = str(base_dir / out_path)
     # physical configs: convert times and lengths to the paper's units (unless the
     # document says its values are dimensionless already, as RunConfig.to_dict writes)
     input_units = _cfg(
@@ -706,9 +718,18 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
                     else initial.correlation_length
                 ),
                 "bumps": tuple(Bump(b.center / ls, b.width / ls, b.height) for b in initial.bumps),
+                "velocity": _speed_units(initial.velocity, vs, "initial.velocity"),
             }
         )
-        triggers = [Trigger(t.time / ts, t.block, t.kind, t.velocity / vs) for t in triggers]
+        triggers = [
+            Trigger(
+                t.time / ts,
+                t.block,
+                t.kind,
+                _speed_units(t.velocity, vs, f"triggers[{i}].velocity"),
+            )
+            for i, t in enumerate(triggers)
+        ]
         length /= ls
         t_end = None if t_end is None else t_end / ts
         if max_event_duration is not None:
@@ -772,6 +793,20 @@ MIDPOINT_CONTRACTION = 0.8
 
 #: [run] keys of the chain model only.
 CHAIN_RUN_KEYS = ("max_event_slips", "max_event_duration", "step", "integrator", "step_tolerance")
+
+
+def _speed_units(value: float, scale: float, key: str) -> float:
+    """A block speed given in m/s as the chain's u_t units (value / scale), within the
+    engine's range |u_t| <= U_LIMIT; else an error naming ``key`` with both values."""
+    x = value / scale
+    if not abs(x) <= U_LIMIT:
+        _err(
+            key,
+            f"invalid {key.rsplit('.', 1)[-1]} = {value:.6g} m/s: that is {x:.6g} in the "
+            f"chain's speed units ({scale:.6g} m/s each), beyond the engine's |u_t| <= "
+            f"{U_LIMIT:g}: allowed |{key.rsplit('.', 1)[-1]}| <= {U_LIMIT * scale:.6g} m/s",
+        )
+    return x
 
 
 def _check_integration(step, integrator, step_tolerance) -> None:
@@ -1038,7 +1073,9 @@ def initial_state(cfg: RunConfig) -> np.ndarray:
         _err(
             key,
             f"the initial state reaches u = {u[i]:.6g} >= 1 at x = {x[i]:.6g}: the free "
-            "boundary model needs u < 1 (the static threshold) everywhere",
+            "boundary model needs u < 1 (the static threshold) everywhere (its field is the "
+            'stress of stuck blocks; a chain over the threshold slides at once: model = "chain" '
+            "runs it)",
         )
     if thr is not None and np.any(u >= thr):
         i = int(np.argmax(u - thr))

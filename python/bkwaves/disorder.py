@@ -46,14 +46,28 @@ DISTRIBUTIONS = {
 }
 
 
+def check_seed(seed, name: str = "seed") -> int | list[int]:
+    """A seed of numpy's generator as bkwaves takes it: an integer 0 <= seed < 2**64 or a
+    non-empty sequence of such integers (a float, even 2.0, is refused, never truncated)."""
+    allowed = "an integer 0 <= seed < 2**64, or a non-empty list of such integers"
+    if isinstance(seed, list | tuple | np.ndarray):
+        items = list(np.asarray(seed, dtype=object).ravel())
+        if not items:
+            V._fail(name, seed, allowed)
+        return [check_seed(x, name) for x in items]  # type: ignore[misc]
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or not 0 <= seed < 2**64:
+        V._fail(name, seed, allowed)
+    return int(seed)
+
+
 def draw(distribution: str, n: int, *, mean: float = 1.0, spread: float, seed) -> np.ndarray:
     """n values drawn from ``distribution`` (``DISTRIBUTIONS``) with ``numpy``'s default
-    generator seeded by ``seed`` (an int or a sequence of ints)."""
+    generator seeded by ``seed`` (an int or a sequence of ints, :func:`check_seed`)."""
     if distribution not in DISTRIBUTIONS:
         V._fail("distribution", distribution, "one of " + ", ".join(DISTRIBUTIONS))
     mean = V.number("mean", mean, lo=0.0, lo_open=True)
     spread = V.number("spread", spread, lo=0.0)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     if distribution == "uniform":
         if spread >= mean:
             V._fail("spread", spread, f"0 <= spread < mean = {mean} (positive values)")
@@ -67,7 +81,9 @@ def property_seed(seed: int, name: str) -> list[int]:
     """The seed of property ``name`` in a config with ``seed``: its own stream."""
     from .chain import PROPERTIES
 
-    return [int(seed), 1 + PROPERTIES.index(name)]
+    if name not in PROPERTIES:
+        V._fail("name", name, "one of " + ", ".join(PROPERTIES))
+    return [check_seed(seed), 1 + PROPERTIES.index(name)]
 
 
 # --- the front in a disordered chain (docs/disorder.md) ---------------------------------
@@ -85,7 +101,7 @@ def thresholds(n: int, sigma: float, *, distribution: str = "uniform", seed=0) -
     if distribution not in NOISE:
         V._fail("distribution", distribution, "one of " + ", ".join(NOISE))
     sigma = V.number("sigma", sigma, lo=0.0)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     if distribution == "uniform":
         if sigma * np.sqrt(3.0) >= 1.0:
             V._fail("sigma", sigma, "0 <= sigma < 1/sqrt(3) (uniform thresholds stay > 0)")

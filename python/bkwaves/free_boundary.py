@@ -285,6 +285,14 @@ class FreeBoundary:
                 "0 < dx < 1 (the free boundary model is the continuum limit dx -> 0 of the "
                 "chain; dx maps its results to blocks)",
             )
+        if params.law.name != "coulomb":
+            V._fail(
+                "params",
+                f"friction law {params.law.name!r}",
+                "Coulomb friction: the free boundary model is the continuum limit of the "
+                "chain with Coulomb friction (its front speed is the Coulomb tip problem's); "
+                "other laws run in bkwaves.Chain",
+            )
         spec = V.FREE_BOUNDARY
         boundary = spec["boundary"].check(boundary)
         creep = spec["creep"].check(creep)

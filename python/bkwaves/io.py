@@ -332,9 +332,20 @@ class RunWriter:
         if existing or leftovers:
             names = ", ".join(p.name for p in existing + leftovers)
             if not overwrite:
+                # --resume only where it can work: an unfinished run that left a checkpoint
+                resumable = self.partial.exists() and checkpoint_path(self.path).exists()
+                if resumable:
+                    hint = "; or continue its unfinished run with --resume"
+                elif self.partial.exists():
+                    hint = (
+                        " (its unfinished run left no checkpoint to resume from; "
+                        "bkwaves.io.finalize publishes what it wrote)"
+                    )
+                else:
+                    hint = ""
                 raise ParameterError(
                     f"output {self.path} exists ({names}): pass --overwrite (overwrite=True) "
-                    "to replace it, or --resume to continue its run"
+                    f"to replace it{hint}"
                 )
             foreign = [p for p in existing + leftovers if not _is_ours(p, self.path)]
             if foreign:

@@ -142,7 +142,7 @@ def noise_seed(seed, noise):
 def rate_density(u, noise: dict):
     """Lambda(u) of a ``[noise]`` table (numpy-vectorised in u)."""
     noise = check_noise(noise)
-    u = np.asarray(u, dtype=float)
+    u = V.array("u", u)
     if noise["law"] == "constant":
         g = np.ones_like(u)
     elif noise["law"] == "exponential":

@@ -1715,22 +1715,43 @@ FINDINGS = [
 ]
 
 
-#: Figure builders: name -> callable(outdir, quick, name) -> (written paths, caption).
-def _save(fig, outdir: Path, name: str) -> list[Path]:
+#: The formats every figure is written in.
+FIGURE_FORMATS = ("png", "pdf")
+
+#: The manifest of what `bkwaves paper` wrote in its folder (file names and SHA-256):
+#: `--overwrite` replaces only those files, unchanged since (bkwaves._paths.OwnedFiles).
+MANIFEST = "bkwaves-paper.json"
+
+
+def _save(fig, out, name: str) -> list[Path]:
+    """Write ``fig`` as ``name``.png and .pdf into ``out`` (an OwnedFiles, or a folder),
+    each file whole (written beside, then renamed)."""
+    from ._paths import OwnedFiles, write_atomic
+
     paths = []
-    for ext in ("png", "pdf"):
-        p = outdir / f"{name}.{ext}"
-        fig.savefig(p, dpi=150)
-        paths.append(p)
-    plt.close(fig)
+    try:
+        for ext in FIGURE_FORMATS:
+
+            def draw(p, ext=ext):
+                fig.savefig(p, dpi=150, format=ext)
+
+            fname = f"{name}.{ext}"
+            if isinstance(out, OwnedFiles):
+                paths.append(out.write(fname, draw))
+            else:
+                paths.append(write_atomic(Path(out) / fname, draw))
+    finally:
+        plt.close(fig)
     return paths
 
 
+#: Figure builders: name -> callable(out, quick, name) -> (written paths, caption), ``out``
+#: an OwnedFiles (or a folder) handed to _save.
 def _panels(builder, n: int = 1):
     """A figure builder: ``n`` panels side by side handed to ``builder(ax_or_axes[,
     quick])``, which returns the caption; saved as PNG and PDF."""
 
-    def make(outdir, quick, name):
+    def make(out, quick, name):
         width = {1: 6.0, 2: 11.0, 3: 15.5}[n]
         fig, axes = plt.subplots(
             1, n, figsize=(width, 4.0 if n == 1 else 4.2), constrained_layout=True
@@ -1739,7 +1760,7 @@ def _panels(builder, n: int = 1):
             caption = builder(axes, quick)
         else:
             caption = builder(axes)
-        return _save(fig, outdir, name), caption
+        return _save(fig, out, name), caption
 
     return make
 
@@ -1765,10 +1786,30 @@ BEYOND_INTRO = (
 )
 
 
-def reproduce(outdir, *, quick: bool = False, progress: bool = True) -> Report:
-    """Regenerate the figures and the validation report in ``outdir``."""
+def output_files() -> list[str]:
+    """The names of the files :func:`reproduce` writes into its folder."""
     from .paper_beyond import BEYOND_FIGURES
 
+    figures = [f"{n}.{ext}" for n in (*FIGURES, *BEYOND_FIGURES) for ext in FIGURE_FORMATS]
+    return [*figures, "report.md", "report.html"]
+
+
+def reproduce(
+    outdir, *, quick: bool = False, progress: bool = True, overwrite: bool = False
+) -> Report:
+    """Regenerate the figures and the validation report in ``outdir``.
+
+    Like ``bkwaves run``, nothing a user owns is replaced: before any work, an ``outdir``
+    that cannot be written, or that already holds one of the files this writes
+    (:func:`output_files`), is refused with a ParameterError, unless ``overwrite``; even
+    then only files an earlier ``reproduce`` wrote and nobody changed since (recorded
+    with their SHA-256 in ``outdir/bkwaves-paper.json``) are replaced. Other files in
+    ``outdir`` are never touched. Every file is written whole (beside, then renamed)."""
+    from ._paths import OwnedFiles
+    from .paper_beyond import BEYOND_FIGURES
+
+    out = OwnedFiles(outdir, MANIFEST, command="bkwaves paper")
+    out.claim(output_files(), overwrite)
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
@@ -1789,9 +1830,9 @@ def reproduce(outdir, *, quick: bool = False, progress: bool = True) -> Report:
     try:
         for kind, name, fn in steps:
             if kind == "figure":
-                report.figures[name], report.captions[name] = fn(outdir, quick, name)
+                report.figures[name], report.captions[name] = fn(out, quick, name)
             elif kind == "beyond":
-                report.beyond[name], report.captions[name] = fn(outdir, quick, name)
+                report.beyond[name], report.captions[name] = fn(out, quick, name)
             else:
                 res = fn(quick)
                 report.claims.extend(res if isinstance(res, list) else [res])
@@ -1802,6 +1843,7 @@ def reproduce(outdir, *, quick: bool = False, progress: bool = True) -> Report:
             bar.stop()
     report.findings += _CACHE.get("findings", [])
     report.seconds = time.perf_counter() - t0
-    (outdir / "report.md").write_text(report.to_markdown())
-    (outdir / "report.html").write_text(report.to_html())
+    md, page = report.to_markdown(), report.to_html()
+    out.write("report.md", lambda p: p.write_text(md, encoding="utf-8"))
+    out.write("report.html", lambda p: p.write_text(page, encoding="utf-8"))
     return report

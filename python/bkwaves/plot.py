@@ -413,7 +413,10 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
         from ._validate import _fail
 
         _fail("fmt", fmt, " or ".join(repr(f) for f in FORMATS))
+    from ._paths import check_writable
+
     out = Path(out)
+    check_writable(outdir if outdir is not None else out.parent, "outdir", directory=True)
     if _is_sweep(out):
         return plot_sweep(out, outdir, fmt)
     ds, tables = load_tables(out)
@@ -480,13 +483,17 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
 @_styled
 def save(ax, path) -> Path:
     """Save the figure of ``ax`` to ``path`` (format from the suffix: one of
-    :data:`FORMATS`) and close it."""
+    :data:`FORMATS`) and close it. The file is written whole (beside, then renamed)."""
     import matplotlib.pyplot as plt
 
+    from ._paths import write_atomic
+
     path = check_path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    ax.figure.savefig(path)
-    plt.close(ax.figure)
+    fmt = path.suffix.lower().lstrip(".")
+    try:
+        write_atomic(path, lambda p: ax.figure.savefig(p, format=fmt))
+    finally:
+        plt.close(ax.figure)
     return path
 
 

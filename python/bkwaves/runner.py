@@ -237,14 +237,23 @@ class _Units:
         return df, units, scales
 
 
+#: Relative tolerance (in units of output.snapshot_every) within which the last snapshot
+#: time k dt is taken to be t_end: 3 x 0.1 is 0.30000000000000004 > 0.3.
+SNAPSHOT_TOLERANCE = 1e-9
+
+
 def _snapshot_times(cfg: RunConfig) -> np.ndarray:
+    """t_k = k dt (never accumulated), k = 0, 1, ..., through t_end: a t_k within
+    SNAPSHOT_TOLERANCE dt of t_end (rounding: 3 x 0.1 > 0.3) is t_end itself."""
     if cfg.snapshot_every is None:
         return np.array([], dtype=float)
+    dt = cfg.snapshot_every
     if cfg.t_end is None:
         # open-ended by events: snapshot times far enough ahead, from the initial state
-        return np.arange(0, 10**6) * cfg.snapshot_every
-    n = int(math.floor(cfg.t_end / cfg.snapshot_every * (1 + 1e-12)))
-    return cfg.snapshot_every * np.arange(n + 1)
+        return np.arange(0, 10**6) * dt
+    n = int(math.floor(cfg.t_end / dt + SNAPSHOT_TOLERANCE))
+    times = dt * np.arange(n + 1)
+    return np.minimum(times, cfg.t_end)
 
 
 def _attrs(cfg: RunConfig, units: _Units) -> dict:
@@ -350,8 +359,9 @@ def resume(
 
     with _StopRequest():
         state = _read_checkpoint(out)
-        base = Path(state["base_dir"]) if state["base_dir"] else None
-        cfg = parse_config(state["config"], base_dir=base)
+        # the recorded config holds its paths resolved against its folder already
+        # (state["base_dir"]): joined again, a relative one would point elsewhere
+        cfg = parse_config(state["config"])
         return run(
             cfg,
             out,

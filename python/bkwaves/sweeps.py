@@ -779,6 +779,9 @@ def sweep(
     out = Path(out)
     if out.suffix != ".zarr":
         raise ParameterError(f"invalid out = {str(out)!r}: a path ending in .zarr")
+    from ._paths import check_writable
+
+    check_writable(out, "out", directory=True)
     if workers is not None and (
         isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
     ):
