@@ -671,7 +671,7 @@ def _front_law(args):
             flag = "--" + k.replace("_", "-")
             now = "" if args.law == _core.defaults()["law"] else f" instead of --law {args.law}"
             raise ParameterError(
-                f"{flag} is a parameter of the friction law {' or '.join(laws)}, not of "
+                f"{flag} ({k}) is a parameter of the friction law {' or '.join(laws)}, not of "
                 f"{args.law}: add --law {laws[0]}{now}"
             )
     return Law(args.law, tuple(given.items()))
