@@ -62,7 +62,7 @@ def check_seed(seed, name: str = "seed") -> int | list[int]:
 
 def draw(distribution: str, n: int, *, mean: float = 1.0, spread: float, seed) -> np.ndarray:
     """n values drawn from ``distribution`` (``DISTRIBUTIONS``) with ``numpy``'s default
-    generator seeded by ``seed`` (an int or a sequence of ints, :func:`check_seed`)."""
+    generator seeded by ``seed`` (an int or a sequence of ints, checked by ``check_seed``)."""
     if distribution not in DISTRIBUTIONS:
         V._fail("distribution", distribution, "one of " + ", ".join(DISTRIBUTIONS))
     mean = V.number("mean", mean, lo=0.0, lo_open=True)

@@ -1801,7 +1801,7 @@ def reproduce(
 
     Like ``bkwaves run``, nothing a user owns is replaced: before any work, an ``outdir``
     that cannot be written, or that already holds one of the files this writes
-    (:func:`output_files`), is refused with a ParameterError, unless ``overwrite``; even
+    (``output_files()``), is refused with a ParameterError, unless ``overwrite``; even
     then only files an earlier ``reproduce`` wrote and nobody changed since (recorded
     with their SHA-256 in ``outdir/bkwaves-paper.json``) are replaced. Other files in
     ``outdir`` are never touched. Every file is written whole (beside, then renamed)."""
