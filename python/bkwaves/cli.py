@@ -405,7 +405,7 @@ PAPER = Command(
             "--quick",
             flag=True,
             help="Smaller, coarser runs for the tests (fewer laps, periods, events and seeds): "
-            "about 12 s of CPU against 95 s for the full run, same figures and checks "
+            "about 20 s of CPU against 200 s for the full run, same figures and checks "
             "(docs/benchmarks.md).",
         ),
         QUIET,
