@@ -129,23 +129,42 @@ UNITS = {
 
 @dataclass
 class ChainResult:
-    """What :meth:`Chain.run` returns.
+    """What :meth:`Chain.run` returns. Units: ``UNITS`` (the paper's, eq. dimless).
 
-    catalog: one row per event (first slip to last re-stick): t_start, t_end, duration,
-    nucleation block, first/last block slipped, n_blocks, n_slips, moment (int slip dx =
-    dx times the sum of the block slips, :mod:`bkwaves.catalog`),
-    stress_drop, kind (what started its first slip: ``SLIP_CAUSES``, e.g. "threshold",
-    "trigger"); ``catalog.attrs["units"]``.
-    slips: every slip interval of every block (the slip-front trajectories): event,
-    block, x, direction, t_start, t_end, u_start, u_end, slip, kind.
-    snapshots: xarray Dataset with u(t, x) and u_t(t, x) and attrs (params, units,
-    version, seed).
-    energy: initial and final energy, the flows and the balance residual.
-    interrupted: True when the run was stopped by Ctrl-C (everything up to then is kept).
-    stop: why the run ended: "time", "events", "interrupted" or "long_event" (an event
-    exceeded ``max_event_slips`` or ``max_event_duration``: see
-    :class:`~bkwaves.chain.RunawayEventWarning`).
-    boundary: the chain's boundary condition (one of ``BOUNDARIES``).
+    Attributes
+    ----------
+    params : bkwaves.Params
+        The chain's parameters.
+    t : float
+        Time reached.
+    catalog : pandas.DataFrame
+        One row per event (first slip to last re-stick): t_start, t_end, duration,
+        nucleation block, first/last block slipped, n_blocks, n_slips, moment (int slip
+        dx = dx times the sum of the block slips, :mod:`bkwaves.catalog`), stress_drop,
+        kind (what started its first slip: ``SLIP_CAUSES``, e.g. "threshold",
+        "trigger"); ``catalog.attrs["units"]``.
+    slips : pandas.DataFrame
+        Every slip interval of every block (the slip-front trajectories): event, block,
+        x, direction, t_start, t_end, u_start, u_end, slip, kind.
+    snapshots : xarray.Dataset
+        u(t, x) and u_t(t, x) with attrs (params, units, version, seed).
+    energy : dict
+        Initial and final energy, the flows and the balance residual.
+    counters : dict
+        The engine's work counters (steps, events, ...).
+    interrupted : bool
+        True when the run was stopped by Ctrl-C (everything up to then is kept).
+    stop : {"time", "events", "interrupted", "long_event"}
+        Why the run ended ("long_event": an event exceeded ``max_event_slips`` or
+        ``max_event_duration``, see :class:`~bkwaves.chain.RunawayEventWarning`).
+    wall_s : float
+        Wall time of the run [s].
+    seed : int or None
+        The seed recorded with the chain.
+    u, u_t : numpy.ndarray
+        The final state.
+    boundary : str
+        The chain's boundary condition (one of ``BOUNDARIES``).
     """
 
     params: Params
@@ -185,8 +204,18 @@ class ChainResult:
         return self._get("snapshots")
 
     def first_slip_times(self, event: int | None = None) -> np.ndarray:
-        """First slip time of every block (NaN if it did not slip), optionally within
-        one event: the slip-front trajectory x(t)."""
+        """First slip time of every block: the slip-front trajectory x(t).
+
+        Parameters
+        ----------
+        event : int, optional
+            Only the slips of this event (catalog row); default: all.
+
+        Returns
+        -------
+        numpy.ndarray
+            One time per block, NaN for a block that did not slip.
+        """
         n = len(self.u)
         out = np.full(n, np.nan)
         s = self.slips
@@ -198,30 +227,75 @@ class ChainResult:
 
 
 class Chain:
-    """A chain of ``n`` blocks with Coulomb friction and viscous damping.
+    """A chain of ``n`` blocks with Coulomb friction and viscous damping (Sec. II).
 
-    params: :class:`bkwaves.Params` (gamma, v, dx, beta; SI units if built with
-    ``Params.from_physical``). boundary: one of ``BOUNDARIES``. u0: initial u (scalar or
-    n values), u_t0: initial velocities (default v: all stuck; blocks with u_t != v
-    start sliding). step: time step as a fraction of dx. integrator: ``"rk4"`` (default,
-    error ~ step^4) or ``"midpoint"`` (error ~ step^2, energy balance exact to round-off).
-    step_tolerance: step-size control (rk4 only; default None: the fixed step): the step
-    grows above ``step`` dx, up to RK4's stability limit, where the step's error indicator
-    stays below it; 1e-12 matches the default step's accuracy (docs/chain.md, "Step-size
-    control"). It pays where the whole chain creeps (e.g. loading runs at gamma = 0.45).
-    seed: recorded in the outputs (use it to build u0, e.g.
-    :func:`~bkwaves.chain.smooth_random_stress`); the noise generator's seed (default
-    with noise: drawn at random and recorded).
-    noise: spontaneous slips of stuck blocks, a ``[noise]`` table as a dict: ``law``
-    ("constant", "exponential" with ``phi0``, "power" with ``exponent``, "table" with
-    nodes ``u`` and values ``g``, piecewise linear in x), ``rate`` (slips
-    per block and unit time at the threshold: each stuck block slips at rate g(x),
-    x = 1 - (threshold - phi)), ``kick`` (forward speed over the ground; default 0: a
-    release). Their slips and events have kind "noise" (docs/noise.md).
-    threshold, mass, loader, coupling: per-block properties (``PROPERTIES``), each a
-    scalar or an array (one per block; ``coupling`` one per bond: n - 1 free, n + 1
-    fixed, n periodic), in units of the reference values of ``params``; default 1 (the
-    paper's chain, bit for bit). See docs/chain.md for the equations.
+    Simulated event by event: stuck blocks drift with the loader exactly, sliding blocks
+    obey eq. (slide), and every stick and slip is located in time. Variables are the
+    paper's dimensionless ones (eq. dimless; ``UNITS``), SI through ``params.units``
+    when ``params`` was built by :meth:`bkwaves.Params.from_physical`.
+
+    Parameters
+    ----------
+    n : int
+        Number of blocks (>= 2).
+    params : bkwaves.Params
+        gamma, v, dx, beta and the friction law.
+    boundary : {"free", "fixed", "periodic"}
+        The ends (``BOUNDARIES``): no spring beyond them, springs to walls, or a ring.
+    u0 : float or array_like
+        Initial stress u of every block (scalar or n values).
+    u_t0 : float or array_like, optional
+        Initial velocities du/dt (default v: all stuck; blocks with u_t != v start
+        sliding).
+    step : float, default 0.05
+        Time step as a fraction of dx (h = step dx).
+    fixed : (float, float), optional
+        ``"fixed"`` boundary: the walls' u at t = 0 (default: the end blocks' initial u).
+    seed : int, optional
+        Recorded in the outputs (use it to build u0, e.g.
+        :func:`~bkwaves.chain.smooth_random_stress`); the noise generator's seed (default
+        with noise: drawn at random and recorded).
+    integrator : {"rk4", "midpoint"}
+        ``"rk4"`` (default, error ~ step^4) or ``"midpoint"`` (error ~ step^2, energy
+        balance exact to round-off).
+    step_tolerance : float, optional
+        Step-size control (rk4 only; default None: the fixed step): the step grows above
+        ``step`` dx, up to RK4's stability limit, where the step's error indicator stays
+        below it; 1e-12 matches the default step's accuracy (docs/chain.md, "Step-size
+        control"). It pays where the whole chain creeps (e.g. loading runs at
+        gamma = 0.45).
+    noise : dict, optional
+        Spontaneous slips of stuck blocks, a ``[noise]`` table as a dict: ``law``
+        ("constant", "exponential" with ``phi0``, "power" with ``exponent``, "table" with
+        nodes ``u`` and values ``g``, piecewise linear in x), ``rate`` (slips per block
+        and unit time at the threshold: each stuck block slips at rate g(x),
+        x = 1 - (threshold - phi)), ``kick`` (forward speed over the ground; default 0:
+        a release). Their slips and events have kind "noise" (docs/noise.md).
+    threshold, mass, loader, coupling : float or array_like, optional
+        Per-block properties (``PROPERTIES``), each a scalar or an array (one per block;
+        ``coupling`` one per bond: n - 1 free, n + 1 fixed, n periodic), in units of the
+        reference values of ``params``; default 1 (the paper's chain, bit for bit). See
+        docs/chain.md for the equations.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        A parameter out of range, named with the allowed range.
+
+    See Also
+    --------
+    bkwaves.chain.front : the standard front experiment.
+    bkwaves.run : a run described by a config, with outputs.
+
+    Examples
+    --------
+    A front through a chain at rest under u = 0.6 (v = 0), started by kicking block 0:
+
+    >>> import bkwaves as bk
+    >>> ch = bk.Chain(400, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6)
+    >>> res = ch.kick(0, -2.0).run(t_end=20.0)
+    >>> int(res.catalog.loc[0, "last_block"]), res.stop
+    (248, 'time')
     """
 
     def __init__(
@@ -397,7 +471,30 @@ class Chain:
 
     # --- triggers ------------------------------------------------------------------
     def kick(self, block: int, du_t: float, t: float = 0.0) -> Chain:
-        """Add du_t to block's u_t at time t (negative: a forward kick)."""
+        """Schedule a kick: add du_t to the block's u_t at time t.
+
+        Parameters
+        ----------
+        block : int
+            The block, 0 <= block < n.
+        du_t : float
+            Change of du/dt, in units of (f_r - f_s)/sqrt(k_p m); negative is a forward
+            kick (u falls as the block moves forward).
+        t : float, default 0
+            When (>= the chain's time).
+
+        Returns
+        -------
+        Chain
+            The chain itself, so calls chain: ``ch.kick(0, -2.0).run(...)``.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> ch = bk.Chain(50, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6).kick(0, -2.0)
+        >>> ch.run(t_end=1.0).slips["kind"].iloc[0]
+        'trigger'
+        """
         block = self._block(block)
         du_t = V.number("du_t", du_t, lo=-1e6, hi=1e6)
         t = V.number("t", t, lo=self.t)
@@ -405,7 +502,22 @@ class Chain:
         return self
 
     def release(self, block: int, t: float = 0.0, direction: int = 1) -> Chain:
-        """Let block start sliding (forward for direction=+1, backward for -1) at time t."""
+        """Schedule a release: the block starts sliding at time t with no kick.
+
+        Parameters
+        ----------
+        block : int
+            The block, 0 <= block < n.
+        t : float, default 0
+            When (>= the chain's time).
+        direction : {1, -1}
+            Forward (+1) or backward (-1, needs a finite ``params.beta``).
+
+        Returns
+        -------
+        Chain
+            The chain itself.
+        """
         block = self._block(block)
         t = V.number("t", t, lo=self.t)
         direction = V.direction("direction", direction)
@@ -455,16 +567,49 @@ class Chain:
     ) -> ChainResult:
         """Advance to ``t_end`` or until ``max_events`` more events have finished.
 
-        snapshots: times (>= now) at which u, u_t are recorded (from the integrator's
-        dense output, exact for stuck blocks); snapshot_every: also at the end of every
-        k-th event. progress: a progress bar (default: on when stderr is a terminal).
         Ctrl-C stops the run and returns what was computed (``interrupted=True``).
         An event may never end (creep at gamma >= 1; steady sliding; a pulse circulating
         on a ring, re-exciting the reloaded blocks): when the running event exceeds
-        ``max_event_slips`` slips (default: 100 per block) or lasts longer than
-        ``max_event_duration`` (default: 100 sound crossings of the chain) the run stops
-        with ``stop="long_event"``, a :class:`~bkwaves.chain.RunawayEventWarning` naming
-        the regime, and everything computed so far.
+        ``max_event_slips`` slips or lasts longer than ``max_event_duration`` the run
+        stops with ``stop="long_event"``, a :class:`~bkwaves.chain.RunawayEventWarning`
+        naming the regime, and everything computed so far.
+
+        Parameters
+        ----------
+        t_end : float, default inf
+            End time (dimensionless, >= now); inf needs ``max_events``.
+        max_events : int, optional
+            Stop once this many more events have finished.
+        snapshots : array_like, optional
+            Times (>= now) at which u and u_t are recorded (from the integrator's dense
+            output, exact for stuck blocks).
+        snapshot_every : int, default 0
+            Also a snapshot at the end of every k-th event (0: none).
+        progress : bool, optional
+            A progress bar (default: on when stderr is a terminal).
+        chunk_steps : int, default 20000
+            Engine steps between checks for Ctrl-C and progress.
+        max_event_slips : int, optional
+            Slips after which a running event counts as runaway (default 100 per block).
+        max_event_duration : float, optional
+            Duration after which it does (default 100 sound crossings of the chain).
+
+        Returns
+        -------
+        ChainResult
+            Catalog, slips, snapshots, energy books, and why the run stopped.
+
+        Examples
+        --------
+        A front with snapshots; the energy books close (energy injected by the kick and
+        the loader = energy change + dissipation) to the integrator's accuracy, here
+        about 1e-7 of energies of order 10 (``integrator="midpoint"``: to round-off):
+
+        >>> import bkwaves as bk
+        >>> ch = bk.Chain(200, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6).kick(0, -2.0)
+        >>> res = ch.run(t_end=10.0, snapshots=[5.0, 10.0])
+        >>> res.snapshots["u"].shape, abs(res.energy["residual"]) < 1e-6
+        ((2, 200), True)
         """
         spec = V.CHAIN
         if t_end is None or (V._is_real(t_end) and t_end == math.inf):

@@ -847,11 +847,40 @@ def finalize(path) -> Path:
 
 
 def load(path):
-    """Open a run output: returns ``(dataset, catalog)``: the snapshots as an xarray
-    Dataset and the event catalog as a pandas DataFrame (None if the run wrote none),
-    with its column units in ``catalog.attrs["units"]``. Without a published output the
-    records of an unfinished run (``OUT.partial/``) are read, up to the last committed
-    one, with a warning. Other tables: :func:`~bkwaves.io.load_tables`."""
+    """Open a run output (what ``bkwaves run`` or ``bk.run(cfg, out)`` wrote).
+
+    Without a published output the records of an unfinished run (``OUT.partial/``) are
+    read, up to the last committed one, with a warning. Other tables:
+    :func:`~bkwaves.io.load_tables`.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The output, ``OUT.nc`` or ``OUT.zarr``.
+
+    Returns
+    -------
+    dataset : xarray.Dataset
+        The snapshots, with the config, version, seed and units in its attributes.
+    catalog : pandas.DataFrame or None
+        The event catalog (None if the run wrote none), its column units in
+        ``catalog.attrs["units"]``.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = {"model": "free_boundary", "params": {"gamma": 0.3, "v": 0.01, "dx": 0.001},
+    ...        "domain": {"length": 90.0, "grid": 451},
+    ...        "initial": {"kind": "bumps", "base": 0.499,
+    ...                    "bumps": [{"center": 45.0, "width": 50.0, "height": 0.5}]},
+    ...        "run": {"max_events": 2}}
+    >>> out = os.path.join(tempfile.mkdtemp(), "source.nc")
+    >>> _ = bk.run(cfg, out)
+    >>> ds, catalog = bk.load(out)
+    >>> ds["u"].dims, len(catalog)
+    (('t', 'x'), 2)
+    """
     ds, tables = load_tables(path)
     return ds, tables.get("events")
 

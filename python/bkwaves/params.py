@@ -46,7 +46,11 @@ def friction_note(beta: float) -> str:
 @dataclass(frozen=True)
 class PhysicalUnits:
     """SI description of a chain and the scales that convert to and from the
-    dimensionless variables of the paper (eq. dimless). All inputs in SI units.
+    dimensionless variables of the paper (eq. dimless).
+
+    Made by :meth:`Params.from_physical` (``p.units``); the fields are its SI inputs:
+    mass [kg], k_c and k_p [N/m], f_static and f_kinetic [N], alpha [kg/s], V [m/s],
+    spacing [m].
 
     Conversions (prime = dimensionless):
     ``x = x' * length_scale`` with ``length_scale = spacing / dx``;
@@ -174,15 +178,43 @@ class PhysicalUnits:
 class Params:
     """Dimensionless parameters of the Burridge-Knopoff chain (frozen, validated).
 
-    gamma: viscous damping alpha/(2 sqrt(k_p m)), >= 0.
-    v: loading rate V sqrt(k_p m)/(f_r - f_s), >= 0.
-    dx: lattice spacing sqrt(k_p/k_c) in units of x', > 0.
-    beta: f_s/(f_r - f_s) >= 0, the backward-slip threshold; default inf: no backward
-    slip, the paper's model (``from_physical`` sets the finite f_s/(f_r - f_s)).
-    units: the SI description when built by :meth:`from_physical`, else None.
-    friction_law: the friction law (``bk.friction.law(name, **its_params)`` or a law's name);
-    None: the default law. Its parameters named like a field here (gamma, beta) are
-    taken from these fields.
+    The paper's scaling (eq. dimless): positions in units of a sqrt(k_c/k_p), times in
+    units of sqrt(m/k_p), stress u = -(k_p X + f_s)/(f_r - f_s).
+
+    Parameters
+    ----------
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), >= 0.
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) in units of x', > 0.
+    beta : float, default inf
+        f_s/(f_r - f_s) >= 0, the backward-slip threshold (a stuck block slips backward at
+        phi <= -(1 + 2 beta)); inf: no backward slip, the paper's model
+        (:meth:`from_physical` sets the finite f_s/(f_r - f_s)).
+    units : PhysicalUnits, optional
+        The SI description when built by :meth:`from_physical`, else None.
+    friction_law : bkwaves.friction.Law or str, optional
+        The friction law (``bk.friction.law(name, **its_params)`` or a law's name); None:
+        the default law (Coulomb). Its parameters named like a field here (gamma, beta)
+        are taken from these fields.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        A value out of its range, named with the allowed range.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> p = bk.Params(gamma=0.3, v=1e-3, dx=0.05)
+    >>> p.gamma, p.v, p.dx, p.beta
+    (0.3, 0.001, 0.05, inf)
+    >>> bk.Params(gamma=-1.0, v=0.0, dx=0.05)
+    Traceback (most recent call last):
+    ...
+    bkwaves._core.ParameterError: invalid gamma = -1.0: allowed 0 <= gamma <= 1000000
     """
 
     gamma: float
@@ -236,12 +268,49 @@ class Params:
         spacing: float,
         V_f: float | None = None,
     ) -> Params:
-        """Build from SI inputs: block mass [kg], coupling and loader spring constants
-        [N/m], static and kinetic friction forces per block [N], viscous coefficient
-        alpha [kg/s], loader speed V [m/s] and block spacing a [m]. ``V_f`` [m/s] (> 0)
-        selects velocity-weakening friction f = f_s + (f_r - f_s)/(1 + V/V_f) + alpha V
-        with v_f = V_f sqrt(k_p m)/(f_r - f_s) (velocities are in units of
-        (f_r - f_s)/sqrt(k_p m)); None: Coulomb friction."""
+        """Build the dimensionless parameters from a chain described in SI units.
+
+        Parameters
+        ----------
+        mass : float
+            Block mass m [kg].
+        k_c : float
+            Coupling spring constant between neighbours [N/m].
+        k_p : float
+            Loader spring constant [N/m].
+        f_static : float
+            Static friction force per block f_r [N].
+        f_kinetic : float
+            Kinetic friction force per block f_s < f_r [N].
+        alpha : float
+            Viscous coefficient [kg/s].
+        V : float
+            Loader speed [m/s].
+        spacing : float
+            Block spacing a [m].
+        V_f : float, optional
+            Velocity-weakening speed scale [m/s] (> 0): friction
+            f = f_s + (f_r - f_s)/(1 + V/V_f) + alpha V, with
+            v_f = V_f sqrt(k_p m)/(f_r - f_s); None: Coulomb friction.
+
+        Returns
+        -------
+        Params
+            gamma, v, dx and beta = f_s/(f_r - f_s), with ``units`` holding the SI
+            description and its conversions (:class:`PhysicalUnits`).
+
+        Examples
+        --------
+        The paper's Bristol-board example (Sec. VI):
+
+        >>> import bkwaves as bk
+        >>> p = bk.Params.from_physical(mass=2.4e-12, k_c=3.8e7, k_p=23.4, f_static=7.4e-7,
+        ...                             f_kinetic=6.2e-7, alpha=6.7e-6, V=1e-6, spacing=1e-6)
+        >>> round(p.gamma, 3), round(p.dx, 6)
+        (0.447, 0.000785)
+        >>> round(p.units.time(10.0), 9)               # ten time units in seconds
+        3.203e-06
+        """
         u = PhysicalUnits(mass, k_c, k_p, f_static, f_kinetic, alpha, V, spacing)
         df = u.force_scale
         sq = math.sqrt(u.k_p) * math.sqrt(u.mass)

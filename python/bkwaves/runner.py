@@ -462,10 +462,21 @@ class _MemoryWriter:
 
 @dataclass
 class RunResult:
-    """A run computed in memory (:func:`bkwaves.run`): ``summary`` (the scalars of the run:
-    time reached, event counts, event statistics), ``tables`` (``events`` and ``slips`` or
-    ``shocks`` as pandas DataFrames, in the output units) and ``snapshots`` (an xarray
-    Dataset, or None unless asked)."""
+    """A run computed by :func:`bkwaves.run`.
+
+    Attributes
+    ----------
+    summary : dict
+        The scalars of the run: time reached, event counts, event statistics (b-value
+        and its interval where the catalog is large enough, recurrence).
+    tables : dict of pandas.DataFrame
+        ``events`` and ``slips`` (chain) or ``shocks`` (free boundary), and
+        ``ruptures``, in the output units.
+    snapshots : xarray.Dataset or None
+        The snapshots, when asked for (``snapshots=True``) or read back from ``out``.
+    config : bkwaves.config.RunConfig
+        The validated configuration that ran.
+    """
 
     summary: dict
     tables: dict
@@ -474,6 +485,7 @@ class RunResult:
 
     @property
     def events(self):
+        """The event catalog (``tables["events"]``)."""
         return self.tables.get("events")
 
 
@@ -503,13 +515,48 @@ def run_result(cfg: RunConfig, *, snapshots: bool = False, chunk: int = 20_000) 
 
 
 def simulate(cfg, out=None, *, snapshots: bool = False, progress: bool = False) -> RunResult:
-    """Run a configuration and return its :class:`RunResult` (this is ``bk.run``).
+    """Run a configuration and return its result (this is ``bk.run``).
 
-    ``cfg``: a :class:`~bkwaves.config.RunConfig`, a dict of the TOML schema
-    (``RunConfig.to_dict()``) or
-    the path of a TOML file. Without ``out`` nothing is written (``[output] path`` is
-    ignored); with ``out`` (.nc or .zarr) the outputs are written as ``bkwaves run`` writes
-    them and the result is read back from them."""
+    Parameters
+    ----------
+    cfg : bkwaves.config.RunConfig or dict or str or pathlib.Path
+        A :class:`~bkwaves.config.RunConfig`, a dict of the TOML schema
+        (``RunConfig.to_dict()``) or the path of a TOML file (docs/usage.md lists the
+        keys, their units and allowed values).
+    out : str or pathlib.Path, optional
+        Without it nothing is written (``[output] path`` is ignored); with a path ending
+        in .nc or .zarr the outputs are written as ``bkwaves run`` writes them (snapshots,
+        and the tables as Parquet and CSV beside them) and the result is read back from
+        them.
+    snapshots : bool, default False
+        Keep the snapshots in memory (``result.snapshots``).
+    progress : bool, default False
+        Show a progress bar.
+
+    Returns
+    -------
+    RunResult
+        The summary scalars, the tables and (if asked) the snapshots.
+
+    Examples
+    --------
+    A source of counter-propagating waves (Sec. V): a stress maximum of curvature
+    a = 1e-4 < a_max; its events recur at the source period (1 + exp(-pi gamma /
+    sqrt(1 - gamma^2)))/v = 137.23:
+
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> cfg = {"model": "free_boundary", "params": {"gamma": 0.3, "v": 0.01, "dx": 0.001},
+    ...        "domain": {"length": 90.0, "grid": 451},
+    ...        "initial": {"kind": "bumps", "base": 0.499,
+    ...                    "bumps": [{"center": 45.0, "width": 50.0, "height": 0.5}]},
+    ...        "run": {"max_events": 3}}
+    >>> result = bk.run(cfg)
+    >>> result.summary["events"]
+    3
+    >>> np.round(np.diff(result.events["t_start"]), 2)
+    array([137.23, 137.23])
+    """
     from .config import RunConfig, load_config
 
     if isinstance(cfg, str | Path):

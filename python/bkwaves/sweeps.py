@@ -687,7 +687,30 @@ def _consolidate(path: Path):
 
 @dataclass
 class SweepResult:
-    """What :func:`sweep` did: the dataset and the counts."""
+    """What :func:`sweep` did: the dataset and the counts.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        Every point's outputs indexed by the axes (also in the store ``out``).
+    out : str
+        The Zarr store.
+    computed, skipped, failed : int
+        Points computed now, found done in the store, and failed (their errors are in
+        ``dataset["error"]``).
+    wall_s : float
+        Wall time [s].
+    dashboard : str or None
+        The Dask dashboard's address.
+    interrupted : bool
+        True when Ctrl-C or SIGTERM stopped the sweep (finished points are kept).
+    workers : int
+        Points computed at once (worker threads over all workers).
+    extra : dict
+        Task-specific information (adaptive sweeps: the learner's state).
+    signal : int or None
+        The signal that interrupted the sweep.
+    """
 
     dataset: Any
     out: str
@@ -760,13 +783,57 @@ def sweep(
     client=None,
     _stop_after: int | None = None,
 ) -> SweepResult:
-    """Run a sweep (a :class:`~bkwaves.sweeps.SweepSpec`, a dict or a SWEEP.toml path) on Dask and
-    return the result dataset (also written to ``out``, a .zarr store).
+    """Run a sweep on Dask (this is ``bk.sweep``; docs/sweeps.md).
 
     Finished points are written as they arrive; a point already done in ``out`` (same
     input, task and bkwaves version) is not recomputed; a point that fails records its
     error and the sweep goes on (``retry_failed`` recomputes failed points). Ctrl-C stops
-    the sweep and keeps every finished point."""
+    the sweep and keeps every finished point.
+
+    Parameters
+    ----------
+    spec : SweepSpec or dict or str or pathlib.Path
+        The sweep: a :class:`~bkwaves.sweeps.SweepSpec`, a dict of the SWEEP.toml schema
+        (``task``, ``base``, ``axes``, ``combine``, ``output``) or the path of a
+        SWEEP.toml file.
+    out : str or pathlib.Path, optional
+        The Zarr store (default: ``[output] path``, or SWEEP.zarr beside the file).
+    scheduler : str, optional
+        A running Dask scheduler's address (``tcp://HOST:8786``); default: a local
+        cluster started and stopped here.
+    workers : int, optional
+        Workers of the local cluster (default: one per core).
+    processes : bool, default False
+        Local workers as processes (default: threads in this process).
+    overwrite : bool, default False
+        Replace a store that holds a different sweep.
+    retry_failed : bool, default False
+        Recompute the points that failed before.
+    progress : bool, default False
+        Show a progress bar.
+    client : distributed.Client, optional
+        Use this client (and its cluster) instead of making one.
+
+    Returns
+    -------
+    SweepResult
+        The dataset indexed by the axes and the counts of computed, skipped and failed
+        points.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> spec = {"task": "speed", "axes": {"u_plus": {"values": [0.6, 0.8]}}}
+    >>> out = os.path.join(tempfile.mkdtemp(), "speed.zarr")
+    >>> result = bk.sweep(spec, out, workers=1)
+    >>> result.dataset["c"].values, result.computed
+    (array([1.25      , 1.66666667]), 2)
+    >>> bk.sweep(spec, out, workers=1).skipped          # done points are not recomputed
+    2
+    >>> bk.sweep_result(out)["c"].sel(u_plus=0.8).item()
+    1.6666666666666667
+    """
     if isinstance(spec, str | Path):
         spec = load_sweep(spec)
     elif isinstance(spec, dict):
@@ -965,7 +1032,36 @@ def _write_point_files(out: Path, key: str, summary: dict):
 
 
 def load_sweep_result(out):
-    """Open a sweep store (grid or adaptive) as an xarray Dataset, loaded into memory."""
+    """Open a sweep store (grid or adaptive) as an xarray Dataset (this is
+    ``bk.sweep_result``).
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The sweep's Zarr store.
+
+    Returns
+    -------
+    xarray.Dataset
+        Every point's outputs indexed by the sweep's axes, loaded into memory, with
+        ``status`` and ``error`` per point.
+
+    See Also
+    --------
+    sweep : run a sweep.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> out = os.path.join(tempfile.mkdtemp(), "wave.zarr")
+    >>> spec = {"task": "wave", "base": {"gamma": 0.3},
+    ...         "axes": {"u_plus": {"values": [0.2, 0.6]}}}
+    >>> _ = bk.sweep(spec, out, workers=1)
+    >>> ds = bk.sweep_result(out)
+    >>> [str(r) for r in ds["regime"].values]
+    ['creep', 'pulse']
+    """
     import warnings
 
     import xarray as xr

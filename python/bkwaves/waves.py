@@ -18,8 +18,7 @@ def _scalar_or_array(a: np.ndarray):
 
 
 def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "exact"):
-    """Front speed c(u_+) of the traveling shock at v = 0. Vectorised: scalars give
-    floats, arrays give arrays of the same shape.
+    """Front speed c(u_+) of the traveling shock at v = 0 (paper Sec. III, App. A).
 
     Continuum limit (``dx = 0``, the paper's c(u_+)): c = 1/sqrt(1 - u_+^2), the exact
     solution of the tip problem of App. A (docs/theory.md); gamma drops out.
@@ -30,11 +29,49 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
     behind the tip; so a speed is returned only where it is the chain's: c > 1 and, for a
     pulse (u_+ > gamma), X = lambda w/(c dx) >= 20 (w the pulse width of App. B, lambda
     the decay rate of the lattice behind the tip; roughly u_+^2/dx >= 2 for small u_+ and
-    gamma); creep (u_+ <= gamma) never re-sticks. Elsewhere a ParameterError names
-    u_plus, dx and gamma and says to measure the front with ``bk.chain.front``
-    (docs/theory.md, "Narrow pulses").
-    ``method="tip"`` always solves the tip problem numerically (about a millisecond
-    per value); it agrees with the closed forms to ~1e-12.
+    gamma); creep (u_+ <= gamma) never re-sticks.
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless: u = 0 is the kinetic,
+        u = 1 the static friction level).
+    dx : float, default 0
+        Lattice spacing sqrt(k_p/k_c); 0 is the continuum limit.
+    gamma : float, default 0
+        Viscous damping alpha/(2 sqrt(k_p m)); matters only at dx > 0.
+    method : {"exact", "tip"}
+        ``"exact"``: the closed forms above (the tip solver where there is none);
+        ``"tip"``: always the numerical tip solver (about a millisecond per value; it
+        agrees with the closed forms to ~1e-12).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The front speed, in units of the sound speed a sqrt(k_c/m) (c > 1: supersonic);
+        a float for a scalar ``u_plus``, else an array of its shape.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        A parameter out of range, or a front that is not the chain's (a narrow pulse at
+        dx > 0): the message names u_plus, dx and gamma and says to measure the front
+        with :func:`bkwaves.chain.front` (docs/theory.md, "Narrow pulses").
+
+    See Also
+    --------
+    tip_solve : the numerical tip problem with its diagnostics.
+    bkwaves.chain.front : the front measured in the simulated chain.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.front_speed(0.6)
+    1.25
+    >>> bk.front_speed([0.3, 0.9])
+    array([1.04828484, 2.29415734])
+    >>> round(bk.front_speed(0.6, dx=0.1), 6)       # the discrete chain, gamma = 0
+    1.249073
     """
     u = V.array("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     dx = V.number("dx", dx, lo=0.0)
@@ -92,14 +129,47 @@ def tip_solve(
     ``dx > 0`` keeps the finite lattice spacing and the damping gamma: the steady front of
     the discrete chain at v = 0 where the pulse is wide in lattice units (the tip problem
     lets every block slide for ever; the chain re-sticks them). Outside that domain (the
-    one of ``front_speed``) a ParameterError names u_plus, dx and gamma and points to
-    ``bk.chain.front``; ``chain_domain=False`` solves the linear tip problem as stated
-    there too (for studies of the tip problem itself). ``dx = 0`` is the paper's continuum
-    limit. Returns a dict
-    with c, theta = (1 - u_+)/u_+, u_plus, the number of intervals kept behind the
-    tip and the decay rate of the slowest transient. ``degree`` (4..64) and ``decay``
-    (e-folds of the slowest transient kept, > 0) set the resolution; a solve whose
-    system would exceed ``bkwaves.limits.LIMITS["max_solver_bytes"]`` is refused.
+    one of :func:`front_speed`) a ParameterError names u_plus, dx and gamma and points to
+    :func:`bkwaves.chain.front`. ``dx = 0`` is the paper's continuum limit.
+
+    Parameters
+    ----------
+    u_plus : float, optional
+        Stress ahead of the front, 0 < u_plus < 1. Give exactly one of u_plus and c.
+    c : float, optional
+        Front speed (> 1, units of the sound speed a sqrt(k_c/m)); the solver finds u_+.
+    degree : int, default 16
+        Polynomial degree per interval between slips (4..64).
+    decay : float, default 40
+        e-folds of the slowest transient kept behind the tip (> 0). A solve whose system
+        would exceed ``bkwaves.limits.LIMITS["max_solver_bytes"]`` is refused.
+    dx : float, default 0
+        Lattice spacing sqrt(k_p/k_c); 0 is the continuum limit.
+    gamma : float, default 0
+        Viscous damping alpha/(2 sqrt(k_p m)).
+    chain_domain : bool, default True
+        False solves the linear tip problem as stated also where it is not the chain's
+        front (for studies of the tip problem itself).
+
+    Returns
+    -------
+    dict
+        ``c`` (front speed), ``theta`` = (1 - u_+)/u_+ (the slip threshold in the tip
+        variables), ``u_plus``, ``intervals`` (slip intervals kept behind the tip),
+        ``decay_rate`` (of the slowest transient, per interval) and ``tip_velocity``.
+
+    See Also
+    --------
+    front_speed : the closed forms.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> sol = bk.tip_solve(0.6)
+    >>> round(sol["c"], 10), round(sol["theta"], 10)
+    (1.25, 0.6666666667)
+    >>> round(bk.tip_solve(c=1.25)["u_plus"], 10)
+    0.6
     """
     from .limits import LIMITS, _bytes
 
@@ -132,12 +202,31 @@ def tip_solve(
 
 @dataclass(frozen=True)
 class TravelingWave:
-    """The wave with stress u_plus ahead and damping gamma (paper Sec. III, App. B).
+    """The traveling wave with stress u_plus ahead and damping gamma (Sec. III, App. B).
 
-    c: front speed; regime: "pulse" (u_+ > u_c, blocks re-stick) or "creep";
-    u_c: critical stress (eq. gammac; None for gamma >= 1); w: width (eq. w);
-    u_minus: stress behind (eq. um); A: total slip u_+ - u_- (eq. A).
-    w, u_minus and A are None in the creep regime.
+    Made by :func:`traveling_wave`. Lengths in units of a sqrt(k_c/k_p), speeds in units
+    of the sound speed a sqrt(k_c/m), stresses u dimensionless (eq. dimless).
+
+    Attributes
+    ----------
+    u_plus : float
+        Stress ahead of the front.
+    gamma : float
+        Viscous damping.
+    c : float
+        Front speed 1/sqrt(1 - u_+^2).
+    regime : {"pulse", "creep"}
+        ``"pulse"`` for u_+ > u_c (the blocks re-stick: a self-healing pulse), else
+        ``"creep"`` (they never do; u -> 0 behind).
+    u_c : float or None
+        Critical stress of eq. (gammac) (None for gamma >= 1).
+    w : float or None
+        Pulse width (eq. w); None in creep.
+    u_minus : float or None
+        Stress left behind (eq. um); None in creep.
+    A : float or None
+        Total slip u_+ - u_- (eq. A), in units of the stress u (times
+        (f_r - f_s)/k_p for metres); None in creep.
     """
 
     u_plus: float
@@ -150,16 +239,57 @@ class TravelingWave:
     A: float | None
 
     def profile(self, z):
-        """u(z) at comoving positions z = x - c t (front at 0, u_+ ahead)."""
+        """The stress profile u(z) (App. B).
+
+        Parameters
+        ----------
+        z : float or array_like
+            Comoving positions z = x - c t: the front at 0, u_+ ahead (z > 0).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            u at z, of the shape of z.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> bk.traveling_wave(0.6, 0.3).profile([-1.0, 0.0, 1.0])
+        array([0.28718902, 0.6       , 0.6       ])
+        """
         z = np.asarray(z, dtype=float)
         return _scalar_or_array(_core.wave_profile(self.u_plus, self.gamma, z))
 
     def to_dict(self) -> dict:
+        """The fields as a dict (what ``bkwaves wave --json`` prints)."""
         return asdict(self)
 
 
 def traveling_wave(u_plus: float, gamma: float) -> TravelingWave:
-    """The traveling wave for 0 < u_plus < 1 and gamma >= 0 (exact front speed)."""
+    """The traveling wave behind a front at stress u_plus (Sec. III, App. B).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1.
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+
+    Returns
+    -------
+    TravelingWave
+        Speed (exact c(u_+)), regime, critical stress, and for a pulse its width, u_- and
+        total slip.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> w = bk.traveling_wave(0.6, gamma=0.3)
+    >>> w.regime, round(w.w, 4), round(w.u_minus, 4), round(w.A, 4)
+    ('pulse', 2.7207, -0.0978, 0.6978)
+    >>> bk.traveling_wave(0.2, gamma=0.3).regime     # u_+ < u_c = gamma
+    'creep'
+    """
     u = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     g = V.number("gamma", gamma, lo=0.0)
     return TravelingWave(**_core.traveling_wave(u, g))

@@ -19,6 +19,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 /// A chain of blocks with a registered friction law, advanced event by event.
+///
+/// The engine behind ``bkwaves.Chain``, which validates its inputs, builds the per-block
+/// properties and turns the records into pandas and xarray objects; use that class.
 #[pyclass(module = "bkwaves._core")]
 pub struct ChainEngine {
     inner: Box<dyn DynChain>,
@@ -59,8 +62,19 @@ fn param_dict<'py>(py: Python<'py>, p: &ParamSpec) -> PyResult<Bound<'py, PyDict
     Ok(d)
 }
 
-/// The friction laws: a list of {name, doc, params: [{name, lo, lo_closed, hi, hi_closed,
-/// default (None: required), doc, allowed}]}, the default law first.
+/// The registered friction laws, the default first.
+///
+/// Returns
+/// -------
+/// list of dict
+///     One ``{name, doc, params}`` per law; ``params`` lists ``{name, lo, lo_closed, hi,
+///     hi_closed, default, doc, allowed}`` (default None: required).
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> [law["name"] for law in _core.friction_laws()]
+/// ['coulomb', 'velocity_weakening']
 #[pyfunction]
 fn friction_laws<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     let out = PyList::empty(py);
@@ -78,10 +92,32 @@ fn friction_laws<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     Ok(out)
 }
 
-/// Validate the parameters of a law: a dict of every parameter in table order (defaults
-/// filled in), or ParameterError naming the unknown law or parameter or the bad value.
-/// partial=True checks only the given ones (missing required ones are no error) and
-/// returns them.
+/// Validate the parameters of a friction law against its table.
+///
+/// Parameters
+/// ----------
+/// law : str
+///     The law's name (``friction_laws()``).
+/// params : dict, optional
+///     Its parameters by name.
+/// partial : bool, default False
+///     Check only the given parameters (missing required ones are no error).
+///
+/// Returns
+/// -------
+/// dict
+///     Every parameter in table order with defaults filled in (``partial``: the given ones).
+///
+/// Raises
+/// ------
+/// bkwaves.ParameterError
+///     An unknown law or parameter, a missing required one, or a value out of range.
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> _core.friction_resolve("coulomb", {"gamma": 0.3})
+/// {'gamma': 0.3, 'beta': inf}
 #[pyfunction]
 #[pyo3(signature = (law, params=None, partial=false))]
 fn friction_resolve<'py>(
@@ -110,7 +146,18 @@ fn friction_resolve<'py>(
     Ok(d)
 }
 
-/// The boundary conditions: a list of {name, doc}, the default first.
+/// The chain's boundary conditions, the default first.
+///
+/// Returns
+/// -------
+/// list of dict
+///     ``{name, doc}`` per boundary.
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> [b["name"] for b in _core.boundaries()]
+/// ['free', 'fixed', 'periodic']
 #[pyfunction]
 fn boundaries<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     let out = PyList::empty(py);
@@ -123,7 +170,18 @@ fn boundaries<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     Ok(out)
 }
 
-/// The integrators: a list of {name, order, doc}, the default first.
+/// The chain's integrators, the default first.
+///
+/// Returns
+/// -------
+/// list of dict
+///     ``{name, order, doc}`` per integrator (order: of the global error in the step).
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> [(i["name"], i["order"]) for i in _core.integrators()]
+/// [('rk4', 4), ('midpoint', 2)]
 #[pyfunction]
 fn integrators<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     let out = PyList::empty(py);
@@ -137,7 +195,19 @@ fn integrators<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     Ok(out)
 }
 
-/// The trigger kinds: a list of {name, doc}.
+/// The kinds of trigger a chain accepts (``Chain.kick``, ``Chain.release``, TOML
+/// ``[[triggers]]``).
+///
+/// Returns
+/// -------
+/// list of dict
+///     ``{name, doc}`` per kind.
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> [t["name"] for t in _core.triggers()]
+/// ['kick', 'release']
 #[pyfunction]
 fn triggers<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     let out = PyList::empty(py);
@@ -150,8 +220,19 @@ fn triggers<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     Ok(out)
 }
 
-/// The event sources and slip causes: a list of {name, doc} (the `kind` of slips and
-/// events: "threshold", "initial", then the sources of the core's registry).
+/// The causes of slips and events: the values of the ``kind`` column of the catalogs.
+///
+/// Returns
+/// -------
+/// list of dict
+///     ``{name, doc}`` per cause: "threshold", "initial", then the sources of the core's
+///     registry.
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> [c["name"] for c in _core.slip_causes()]
+/// ['threshold', 'initial', 'trigger', 'noise']
 #[pyfunction]
 fn slip_causes<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     let out = PyList::empty(py);
@@ -164,8 +245,20 @@ fn slip_causes<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     Ok(out)
 }
 
-/// The chain's defaults: step (fraction of dx), boundary, integrator, friction law and the
-/// kick of the front experiment.
+/// The chain's defaults.
+///
+/// Returns
+/// -------
+/// dict
+///     ``step`` (time step as a fraction of dx), ``boundary``, ``integrator``, ``law`` and
+///     ``front_kick`` (the forward kick of the front experiment, units of
+///     (f_r - f_s)/sqrt(k_p m)).
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> _core.defaults()["step"], _core.defaults()["integrator"]
+/// (0.05, 'rk4')
 #[pyfunction]
 fn defaults<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -528,8 +621,43 @@ impl ChainEngine {
     }
 }
 
-/// One front across a uniformly stressed chain at v = 0 (the `bkwaves front` experiment),
-/// with friction law `law` and its parameters `friction` (a dict).
+/// One front across a uniformly stressed chain at v = 0 (the ``bkwaves front`` experiment).
+///
+/// ``bkwaves.chain.front`` is the validated Python entry point (it sizes the chain and
+/// checks convergence).
+///
+/// Parameters
+/// ----------
+/// u_plus : float
+///     Stress ahead of the front.
+/// dx : float
+///     Lattice spacing.
+/// blocks : int
+///     Chain length in blocks.
+/// step : float, default 0.05
+///     Time step as a fraction of dx.
+/// law : str, default "coulomb"
+///     Friction law (``friction_laws()``).
+/// friction : dict, optional
+///     Its parameters (``{"gamma": ...}`` for Coulomb).
+/// window : (float, float), default (0.5, 0.75)
+///     The part of the chain (fractions of its length) where the front is measured.
+/// heal : bool, default True
+///     Run until the blocks behind the front have re-stuck.
+///
+/// Returns
+/// -------
+/// dict
+///     ``c`` (front speed over the window), ``unsteadiness``, ``pulse``, ``u_minus``, ``w``,
+///     per-block ``slip_times``, ``stick_times`` and ``stick_u``, ``window`` (blocks),
+///     ``t_end``, and the counters ``block_steps``, ``slips``, ``backward_slips``.
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> m = _core.front_measure(0.6, 0.1, 300, friction={"gamma": 0.3})
+/// >>> round(m["c"], 6), m["pulse"]
+/// (1.233616, True)
 #[pyfunction]
 #[pyo3(signature = (u_plus, dx, blocks, step=bkwaves_core::chain::DEFAULT_STEP, law="coulomb",
                     friction=None, window=(0.5, 0.75), heal=true))]

@@ -8,6 +8,10 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+/// The free boundary (shock dynamics) engine of Sec. IV, advanced event by event.
+///
+/// The engine behind ``bkwaves.FreeBoundary``, which validates its inputs and turns the
+/// records into pandas and xarray objects; use that class.
 #[pyclass(name = "FreeBoundaryEngine", module = "bkwaves._core")]
 pub struct PyFreeBoundary {
     inner: FreeBoundary,

@@ -22,7 +22,27 @@ fn map_array<'py>(
     Ok(out.into_pyarray(py))
 }
 
-/// c(u_+) = 1/sqrt(1 - u_+^2), elementwise.
+/// The front speed c(u_+) = 1/sqrt(1 - u_+^2) of the continuum limit, elementwise.
+///
+/// The exact solution of the paper's tip problem (App. A); ``bkwaves.front_speed`` is the
+/// validated Python entry point.
+///
+/// Parameters
+/// ----------
+/// u_plus : numpy.ndarray of float
+///     Stress ahead of the front, 0 < u_plus < 1.
+///
+/// Returns
+/// -------
+/// numpy.ndarray of float
+///     c, in units of the sound speed a sqrt(k_c/m), of the shape of u_plus.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> _core.front_speed(np.array([0.6]))
+/// array([1.25])
 #[pyfunction]
 fn front_speed<'py>(
     py: Python<'py>,
@@ -31,7 +51,29 @@ fn front_speed<'py>(
     map_array(py, u_plus, speed::front_speed)
 }
 
-/// c(u_+; dx) at gamma = 0 for the discrete chain (Wiener-Hopf closed form), elementwise.
+/// The discrete chain's front speed at gamma = 0 (Wiener-Hopf closed form), elementwise.
+///
+/// c = dx / (2 u_+ asin(dx sqrt(1 - u_+^2) / (2 u_+))), for pulses wide in lattice units
+/// (``bkwaves.front_speed(u, dx=dx)`` checks that domain).
+///
+/// Parameters
+/// ----------
+/// u_plus : numpy.ndarray of float
+///     Stress ahead of the front, 0 < u_plus < 1.
+/// dx : float
+///     Lattice spacing sqrt(k_p/k_c), with dx sqrt(1 - u_+^2) <= 2 u_+.
+///
+/// Returns
+/// -------
+/// numpy.ndarray of float
+///     c, in units of the sound speed a sqrt(k_c/m).
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> _core.lattice_front_speed(np.array([0.6]), 0.1)
+/// array([1.24907291])
 #[pyfunction]
 fn lattice_front_speed<'py>(
     py: Python<'py>,
@@ -41,7 +83,24 @@ fn lattice_front_speed<'py>(
     map_array(py, u_plus, |u| speed::lattice_front_speed(u, dx))
 }
 
-/// u_+(c) = sqrt(1 - 1/c^2), elementwise.
+/// The stress ahead of a front of speed c, u_+(c) = sqrt(1 - 1/c^2), elementwise.
+///
+/// Parameters
+/// ----------
+/// c : numpy.ndarray of float
+///     Front speed (> 1, units of the sound speed).
+///
+/// Returns
+/// -------
+/// numpy.ndarray of float
+///     u_+ in (0, 1).
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> _core.u_plus_of_speed(np.array([1.25]))
+/// array([0.6])
 #[pyfunction]
 fn u_plus_of_speed<'py>(
     py: Python<'py>,
@@ -50,13 +109,53 @@ fn u_plus_of_speed<'py>(
     map_array(py, c, speed::u_plus_of_speed)
 }
 
-/// u_c(gamma), or None for gamma >= 1.
+/// The critical stress u_c(gamma) of eq. (gammac): pulses for u_+ > u_c, creep below.
+///
+/// With the exact speed, u_c = gamma.
+///
+/// Parameters
+/// ----------
+/// gamma : float
+///     Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+///
+/// Returns
+/// -------
+/// float or None
+///     u_c, or None for gamma >= 1 (every wave creeps).
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> _core.critical_stress(0.3)
+/// 0.3
 #[pyfunction]
 fn critical_stress(gamma: f64) -> PyResult<Option<f64>> {
     speed::critical_stress(gamma).map_err(to_py)
 }
 
-/// The traveling wave for (u_plus, gamma) as a dict.
+/// The traveling wave behind a front (App. B) as a dict.
+///
+/// ``bkwaves.traveling_wave`` wraps it in a ``TravelingWave``.
+///
+/// Parameters
+/// ----------
+/// u_plus : float
+///     Stress ahead of the front, 0 < u_plus < 1.
+/// gamma : float
+///     Viscous damping, >= 0.
+///
+/// Returns
+/// -------
+/// dict
+///     ``u_plus``, ``gamma``, ``c``, ``regime`` ("pulse" or "creep"), ``u_c``, ``w``
+///     (width), ``u_minus`` and ``A`` (total slip); the last three None in creep.
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> w = _core.traveling_wave(0.6, 0.3)
+/// >>> w["regime"], round(w["u_minus"], 6)
+/// ('pulse', -0.09782)
 #[pyfunction]
 fn traveling_wave<'py>(py: Python<'py>, u_plus: f64, gamma: f64) -> PyResult<Bound<'py, PyDict>> {
     let w = wave::TravelingWave::new(u_plus, gamma).map_err(to_py)?;
@@ -72,8 +171,30 @@ fn traveling_wave<'py>(py: Python<'py>, u_plus: f64, gamma: f64) -> PyResult<Bou
     Ok(d)
 }
 
-/// The profile u(z) of the traveling wave at comoving positions z (front at z = 0),
-/// with the exact c(u_+) unless a speed c is given.
+/// The profile u(z) of the traveling wave (App. B) at comoving positions z = x - c t.
+///
+/// Parameters
+/// ----------
+/// u_plus : float
+///     Stress ahead of the front, 0 < u_plus < 1.
+/// gamma : float
+///     Viscous damping, >= 0.
+/// z : numpy.ndarray of float
+///     Positions relative to the front (z > 0 ahead; not NaN).
+/// c : float, optional
+///     The front speed (default: the exact c(u_+)).
+///
+/// Returns
+/// -------
+/// numpy.ndarray of float
+///     u(z), of the shape of z.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> _core.wave_profile(0.6, 0.3, np.array([0.0, -1.0]))
+/// array([0.6       , 0.28718902])
 #[pyfunction]
 #[pyo3(signature = (u_plus, gamma, z, c=None))]
 fn wave_profile<'py>(
@@ -101,7 +222,28 @@ fn wave_profile<'py>(
     })
 }
 
-/// gamma-tilde = c gamma / sqrt(c^2 - 1) (App. B), elementwise over c.
+/// The effective damping gamma-tilde = c gamma / sqrt(c^2 - 1) of App. B, elementwise in c.
+///
+/// Below 1 the wave is a pulse, at 1 or above it creeps.
+///
+/// Parameters
+/// ----------
+/// c : numpy.ndarray of float
+///     Front speed (> 1).
+/// gamma : float
+///     Viscous damping, >= 0.
+///
+/// Returns
+/// -------
+/// numpy.ndarray of float
+///     gamma-tilde (dimensionless).
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> _core.gamma_tilde(np.array([1.25]), 0.3)
+/// array([0.5])
 #[pyfunction]
 fn gamma_tilde<'py>(
     py: Python<'py>,
@@ -111,7 +253,30 @@ fn gamma_tilde<'py>(
     map_array(py, c, |c| Ok(wave::gamma_tilde(c, gamma)))
 }
 
-/// u_- (eq. um) and w (eq. w) for given speed c, elementwise over c; NaN in creep.
+/// The stress behind a pulse u_- (eq. um) and its width w (eq. w) for given speeds.
+///
+/// Parameters
+/// ----------
+/// u_plus : numpy.ndarray of float
+///     Stress ahead of the front.
+/// c : numpy.ndarray of float
+///     Front speed, of the shape of u_plus (exact, interpolated or measured).
+/// gamma : float
+///     Viscous damping, >= 0.
+///
+/// Returns
+/// -------
+/// u_minus : numpy.ndarray of float
+///     Stress left behind; NaN in creep.
+/// w : numpy.ndarray of float
+///     Pulse width in units of a sqrt(k_c/k_p); NaN in creep.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> _core.wave_from_speed(np.array([0.6]), np.array([1.25]), 0.3)
+/// (array([-0.09782012]), array([2.72069905]))
 #[pyfunction]
 fn wave_from_speed<'py>(
     py: Python<'py>,

@@ -28,8 +28,37 @@ fn to_dict<'py>(py: Python<'py>, s: &TipSolution) -> PyResult<Bound<'py, PyDict>
     Ok(d)
 }
 
-/// Solve the tip problem for a given front speed c (chain_domain: refuse, at dx > 0, a
-/// front that is not the chain's; false: the linear tip problem as stated).
+/// Solve the tip problem (App. A) for a given front speed c.
+///
+/// ``bkwaves.tip_solve(c=...)`` is the validated Python entry point.
+///
+/// Parameters
+/// ----------
+/// c : float
+///     Front speed, > 1 (units of the sound speed).
+/// degree : int, default 16
+///     Polynomial degree per interval between slips.
+/// decay : float, default 40
+///     e-folds of the slowest transient kept behind the tip.
+/// dx : float, default 0
+///     Lattice spacing; 0 is the continuum limit.
+/// gamma : float, default 0
+///     Viscous damping (enters at dx > 0).
+/// chain_domain : bool, default True
+///     At dx > 0, refuse a front that is not the chain's (a narrow pulse); False solves the
+///     linear tip problem as stated.
+///
+/// Returns
+/// -------
+/// dict
+///     ``c``, ``theta`` = (1 - u_+)/u_+, ``u_plus``, ``intervals`` kept behind the tip,
+///     ``decay_rate`` of the slowest transient and ``tip_velocity``.
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> round(_core.tip_solve_speed(1.25)["u_plus"], 10)
+/// 0.6
 #[pyfunction]
 #[pyo3(signature = (c, degree=16, decay=40.0, dx=0.0, gamma=0.0, chain_domain=true))]
 fn tip_solve_speed<'py>(
@@ -51,8 +80,37 @@ fn tip_solve_speed<'py>(
     to_dict(py, &s)
 }
 
-/// Solve the tip problem for the front speed at stress u_plus ahead (chain_domain as in
-/// `tip_solve_speed`).
+/// Solve the tip problem (App. A) for the front speed at stress u_plus ahead.
+///
+/// ``bkwaves.tip_solve(u_plus)`` is the validated Python entry point.
+///
+/// Parameters
+/// ----------
+/// u_plus : float
+///     Stress ahead of the front, 0 < u_plus < 1.
+/// degree : int, default 16
+///     Polynomial degree per interval between slips.
+/// decay : float, default 40
+///     e-folds of the slowest transient kept behind the tip.
+/// dx : float, default 0
+///     Lattice spacing; 0 is the continuum limit.
+/// gamma : float, default 0
+///     Viscous damping (enters at dx > 0).
+/// chain_domain : bool, default True
+///     At dx > 0, refuse a front that is not the chain's (a narrow pulse); False solves the
+///     linear tip problem as stated.
+///
+/// Returns
+/// -------
+/// dict
+///     ``c``, ``theta`` = (1 - u_+)/u_+, ``u_plus``, ``intervals`` kept behind the tip,
+///     ``decay_rate`` of the slowest transient and ``tip_velocity``.
+///
+/// Examples
+/// --------
+/// >>> from bkwaves import _core
+/// >>> round(_core.tip_solve_u_plus(0.6)["c"], 10)
+/// 1.25
 #[pyfunction]
 #[pyo3(signature = (u_plus, degree=16, decay=40.0, dx=0.0, gamma=0.0, chain_domain=true))]
 fn tip_solve_u_plus<'py>(
@@ -74,8 +132,41 @@ fn tip_solve_u_plus<'py>(
     to_dict(py, &s)
 }
 
-/// March a front through blocks with thresholds `threshold` (bkwaves_core::tip_march):
-/// the first slip time of every block and the march's counters.
+/// March a front through blocks with static thresholds ``threshold`` (v = 0, Coulomb).
+///
+/// ``bkwaves.disorder.tip_march`` is the validated Python entry point.
+///
+/// Parameters
+/// ----------
+/// u_plus : float
+///     Stress ahead of the front.
+/// threshold : numpy.ndarray of float
+///     Static threshold of every block (1: the paper's chain).
+/// dx : float
+///     Lattice spacing.
+/// gamma : float
+///     Viscous damping.
+/// behind : int, default 64
+///     Blocks kept behind the tip (at least).
+/// step : float, default 0.5
+///     Time step as a fraction of dx.
+/// order : int, default 20
+///     Degree of the Taylor series per step.
+///
+/// Returns
+/// -------
+/// dict
+///     ``slip_times`` (first slip time of every block, in units of sqrt(m/k_p)),
+///     ``stopped`` (the front died), and the counters ``steps``, ``events``,
+///     ``max_window``.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> r = _core.tip_march(0.6, np.ones(50), 0.1, 0.3)
+/// >>> r["stopped"], len(r["slip_times"])
+/// (False, 50)
 #[pyfunction]
 #[pyo3(signature = (u_plus, threshold, dx, gamma, behind=64, step=0.5, order=20))]
 #[allow(clippy::too_many_arguments)]
