@@ -32,6 +32,23 @@ NUMPYDOC = [
     "bkwaves.io.load",
     "bkwaves.sweeps.sweep",
     "bkwaves.sweeps.load_sweep_result",
+    "bkwaves.theory.c_exact",
+    "bkwaves.theory.u_plus_interpolation",
+    "bkwaves.theory.c_interpolation",
+    "bkwaves.theory.c_large",
+    "bkwaves.theory.c_small",
+    "bkwaves.theory.critical_stress",
+    "bkwaves.theory.width",
+    "bkwaves.theory.u_minus",
+    "bkwaves.theory.amplitude",
+    "bkwaves.theory.wavelength",
+    "bkwaves.theory.train_period",
+    "bkwaves.theory.sawtooth",
+    "bkwaves.theory.source_b",
+    "bkwaves.theory.kappa",
+    "bkwaves.theory.a_prime",
+    "bkwaves.theory.a_max",
+    "bkwaves.theory.source_period",
 ]
 #: Classes: Parameters (of the constructor) and Examples.
 NUMPYDOC_CLASSES = ["bkwaves.params.Params", "bkwaves.chain.Chain", "bkwaves.FreeBoundary"]

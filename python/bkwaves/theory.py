@@ -76,20 +76,74 @@ def _v(v):
 
 # --------------------------------------------------------------------------- speed
 def c_exact(u_plus):
-    """c(u_+) = 1/sqrt(1 - u_+^2): the exact solution of the tip problem (App. A)."""
+    """c(u_+) = 1/sqrt(1 - u_+^2): the exact solution of the tip problem (App. A).
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The front speed in units of the sound speed, of the shape of u_plus.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> theory.c_exact(0.6)
+    1.25
+    """
     return front_speed(u_plus)
 
 
 def u_plus_interpolation(c):
-    """Eq. (c): u_+ = (1 + (2 + c^2 + 4c^4)/(8 c^5 sqrt(c^2 - 1)))^-1 for c > 1."""
+    """Eq. (c): the stress u_+ ahead of a front of speed c, interpolated.
+
+    u_+ = (1 + (2 + c^2 + 4c^4)/(8 c^5 sqrt(c^2 - 1)))^-1.
+
+    Parameters
+    ----------
+    c : float or array_like
+        Front speed, > 1, in units of the sound speed a sqrt(k_c/m) (exact, interpolated or
+        measured).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        u_+ in (0, 1).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.u_plus_interpolation(1.25), 4)   # exact: 0.6
+    0.5787
+    """
     c = _c(c)
     return _out(1.0 / (1.0 + (2.0 + c**2 + 4.0 * c**4) / (8.0 * c**5 * np.sqrt(c**2 - 1.0))))
 
 
 def c_interpolation(u_plus):
-    """Eq. (c) solved for c (bisection in ln(c - 1); eq. (c) is monotone in c).
+    """Eq. (c) solved for c: the paper's interpolated front speed.
 
-    The paper says it is good to "a few per cent"; against the exact c it is within 2%.
+    Bisection in ln(c - 1) (eq. (c) is monotone in c). The paper says it is good to "a few
+    per cent"; against the exact c it is within 2%.
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The front speed in units of the sound speed, of the shape of u_plus.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.c_interpolation(0.6), 4)         # exact: 1.25
+    1.2746
     """
     u = _u(u_plus)
     lo = np.full(u.shape, -80.0)
@@ -105,11 +159,30 @@ def c_interpolation(u_plus):
 
 
 def c_large(u_plus, *, fourth: float | None = None):
-    """Eq. (ca) solved for c: 1/(2c^2) + 3/(8c^4) + 5/(16c^6) [+ fourth/c^8] = (1-u_+)/u_+.
+    """Eq. (ca) solved for c: the large-c series of the front speed.
 
-    The large-c expansion; ``fourth=PAPER_FOURTH_COEFFICIENT`` adds the paper's 0.2719
-    term (the exact value is 35/128). Where the truncated series has no root with c > 1
-    (small u_+, outside its range of validity) the result is NaN.
+    1/(2c^2) + 3/(8c^4) + 5/(16c^6) [+ fourth/c^8] = (1 - u_+)/u_+. Where the truncated
+    series has no root with c > 1 (small u_+, outside its range of validity) the result is
+    NaN.
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+    fourth : float, optional
+        The coefficient of 1/c^8: ``PAPER_FOURTH_COEFFICIENT`` adds the paper's 0.2719 term
+        (the exact value is 35/128); default: the series to 1/c^6.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The front speed in units of the sound speed, of the shape of u_plus.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.c_large(0.9), 4), round(theory.c_exact(0.9), 4)
+    (2.2903, 2.2942)
     """
     u = _u(u_plus)
     theta = (1.0 - u) / u
@@ -131,7 +204,24 @@ def c_large(u_plus, *, fourth: float | None = None):
 
 
 def c_small(u_plus):
-    """Eq. (c1): c = 1 + u_+^2 / 2, the small-u_+ limit."""
+    """Eq. (c1): c = 1 + u_+^2/2, the small-u_+ limit.
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The front speed in units of the sound speed, of the shape of u_plus.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> theory.c_small(0.1), round(theory.c_exact(0.1), 6)
+    (1.005, 1.005038)
+    """
     u = _u(u_plus)
     return _out(1.0 + 0.5 * u**2)
 
@@ -144,11 +234,27 @@ def c_formal_continuum(u_plus):
 
 
 def critical_stress(gamma, speed=None):
-    """Eq. (gammac): u_c solves gamma = sqrt(c(u_c)^2 - 1)/c(u_c).
+    """Eq. (gammac): the critical stress u_c, pulses above it, creep below.
 
-    With the exact speed (default) u_c = gamma. ``speed`` may be another c(u_+) (e.g.
-    :func:`c_interpolation`), then the equation is solved by bisection. Returns None
-    for gamma >= 1 (no pulse exists: every wave creeps).
+    u_c solves gamma = sqrt(c(u_c)^2 - 1)/c(u_c); with the exact c, u_c = gamma.
+
+    Parameters
+    ----------
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    speed : callable, optional
+        Another front-speed law c(u_+) (default: the exact one).
+
+    Returns
+    -------
+    float or None
+        u_c, or None for gamma >= 1 (every wave creeps).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> theory.critical_stress(0.3)
+    0.3
     """
     g = _gamma(gamma)
     if speed is None:
@@ -176,21 +282,87 @@ def gamma_tilde(c, gamma):
 
 
 def width(c, gamma):
-    """Eq. (w): w = pi (c^2 - 1)/sqrt(c^2 (1 - gamma^2) - 1); NaN in the creep regime."""
+    """Eq. (w): the width of the slip pulse, w = pi (c^2 - 1)/sqrt(c^2 (1 - gamma^2) - 1).
+
+    Parameters
+    ----------
+    c : float or array_like
+        Front speed, > 1, in units of the sound speed a sqrt(k_c/m) (exact, interpolated or
+        measured).
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        w in units of a sqrt(k_c/k_p); NaN in the creep regime.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.width(1.25, 0.3), 6)
+    2.720699
+    """
     c = _c(c)
     um, w = _core.wave_from_speed(np.full(c.shape, 0.5), c, _gamma(gamma))
     return _out(w)
 
 
 def u_minus(u_plus, c, gamma):
-    """Eq. (um): u_- = -u_+ exp(-pi gamma c / sqrt(c^2 (1 - gamma^2) - 1)); NaN in creep."""
+    """Eq. (um): the stress left behind the pulse.
+
+    u_- = -u_+ exp(-pi gamma c / sqrt(c^2 (1 - gamma^2) - 1)).
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+    c : float or array_like
+        Front speed, > 1, in units of the sound speed a sqrt(k_c/m) (exact, interpolated or
+        measured).
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        u_- (< 0); NaN in the creep regime.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.u_minus(0.6, 1.25, 0.3), 6)
+    -0.09782
+    """
     u, c = np.broadcast_arrays(_u(u_plus), _c(c))
     um, _ = _core.wave_from_speed(np.array(u), np.array(c), _gamma(gamma))
     return _out(um)
 
 
 def amplitude(u_plus, c, gamma):
-    """Eq. (A): total slip A = u_+ - u_-; NaN in the creep regime."""
+    """Eq. (A): the total slip of a block, A = u_+ - u_-.
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+    c : float or array_like
+        Front speed, > 1, in units of the sound speed a sqrt(k_c/m) (exact, interpolated or
+        measured).
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        A in units of the stress u (times (f_r - f_s)/k_p for metres); NaN in creep.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.amplitude(0.6, 1.25, 0.3), 6)
+    0.69782
+    """
     return _out(np.asarray(u_plus, dtype=float) - np.asarray(u_minus(u_plus, c, gamma)))
 
 
@@ -387,13 +559,59 @@ def _speed_and_amplitude(u_plus, gamma, c):
 
 
 def wavelength(u_plus, gamma, v, c=None):
-    """Eq. (L): spatial period L = c A / v of the periodic wave train."""
+    """Eq. (L): the spatial period L = c A / v of the periodic wave train (Sec. V).
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    c : float, optional
+        The front speed (default: the exact c(u_+)).
+
+    Returns
+    -------
+    float
+        L in units of a sqrt(k_c/k_p).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.wavelength(0.6, 0.3, 0.01), 3)
+    87.228
+    """
     c, amp = _speed_and_amplitude(u_plus, gamma, c)
     return _out(c * amp / _v(v))
 
 
 def train_period(u_plus, gamma, v, c=None):
-    """T = A / v: time period of the wave train (Sec. V)."""
+    """The time period T = A / v of the wave train (Sec. V).
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    c : float, optional
+        The front speed (default: the exact c(u_+)).
+
+    Returns
+    -------
+    float
+        T in units of sqrt(m/k_p).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.train_period(0.6, 0.3, 0.01), 3)
+    69.782
+    """
     _, amp = _speed_and_amplitude(u_plus, gamma, c)
     return _out(amp / _v(v))
 
@@ -411,8 +629,37 @@ def min_wavelength(gamma, v, speed=None):
 
 
 def sawtooth(x, t, u_plus, gamma, v, x0=0.0):
-    """The saw-tooth wave train moving right: a front at x0 + c t (mod L); behind each
-    front u recovers linearly from u_- to u_+ over one period L (Sec. V)."""
+    """The saw-tooth wave train moving right (Sec. V).
+
+    A front at x0 + c t (mod L); behind each front u recovers linearly from u_- to u_+
+    over one period L.
+
+    Parameters
+    ----------
+    x : float or array_like
+        Positions.
+    t : float
+        Time.
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    x0 : float, default 0
+        Position of a front at t = 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        u(x, t).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> theory.sawtooth([0.0, 40.0], 0.0, 0.6, 0.3, 0.01).round(4)
+    array([0.6 , 0.28])
+    """
     u = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     c = float(front_speed(u))
     um = float(u_minus(u, c, gamma))
@@ -425,8 +672,29 @@ def sawtooth(x, t, u_plus, gamma, v, x0=0.0):
 
 # ------------------------------------------------------ sources (Sec. V, App. C)
 def source_b(a, v):
-    """Eq. (b): shocks born at a maximum u = 1 - a (x-x0)^2 + v t start as x0 +- sqrt(b t),
-    b = (v + sqrt(v^2 + 8a)) / (2a)."""
+    """Eq. (b): how fast the shocks born at a stress maximum separate.
+
+    Shocks born at a maximum u = 1 - a (x - x0)^2 + v t start as x0 +- sqrt(b t), with
+    b = (v + sqrt(v^2 + 8a)) / (2a).
+
+    Parameters
+    ----------
+    a : float
+        Curvature of the maximum, > 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+
+    Returns
+    -------
+    float
+        b.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> theory.source_b(1e-4, 0.01)
+    200.0
+    """
     a = V.array("a", a, lo=0.0, lo_open=True)
     v = V.number("v", v, lo=0.0)
     return _out((v + np.sqrt(v * v + 8.0 * a)) / (2.0 * a))
@@ -438,8 +706,26 @@ def _exponent(gamma):
 
 
 def kappa(gamma):
-    """Eq. (kappa): kappa = -du_-/du_+ at u_+ = 1
-    = (1 + pi gamma/(1 - gamma^2)^{3/2}) exp(-pi gamma/sqrt(1 - gamma^2)), 0 <= gamma < 1."""
+    """Eq. (kappa): kappa = -du_-/du_+ at u_+ = 1.
+
+    kappa = (1 + pi gamma/(1 - gamma^2)^{3/2}) exp(-pi gamma/sqrt(1 - gamma^2)).
+
+    Parameters
+    ----------
+    gamma : float
+        Viscous damping, 0 <= gamma < 1.
+
+    Returns
+    -------
+    float
+        kappa.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> float(round(theory.kappa(0.3), 6))
+    0.77656
+    """
     g, e = _exponent(gamma)
     return (1.0 + np.pi * g / (1.0 - g * g) ** 1.5) * np.exp(-e)
 
@@ -451,8 +737,30 @@ def u_minus_at_one(gamma):
 
 
 def a_prime(a, v, gamma):
-    """Eq. (ap): curvature after the shocks have passed,
-    a' = -a kappa + 2 a v (1 + kappa)/(v + sqrt(v^2 + 8a))."""
+    """Eq. (ap): the curvature of the stress maximum after the shocks have passed.
+
+    a' = -a kappa + 2 a v (1 + kappa)/(v + sqrt(v^2 + 8a)).
+
+    Parameters
+    ----------
+    a : float
+        Curvature before, > 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    gamma : float
+        Viscous damping, 0 <= gamma < 1.
+
+    Returns
+    -------
+    float
+        a' (<= 0: the maximum is lost).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> f"{theory.a_prime(1e-4, 0.01, 0.3):.6e}"
+    '1.117201e-05'
+    """
     a = V.array("a", a, lo=0.0, lo_open=True)
     v = V.number("v", v, lo=0.0)
     k = kappa(gamma)
@@ -463,7 +771,28 @@ def a_prime(a, v, gamma):
 
 
 def a_max(v, gamma):
-    """Eq. (amax): a' > 0 (the source survives) iff a < a_max = v^2 (1 + kappa)/(2 kappa^2)."""
+    """Eq. (amax): the largest curvature for which a source survives and synchronises.
+
+    a' > 0 iff a < a_max = v^2 (1 + kappa)/(2 kappa^2); above it, spatiotemporal chaos.
+
+    Parameters
+    ----------
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    gamma : float
+        Viscous damping, 0 <= gamma < 1.
+
+    Returns
+    -------
+    float
+        a_max.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> f"{theory.a_max(0.01, 0.3):.6e}"
+    '1.472991e-04'
+    """
     v = V.number("v", v, lo=0.0)
     k = kappa(gamma)
     return v * v * (1.0 + k) / (2.0 * k * k)
@@ -496,6 +825,25 @@ def a_n_asymptote(n, v, gamma):
 
 
 def source_period(v, gamma):
-    """Sec. V: period of a source T = (1 + exp(-pi gamma/sqrt(1 - gamma^2))) / v."""
+    """The period of a source: T = (1 + exp(-pi gamma/sqrt(1 - gamma^2)))/v (Sec. V).
+
+    Parameters
+    ----------
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    gamma : float
+        Viscous damping, 0 <= gamma < 1.
+
+    Returns
+    -------
+    float
+        T in units of sqrt(m/k_p).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> float(round(theory.source_period(0.01, 0.3), 4))
+    137.2326
+    """
     _, e = _exponent(gamma)
     return (1.0 + np.exp(-e)) / _v(v)
