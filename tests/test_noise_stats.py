@@ -168,6 +168,7 @@ def test_statistics_vs_strength_table():
     assert b.b == noisy.b or (np.isnan(b.b) and np.isnan(noisy.b))
     assert b.ok or b.reason
     assert not b.ok or noisy.b_lo < noisy.b < noisy.b_hi
+    assert noisy.b_fit_p == b.fit_p or (np.isnan(b.fit_p) and np.isnan(noisy.b_fit_p))
     # the noiseless ring: ruptures of (nearly) one size, no b
     assert np.isnan(quiet.b) and "degenerate" in runs[0]["b"].reason
     assert noisy.v_recurrence < 0.3 * quiet.v_recurrence

@@ -22,6 +22,7 @@ COLS = [
     "b",
     "b_lo",
     "b_hi",
+    "b_fit_p",
     "u_start",
     "swept",
     "v_recurrence",

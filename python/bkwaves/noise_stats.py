@@ -479,7 +479,8 @@ def statistics_vs_strength(
     Lambda_mean = int_0^1 Lambda du, nu_R = Lambda_mean R_0 / v with R_0 the mean rupture
     length of the noiseless run when 0 is among the strengths, ruptures, spontaneous
     fraction, rupture rate per unit length and time, b with its 95 % interval b_lo, b_hi
-    and m_c (:func:`bkwaves.stats.gutenberg_richter`; NaN without a b), mean u where
+    and m_c, b_fit_p (:func:`bkwaves.stats.gutenberg_richter`; NaN without a b; the
+    KS p-value of the Gutenberg-Richter law above m_c), mean u where
     ruptures start, mean swept length, mean and CV of the point recurrence time, v times
     the mean recurrence, and the balance rupture_rate * swept * recurrence, which is 1
     in a steady state: every point is swept once per recurrence) and the runs' dicts."""
@@ -525,6 +526,7 @@ def statistics_vs_strength(
                 "b_lo": b.lo,
                 "b_hi": b.hi,
                 "m_c": b.m_c,
+                "b_fit_p": b.fit_p,
                 "u_start": run["u_start"],
                 "swept": run["swept"],
                 "recurrence": mean_rec,
