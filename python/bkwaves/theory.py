@@ -463,7 +463,7 @@ def restick_velocity_closed_form(u_plus, gamma, c=None):
     swing's amplitude A = u_+ c/sqrt(c^2 - 1) (= 1 for the exact c, not for a lattice's:
     docs/theory.md, section 6). It is the ratio -b/a at the peak of the swing, theta =
     pi + acos zeta; the true maximum lies a little later, so it is low by O(zeta m^2)
-    relative (1e-6 at v_c ~ 2e-3, 1 % at v_c = 0.15). 0 in creep, inf at gamma = 0."""
+    relative (2e-6 at v_c ~ 2e-3, 2e-5 at 7e-3, 1 % at v_c = 0.15). 0 in creep, inf at gamma = 0."""
     u, g, root_mu = _root_mass(u_plus, gamma, c)
     out = np.empty(u.shape)
     for i in np.ndindex(u.shape):
