@@ -379,7 +379,11 @@ CONFIG = {
         _RUN_STEP_TOLERANCE,
     ),
     "output": table(
-        Spec("path", "text", doc="output file (.nc or .zarr)"),
+        Spec(
+            "path",
+            "text",
+            doc="output file (.nc or .zarr); relative: to the config file's folder",
+        ),
         Spec(
             "snapshot_every",
             "real",
