@@ -1628,18 +1628,23 @@ def fig_waves(axes):
     """Fig. 4: the two traveling-wave types from theory, direct-chain profiles overlaid."""
     for ax, (u, g) in zip(axes, ((0.25, 0.3), (0.7, 0.3)), strict=True):
         w = traveling_wave(u, g)
-        zmin = -1.6 * w.w if w.w else -25.0
+        if w.w:
+            zmin = -1.6 * w.w
+        else:  # creep never re-sticks: show the support, where u exceeds 1% of u_+, and as
+            # much again of the flat tail
+            z = np.linspace(-25.0, 0.0, 2501)
+            zmin = 2.0 * float(z[np.argmax(np.abs(w.profile(z)) > 0.01 * u)])
         z = np.linspace(zmin, 2.0, 600)
         ax.plot(z, w.profile(z), "C0", lw=2, label="App. B (continuum)")
         zc, uc = chain_profile(u, g)
         sel = (zc >= zmin) & (zc <= 2.0)
-        ax.plot(zc[sel], uc[sel], ".", color="C1", ms=2, label="direct chain, dx = 0.05")
+        ax.plot(zc[sel], uc[sel], ".", color="C1", ms=2, label=r"direct chain, $\Delta x = 0.05$")
         ax.legend(fontsize=7)
         ax.axhline(0, color="0.7", lw=0.8)
-        lab = "(a) u+ < u_c: creep" if w.regime == "creep" else "(b) u+ > u_c: pulse"
-        ax.set_title(f"{lab}, u+ = {u}, gamma = {g}", fontsize=9)
-        ax.set_xlabel("z = x - c t")
-        ax.set_ylabel("u")
+        lab = r"(a) $u_+ < u_c$: creep" if w.regime == "creep" else r"(b) $u_+ > u_c$: pulse"
+        ax.set_title(f"{lab}, $u_+ = {u}$, $\\gamma = {g}$", fontsize=9)
+        ax.set_xlabel(r"$z = x - c\,t$")
+        ax.set_ylabel(r"$u$")
     return (
         "Fig. 4: the two traveling waves behind a front at gamma = 0.3: (a) creep below the "
         "critical stress u_c = gamma, (b) a pulse that re-sticks at z = -w above it. Lines: "
