@@ -1653,35 +1653,57 @@ def fig_waves(axes):
     )
 
 
-def fig_map(ax, quick):
-    """Fig. 7 (aa): a'(a) at gamma = 0.3 with the diagonal and the iterates of the map."""
+def fig_map(axes, quick):
+    """Fig. 7 (aa): a'(a) at gamma = 0.3 with the diagonal and the iterates of the map;
+    right: the same on log axes, where the iterates and the measured births lie."""
     v, g = 1e-2, 0.3
     amax = theory.a_max(v, g)
-    a = np.linspace(amax * 1e-3, 1.3 * amax, 400)
-    ax.plot(a / amax, theory.a_prime(a, v, g) / amax, "C0", lw=2, label="a'(a), eq. (ap)")
-    ax.plot(a / amax, a / amax, "k:", lw=1, label="a' = a")
-    ax.axhline(0, color="0.7", lw=0.8)
-    it = theory.iterate_map(0.9 * amax, v, g, 8) / amax
-    xs, ys = [it[0]], [0.0]
-    for i in range(len(it) - 1):
-        xs += [it[i], it[i + 1]]
-        ys += [it[i + 1], it[i + 1]]
-    ax.plot(xs, ys, "C1-", lw=0.8, label="iterates from a = 0.9 a_max")
-    ax.axvline(1.0, color="C3", ls="--", lw=1, label="a_max, eq. (amax)")
     r, m = fb_source(quick)
     curv = r.events.curvature.to_numpy() / amax
-    ax.plot(
-        curv[:-1], curv[1:], "o", color="C2", mfc="none", label="measured in a free-boundary run"
-    )
-    ax.set_xlabel("a / a_max")
-    ax.set_ylabel("a' / a_max")
-    ax.legend(fontsize=7)
-    ax.set_title(f"Source map at gamma = {g}, v = {v} (Fig. 7)")
+    it = theory.iterate_map(0.9 * amax, v, g, 8) / amax
+    for k, ax in enumerate(axes):
+        log = k == 1
+        a = np.geomspace(amax * 1e-3, 1.3 * amax, 400)
+        ap = theory.a_prime(a, v, g) / amax
+        if log:  # a' < 0 past a_max (no source) has no place on a log axis
+            ap = np.where(ap > 0, ap, np.nan)
+        ax.plot(a / amax, ap, "C0", lw=2, label=r"$a'(a)$, eq. (ap)")
+        ax.plot(a / amax, a / amax, "k:", lw=1, label=r"$a' = a$")
+        # the staircase a_0 -> a_1 -> a_1 on the diagonal -> a_2 ...; on log axes it starts
+        # at (a_0, a_1), the axis a' = 0 being out of reach
+        xs, ys = ([it[0]], [it[1]]) if log else ([it[0]], [0.0])
+        for i in range(len(it) - 1):
+            xs += [it[i], it[i + 1]]
+            ys += [it[i + 1], it[i + 1]]
+        ax.plot(xs, ys, "C1-", lw=0.8, label=r"iterates from $a = 0.9\,a_{\max}$")
+        ax.axvline(1.0, color="C3", ls="--", lw=1, label=r"$a_{\max}$, eq. (amax)")
+        ax.plot(
+            curv[:-1],
+            curv[1:],
+            "o",
+            color="C2",
+            mfc="none",
+            label="measured in a free-boundary run",
+        )
+        ax.set_xlabel(r"$a / a_{\max}$")
+        ax.set_ylabel(r"$a' / a_{\max}$")
+        if log:
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlim(1e-2, 1.3)
+            ax.set_ylim(1e-2, 1.3)
+            ax.set_title("The same on log axes: the iterates and the births", fontsize=9)
+        else:
+            ax.axhline(0, color="0.7", lw=0.8)
+            ax.legend(fontsize=7)
+            ax.set_title(f"Source map at $\\gamma = {g}$, $v = {v}$ (Fig. 7)", fontsize=9)
     return (
         f"Fig. 7: the map a -> a' of eq. (ap) at gamma = {g}, v = {v} (a_max = {amax:.3e}), "
         "the diagonal, the iterates from a = 0.9 a_max (`bk.theory`) and, as circles, the "
         f"curvature at successive births of a free-boundary source ({curv.size} births from "
-        f"a = {m['a']:g}, `bk.FreeBoundary`)."
+        f"a = {m['a']:g}, `bk.FreeBoundary`). Right: the same on log axes, where the iterates "
+        "and the measured births, which crowd the corner a < 0.1 a_max on linear axes, are "
+        "apart."
     )
 
 
@@ -1792,7 +1814,7 @@ FIGURES: dict[str, Callable] = {
     "fig4_waves": _panels(fig_waves, 2),
     "fig5_wave_train": _panels(fig_train, 2),
     "fig6_source": _panels(fig_source, 2),
-    "fig7_source_map": _panels(fig_map),
+    "fig7_source_map": _panels(fig_map, 2),
     "fig8_statistics": _panels(fig_statistics, 3),
     "fig9_sync_chaos": _panels(fig_sync, 3),
 }
