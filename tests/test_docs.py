@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 import bkwaves
-from bkwaves import _core
+from bkwaves import _core, theory
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -28,28 +28,13 @@ NUMPYDOC = [
     "bkwaves.params.Params.from_physical",
     "bkwaves.chain.Chain.run",
     "bkwaves.chain.Chain.kick",
+    "bkwaves.free_boundary.FreeBoundary.run",
     "bkwaves.runner.simulate",
     "bkwaves.io.load",
     "bkwaves.sweeps.sweep",
     "bkwaves.sweeps.load_sweep_result",
-    "bkwaves.theory.c_exact",
-    "bkwaves.theory.u_plus_interpolation",
-    "bkwaves.theory.c_interpolation",
-    "bkwaves.theory.c_large",
-    "bkwaves.theory.c_small",
-    "bkwaves.theory.critical_stress",
-    "bkwaves.theory.width",
-    "bkwaves.theory.u_minus",
-    "bkwaves.theory.amplitude",
-    "bkwaves.theory.wavelength",
-    "bkwaves.theory.train_period",
-    "bkwaves.theory.sawtooth",
-    "bkwaves.theory.source_b",
-    "bkwaves.theory.kappa",
-    "bkwaves.theory.a_prime",
-    "bkwaves.theory.a_max",
-    "bkwaves.theory.source_period",
 ]
+NUMPYDOC += [f"bkwaves.theory.{n}" for n in theory.__all__]  # every formula of the paper
 #: Classes: Parameters (of the constructor) and Examples.
 NUMPYDOC_CLASSES = ["bkwaves.params.Params", "bkwaves.chain.Chain", "bkwaves.FreeBoundary"]
 

@@ -538,11 +538,40 @@ class FreeBoundary:
         progress: bool = False,
         chunk: int = 20000,
     ) -> FreeBoundaryResult:
-        """Advance to ``t_end`` or until ``max_events`` more events are complete, whichever
-        comes first. ``snapshots``: an int n (n evenly spaced times up to a finite t_end)
-        or an array of times; the state is always recorded at the start and the end.
-        ``progress`` shows a progress bar. Ctrl-C stops the run and returns what was
-        computed (``result.interrupted``). Calling ``run`` again continues the run."""
+        """Advance to ``t_end`` or until ``max_events`` more events are complete.
+
+        Whichever comes first. Ctrl-C stops the run and returns what was computed
+        (``result.interrupted``). Calling ``run`` again continues the run.
+
+        Parameters
+        ----------
+        t_end : float, optional
+            End time (dimensionless, units of sqrt(m/k_p)); give it or ``max_events``.
+        max_events : int, optional
+            Stop once this many more events are complete.
+        snapshots : int or array_like, optional
+            An int n (n evenly spaced times up to a finite t_end) or an array of times;
+            the state is always recorded at the start and the end.
+        progress : bool, default False
+            Show a progress bar.
+        chunk : int, default 20000
+            Engine events between checks for Ctrl-C and progress.
+
+        Returns
+        -------
+        FreeBoundaryResult
+            Events, shock paths and snapshots since the engine was built.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> x = np.linspace(0.0, 50.0, 501)
+        >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-6, dx=0.01), x,
+        ...                      np.full_like(x, 0.6), shocks=[(1.0, +1)])
+        >>> fb.run(t_end=10.0, snapshots=3).snapshots["u"].shape
+        (3, 501)
+        """
         spec = V.FREE_BOUNDARY
         if t_end is None and max_events is None:
             V._fail("t_end", None, "a finite end time, or max_events")

@@ -228,7 +228,24 @@ def c_small(u_plus):
 
 def c_formal_continuum(u_plus):
     """WRONG on purpose: c = 1/sqrt(1 - u_+), the formal continuum answer the paper
-    warns against (Sec. VI). Provided only for comparison; never use it as c(u_+)."""
+    warns against (Sec. VI). Provided only for comparison; never use it as c(u_+).
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        1/sqrt(1 - u_+), which is not the front speed.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.c_formal_continuum(0.6), 4), theory.c_exact(0.6)
+    (1.5811, 1.25)
+    """
     u = _u(u_plus)
     return _out(1.0 / np.sqrt(1.0 - u))
 
@@ -277,7 +294,26 @@ def critical_stress(gamma, speed=None):
 # ------------------------------------------------------------- the wave (App. B)
 def gamma_tilde(c, gamma):
     """App. B: gamma-tilde = c gamma / sqrt(c^2 - 1); < 1 pulse, >= 1 creep (= 1: the
-    critically damped wave, which never re-sticks). With the exact c it is gamma/u_+."""
+    critically damped wave, which never re-sticks). With the exact c it is gamma/u_+.
+
+    Parameters
+    ----------
+    c : float or array_like
+        Front speed, > 1.
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        gamma-tilde (dimensionless).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> theory.gamma_tilde(1.25, 0.3)
+    0.5
+    """
     return _out(_core.gamma_tilde(_c(c), _gamma(gamma)))
 
 
@@ -368,7 +404,30 @@ def amplitude(u_plus, c, gamma):
 
 def profile(z, u_plus, gamma, c=None):
     """App. B profile u(z), z = x - c t: eq. (complex) with (ab) for a pulse (u = u_- behind
-    z = -w), eq. (real) for creep, u_+ ahead of the front. Exact c unless given."""
+    z = -w), eq. (real) for creep, u_+ ahead of the front. Exact c unless given.
+
+    Parameters
+    ----------
+    z : float or array_like
+        Comoving positions z = x - c t (front at 0, u_+ ahead).
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1.
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    c : float, optional
+        The front speed (default: the exact c(u_+)).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        u(z), of the shape of z.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> theory.profile([-1.0, 0.0], 0.6, 0.3)
+    array([0.28718902, 0.6       ])
+    """
     u = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     z = np.asarray(z, dtype=float)
     cc = None if c is None else V.number("c", c, lo=1.0, lo_open=True)
@@ -443,6 +502,27 @@ def restick_velocity(u_plus, gamma, c=None):
     lattice (it matters near u_c). Assumes a steady front (the stress it meets constant
     while a block slides) whose speed the loading does not change; checked against the
     chain for 8.6e-8 <= v_c <= 0.16 (docs/theory.md).
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1.
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    c : float, optional
+        The front speed (default: the exact c(u_+); pass the chain's,
+        ``bk.front_speed(u_plus, dx=dx, gamma=gamma)``, for a lattice).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        v_c (0 in creep, inf at gamma = 0).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(float(theory.restick_velocity(0.6, 0.3)), 5)
+    0.08206
     """
     u, g, root_mu = _root_mass(u_plus, gamma, c)
     out = np.empty(u.shape)
@@ -463,7 +543,29 @@ def restick_velocity_closed_form(u_plus, gamma, c=None):
     swing's amplitude A = u_+ c/sqrt(c^2 - 1) (= 1 for the exact c, not for a lattice's:
     docs/theory.md, section 6). It is the ratio -b/a at the peak of the swing, theta =
     pi + acos zeta; the true maximum lies a little later, so it is low by O(zeta m^2)
-    relative (2e-6 at v_c ~ 2e-3, 2e-5 at 7e-3, 1 % at v_c = 0.15). 0 in creep, inf at gamma = 0."""
+    relative (2e-6 at v_c ~ 2e-3, 2e-5 at 7e-3, 1 % at v_c = 0.15). 0 in creep, inf at gamma = 0.
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1.
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    c : float, optional
+        The front speed (default: the exact c(u_+); pass the chain's,
+        ``bk.front_speed(u_plus, dx=dx, gamma=gamma)``, for a lattice).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        v_c from the closed form.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(float(theory.restick_velocity_closed_form(0.6, 0.3)), 5)
+    0.08178
+    """
     u, g, root_mu = _root_mass(u_plus, gamma, c)
     out = np.empty(u.shape)
     for i in np.ndindex(u.shape):
@@ -483,7 +585,33 @@ def restick_time(u_plus, gamma, v, c=None):
     """Time from a block's slip to its re-stick behind a steady pulse loaded at rate v: the
     first zero of its speed over the ground s(tau) (docs/theory.md, section 6). At v = 0
     it is w/c (App. B); NaN when the block does not re-stick (v > :func:`restick_velocity`,
-    or creep). Exact c by default, or the given one (a lattice's)."""
+    or creep). Exact c by default, or the given one (a lattice's).
+
+    Parameters
+    ----------
+    u_plus : float or array_like
+        Stress ahead of the front, 0 < u_plus < 1.
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    v : float
+        Loading rate, >= 0.
+    c : float, optional
+        The front speed (default: the exact c(u_+); pass the chain's,
+        ``bk.front_speed(u_plus, dx=dx, gamma=gamma)``, for a lattice).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The time in units of sqrt(m/k_p); NaN when the block does not re-stick.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> from bkwaves import theory
+    >>> w = bk.traveling_wave(0.6, 0.3)
+    >>> round(float(theory.restick_time(0.6, 0.3, 0.0)), 6), round(w.w / w.c, 6)
+    (2.176559, 2.176559)
+    """
     from scipy.optimize import brentq
 
     u, g, root_mu = _root_mass(u_plus, gamma, c)
@@ -521,7 +649,28 @@ def critical_stress_under_load(gamma, v, speed=None):
 
     ``speed`` may be another c(u_+), e.g. the chain's ``lambda u: bk.front_speed(u, dx=dx,
     gamma=gamma)``. None when no u_+ < 1 re-sticks at this v (gamma >= 1, or v above
-    the value at u_+ -> 1); 0 at gamma = 0 (every pulse re-sticks)."""
+    the value at u_+ -> 1); 0 at gamma = 0 (every pulse re-sticks).
+
+    Parameters
+    ----------
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    speed : callable, optional
+        Another front-speed law c(u_+) (default: the exact one).
+
+    Returns
+    -------
+    float or None
+        The critical u_+ at this v (None where no u_+ < 1 re-sticks).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.critical_stress_under_load(0.3, 1e-3), 4)    # u_c = 0.3 at v -> 0
+    0.3388
+    """
     from scipy.optimize import brentq
 
     g = V.number("gamma", gamma, lo=0.0)
@@ -618,7 +767,28 @@ def train_period(u_plus, gamma, v, c=None):
 
 def min_wavelength(gamma, v, speed=None):
     """Eq. (Lmin): L_min = c(u_c) u_c / v; trains exist only for L > L_min.
-    None for gamma >= 1 (no train exists)."""
+    None for gamma >= 1 (no train exists).
+
+    Parameters
+    ----------
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    speed : callable, optional
+        Another front-speed law c(u_+) (default: the exact one).
+
+    Returns
+    -------
+    float
+        L_min in units of a sqrt(k_c/k_p).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.min_wavelength(0.3, 0.01), 4)
+    31.4485
+    """
     uc = critical_stress(gamma, speed)
     if uc is None:
         return None
@@ -731,7 +901,24 @@ def kappa(gamma):
 
 
 def u_minus_at_one(gamma):
-    """u_-(1) = -exp(-pi gamma / sqrt(1 - gamma^2)) (eq. um at u_+ = 1)."""
+    """u_-(1) = -exp(-pi gamma / sqrt(1 - gamma^2)) (eq. um at u_+ = 1).
+
+    Parameters
+    ----------
+    gamma : float
+        Viscous damping, 0 <= gamma < 1.
+
+    Returns
+    -------
+    float
+        u_-(1).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> float(round(theory.u_minus_at_one(0.3), 6))
+    -0.372326
+    """
     _, e = _exponent(gamma)
     return -np.exp(-e)
 
@@ -804,7 +991,30 @@ MAX_MAP_ITERATIONS = 10**7  # an array of n + 1 floats; ~10 s of Python per 10**
 def iterate_map(a0, v, gamma, n: int):
     """The map a -> a' of eq. (ap) iterated n times from a0: array a_0 .. a_n
     (0 <= n <= 10**7). Iteration stops (NaN after) once a' <= 0, where the maximum is
-    lost."""
+    lost.
+
+    Parameters
+    ----------
+    a0 : float
+        Initial curvature, > 0.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    gamma : float
+        Viscous damping, 0 <= gamma < 1.
+    n : int
+        Iterations, 0 <= n <= 10**7.
+
+    Returns
+    -------
+    numpy.ndarray
+        a_0 .. a_n (NaN after the maximum is lost).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> theory.iterate_map(1e-4, 0.01, 0.3, 2)
+    array([1.00000000e-04, 1.11720093e-05, 8.03013780e-06])
+    """
     n = V.integer("n", n, lo=0, hi=MAX_MAP_ITERATIONS)
     out = np.full(n + 1, np.nan)
     out[0] = V.number("a0", a0, lo=0.0, lo_open=True)
@@ -818,7 +1028,29 @@ def iterate_map(a0, v, gamma, n: int):
 
 
 def a_n_asymptote(n, v, gamma):
-    """Sec. V: after n >> 1 iterations a_n ~ v^2 / (2 n (1 + kappa))."""
+    """Sec. V: after n >> 1 iterations a_n ~ v^2 / (2 n (1 + kappa)).
+
+    Parameters
+    ----------
+    n : int or array_like
+        Iteration number(s), >= 1.
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+    gamma : float
+        Viscous damping, 0 <= gamma < 1.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        a_n.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> a = theory.iterate_map(1e-4, 0.01, 0.3, 100)[-1]
+    >>> round(float(a / theory.a_n_asymptote(100, 0.01, 0.3)), 2)
+    0.99
+    """
     n = V.array("n", n, lo=0.0, lo_open=True)
     v = V.number("v", v, lo=0.0)
     return _out(v * v / (2.0 * n * (1.0 + kappa(gamma))))
