@@ -1531,7 +1531,8 @@ def fig_statistics(axes, quick):
         f"start, no backward slip) and the free boundary problem (ring L = {cat['L']:.0f}, "
         f"v = {V_FB}, rough random start; events overlapping in time merge into one, so "
         "most of its events span the ring: "
-        f"{int(np.sum(frac_fb >= 1.0))} of {frac_fb.size} here, drawn once at 1 as ties are). They are not the same system and are not compared: "
+        f"{int(np.sum(frac_fb >= 1.0))} of {frac_fb.size} here, drawn once at 1 as ties are). "
+        "They are not the same system and are not compared: "
         "the chain spans "
         f"{nb * ch.params.dx:g} length units, too short and too loaded for the free boundary "
         "limit (v << 1, smooth fields, many pulse widths), while the continuum has no "
@@ -1551,18 +1552,19 @@ def fig_sync(axes, quick):
     for name, col in (("smooth", "C0"), ("sharp", "C3")):
         r = m["res"][name]
         k = np.arange(1, r["births"].size + 1)
-        lab = f"{name}: median a = {np.median(r['a']) / amax:.2g} a_max"
+        lab = f"{name}: median $a = {np.median(r['a']) / amax:.2g}\\,a_{{\\max}}$"
         axes[0].semilogy(k, np.maximum(r["births"], 0.5), "-", color=col, label=lab)
         axes[1].plot(k, r["recurrent"], "-", color=col, label=lab)
     ax = axes[0]
     ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
     ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
     ax.yaxis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel("source period n")
+    ax.set_xlabel("source period $n$")
     ax.set_ylabel("births per period")
     ax.legend(fontsize=7)
-    ax.set_title(f"Ring of length {m['L']:.0f}, gamma = {GAMMA_FB}, v = {V_FB}", fontsize=9)
-    axes[1].set_xlabel("source period n")
+    ax.set_title(f"Ring of length {m['L']:.0f}, $\\gamma = {GAMMA_FB}$, $v = {V_FB}$", fontsize=9)
+    axes[1].set_xlabel("source period $n$")
+    axes[1].legend(fontsize=7, loc="lower right")
     axes[1].set_ylabel("fraction of births at a previous site")
     axes[1].set_ylim(-0.05, 1.05)
     axes[1].set_title("Synchronisation (1) vs wandering births (0)", fontsize=9)
@@ -1582,21 +1584,23 @@ def fig_sync(axes, quick):
             "-",
             color=f"C{i}",
             lw=1.5,
-            label=f"{lo}-{hi}: p = {w['p']:.2f} +- {w['sigma']:.2f}",
+            label=f"{lo}-{hi}: $p = {w['p']:.2f} \\pm {w['sigma']:.2f}$",
         )
     kk = k[k >= SYNC_FIT_FROM]
     r0 = fit["R"][SYNC_FIT_FROM - 1]
-    ax.loglog(kk, r0 * (kk / SYNC_FIT_FROM) ** 0.5, "k--", lw=1, label="paper: R ~ n^1/2")
+    ax.loglog(
+        kk, r0 * (kk / SYNC_FIT_FROM) ** 0.5, "k--", lw=1, label=r"paper: $R \propto n^{1/2}$"
+    )
     ax.xaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
     ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 1.5, 2.0, 3.0, 5.0, 7.0)))
     ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
     ax.yaxis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel("source period n")
-    ax.set_ylabel("R = L / sources")
+    ax.set_xlabel("source period $n$")
+    ax.set_ylabel("$R = L$ / sources")
     ax.legend(fontsize=7)
-    ax.set_title("Coarsening: local exponent p against the window", fontsize=9)
+    ax.set_title("Coarsening: local exponent $p$ against the window", fontsize=9)
     return (
         f"Synchronisation vs chaos (Sec. V): free-boundary rings (`bk.FreeBoundary`) of length "
         f"{m['L']:.0f}, gamma = {GAMMA_FB}, v = {V_FB}, grid h = 0.2, from u = 0.5 + a "
