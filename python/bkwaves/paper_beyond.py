@@ -56,12 +56,38 @@ def fig_disorder_speed(axes, quick):
         err = np.array([e.c_sem for e in ens])
         col = f"C{i}"
         ax = axes[0]
-        ax.errorbar(sig, c, err, fmt="o", color=col, ms=4, label=f"tip marcher, u+ = {u}")
+        # error bars with caps and markers smaller than them, so that bars of one standard
+        # error (often ~1e-3 in c) show; the theories are labelled once (the colour is u_+)
+        once = i == 0
+        ax.errorbar(
+            sig, c, err, fmt="o", color=col, ms=3, capsize=4, label=f"tip marcher, $u_+ = {u}$"
+        )
         s0 = np.r_[0.0, fine]
-        ax.plot(s0, d.c0 + d.k * s0**2, "-", color=col, lw=1, label="c0 + k sigma^2 (one defect)")
-        ax.plot(fine, harm, "--", color=col, lw=1, label="harmonic 1/<1/c(u+/theta)>")
+        ax.plot(
+            s0,
+            d.c0 + d.k * s0**2,
+            "-",
+            color=col,
+            lw=1,
+            label=r"$c_0 + k\,\sigma^2$ (one defect)" if once else None,
+        )
+        ax.plot(
+            fine,
+            harm,
+            "--",
+            color=col,
+            lw=1,
+            label=r"harmonic $1/\langle 1/c(u_+/\theta)\rangle$" if once else None,
+        )
         arith = [t.arithmetic for t in thf]
-        ax.plot(fine, arith, ":", color=col, lw=1, label="arithmetic <c(u+/theta)>")
+        ax.plot(
+            fine,
+            arith,
+            ":",
+            color=col,
+            lw=1,
+            label=r"arithmetic $\langle c(u_+/\theta)\rangle$" if once else None,
+        )
         # the sigma^2 coefficient, paired with the same realisations' harmonic prediction
         k = np.array(
             [
@@ -71,9 +97,20 @@ def fig_disorder_speed(axes, quick):
         )
         kerr = np.array([e.excess_sem / s**2 for e, s in zip(ens, sig, strict=True)])
         ax = axes[1]
-        ax.errorbar(sig, k, kerr, fmt="o", color=col, ms=4, label=f"measured, u+ = {u}")
-        ax.axhline(d.k, color=col, lw=1, label="one defect (exact as sigma -> 0)")
-        ax.plot(fine, (harm - d.c0) / fine**2, "--", color=col, lw=1, label="harmonic local theory")
+        ax.errorbar(
+            sig, k, kerr, fmt="o", color=col, ms=3, capsize=4, label=f"measured, $u_+ = {u}$"
+        )
+        ax.axhline(
+            d.k, color=col, lw=1, label=r"one defect (exact as $\sigma \to 0$)" if once else None
+        )
+        ax.plot(
+            fine,
+            (harm - d.c0) / fine**2,
+            "--",
+            color=col,
+            lw=1,
+            label="harmonic local theory" if once else None,
+        )
         parts.append(
             f"at u_+ = {u:g} the measured k goes from {k[0]:.3g} +- {kerr[0]:.1g} at "
             f"sigma = {sig[0]:.3g} (single defect: {d.k:.3g}; harmonic local theory: "
@@ -82,15 +119,20 @@ def fig_disorder_speed(axes, quick):
             f"against {d.c0 + d.k * sig[-1] ** 2:.4f} at second order and "
             f"{th[-1].harmonic:.4f} harmonic"
         )
-    axes[0].set_xlabel("sigma (threshold standard deviation)")
-    axes[0].set_ylabel("c_eff")
+    axes[0].set_xlabel(r"threshold standard deviation $\sigma$")
+    axes[0].set_ylabel(r"front speed $c_{\mathrm{eff}}$")
     axes[0].legend(fontsize=6, loc="upper left")
     axes[0].set_title("Front speed in a disordered chain", fontsize=9)
-    axes[1].set_xlabel("sigma")
-    axes[1].set_ylabel("k = (c_eff - c0)/sigma^2")
+    axes[1].set_xlabel(r"threshold standard deviation $\sigma$")
+    axes[1].set_ylabel(r"$k = (c_{\mathrm{eff}} - c_0)/\sigma^2$")
     axes[1].set_yscale("log")
+    from matplotlib.ticker import FormatStrFormatter
+
+    # plain numbers (0.4, 0.6, 1) on the log axis, not 4x10^-1
+    axes[1].yaxis.set_major_formatter(FormatStrFormatter("%g"))
+    axes[1].yaxis.set_minor_formatter(FormatStrFormatter("%g"))
     axes[1].legend(fontsize=6, loc="lower left", bbox_to_anchor=(0.0, 0.1))
-    axes[1].set_title("The sigma^2 coefficient", fontsize=9)
+    axes[1].set_title(r"The $\sigma^2$ coefficient", fontsize=9)
     return (
         f"Quenched disorder: a front at stress u_+ ahead runs into blocks with iid uniform "
         f"thresholds 1 + sigma xi (dx = {dx:g}, gamma = {gamma:g}); c_eff is the mean over "
