@@ -28,6 +28,8 @@ NUMPYDOC = [
     "bkwaves.params.Params.from_physical",
     "bkwaves.chain.Chain.run",
     "bkwaves.chain.Chain.kick",
+    "bkwaves.chain.front",
+    "bkwaves.config.load_config",
     "bkwaves.free_boundary.FreeBoundary.run",
     "bkwaves.runner.simulate",
     "bkwaves.io.load",

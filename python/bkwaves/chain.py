@@ -1089,10 +1089,40 @@ def front(
     settling lengths x_s = w v/(c - v) from the trigger (sized first from App. B, then
     from the measured w and c, up to MAX_PASSES runs within WORK_LIMIT); a given
     ``blocks`` is one run with the window as far from the trigger as the far end allows.
-    beta: inf (default) is the paper's model, no backward slip. friction: a law
-    (``bk.friction.law(name, **params)`` or a name; default: the default law), whose
-    gamma and beta, if it has them, are the arguments of those names. See
-    docs/chain.md.
+    See docs/chain.md.
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1.
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+    dx : float
+        Lattice spacing sqrt(k_p/k_c), 0 < dx < 1.
+    blocks : int, optional
+        Chain length; default: sized so the measurement has settled (see above).
+    step : float, default 0.05
+        Time step as a fraction of dx.
+    beta : float, default inf
+        f_s/(f_r - f_s); inf is the paper's model, no backward slip.
+    friction : bkwaves.friction.Law or str, optional
+        A law (``bk.friction.law(name, **params)`` or a name; default: the default law),
+        whose gamma and beta, if it has them, are the arguments of those names.
+
+    Returns
+    -------
+    FrontMeasurement
+        c (units of the sound speed), regime, u_-, w (units of a sqrt(k_c/k_p)), the
+        window, the settling diagnostics and App. B's values for comparison.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> m = bk.chain.front(0.6, 0.3, 0.05)
+    >>> round(m.c, 7), round(bk.front_speed(0.6, dx=0.05, gamma=0.3), 7)
+    (1.2420474, 1.2420474)
+    >>> m.regime, round(m.u_minus, 4), m.app_b["u_minus"] < m.u_minus
+    ('pulse', -0.0953, True)
     """
     from .params import check_beta
 

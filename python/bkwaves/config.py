@@ -986,7 +986,49 @@ def _to_doc(cfg: RunConfig) -> dict:
 
 
 def load_config(path) -> RunConfig:
-    """Read and validate a TOML run configuration (UTF-8)."""
+    """Read and validate a TOML run configuration (UTF-8).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The TOML file (keys, units and allowed values: docs/usage.md); relative paths in
+        it are relative to its folder.
+
+    Returns
+    -------
+    RunConfig
+        The validated configuration, in the paper's dimensionless units.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        A missing file, a TOML error, an unknown key or a value out of range, named by
+        its key path (``params.gama: unknown key; valid keys here: ...``).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> path = os.path.join(tempfile.mkdtemp(), "front.toml")
+    >>> with open(path, "w") as f:
+    ...     _ = f.write('''
+    ... model = "chain"
+    ... [params]
+    ... gamma = 0.3
+    ... v = 0.0
+    ... dx = 0.05
+    ... [domain]
+    ... blocks = 100
+    ... [initial]
+    ... kind = "uniform"
+    ... value = 0.6
+    ... [run]
+    ... t_end = 10.0
+    ... ''')
+    >>> cfg = bk.config.load_config(path)
+    >>> cfg.model, cfg.blocks, cfg.params.gamma
+    ('chain', 100, 0.3)
+    """
     path = Path(path)
     try:
         data = path.read_bytes()
