@@ -408,7 +408,8 @@ def fb_train(quick: bool, ring: float | None = None, teeth: int = 3, u0: float =
             shocks=[(xf + k * L, 1) for k in range(teeth)],
         )
         # dense snapshots over the first laps (the selection), and the end
-        r = fb.run(t_end=t_end, snapshots=np.r_[np.linspace(0, 8 * L, 200), t_end])
+        # (800: a shock crosses about one node between two, so u(x, t) shows no staircase)
+        r = fb.run(t_end=t_end, snapshots=np.r_[np.linspace(0, 8 * L, 800), t_end])
         tp, up, um = _passages(r, x, n // (2 * teeth))
         _CACHE[key] = (r, dict(L=L, x=x, xf=xf, teeth=teeth, u0=u0, t=tp, up=up, um=um))
     return _CACHE[key]
@@ -1385,9 +1386,20 @@ def fig_train(axes, quick):
     ds = r.snapshots
     s = _train_summary(m)
     ax = axes[0]
-    ax.plot(m["x"], ds.u.isel(t=0), color="0.6", lw=1, label="start: uniform u, shocks")
+    ax.plot(m["x"], ds.u.isel(t=0), color="0.6", lw=1, label="start: uniform $u$")
+    for k in range(m["teeth"]):
+        ax.axvline(
+            m["xf"] + k * m["L"],
+            color="0.6",
+            ls="-.",
+            lw=1,
+            label="start: its right-moving shocks" if k == 0 else None,
+        )
     t_end = float(ds.t[-1])
-    ax.plot(m["x"], ds.u.isel(t=-1), "C0", lw=2, label=f"free boundary, t = {t_end:.0f}")
+    # the final profile drawn wide and pale under the thin saw-tooth, so both show
+    ax.plot(
+        m["x"], ds.u.isel(t=-1), "C0", lw=4, alpha=0.5, label=f"free boundary, $t = {t_end:.0f}$"
+    )
     # the saw-tooth of the train whose wavelength is the ring's (eq. L solved for u_+),
     # placed at the front of the final profile (its largest rise, left to right)
     u_end = ds.u.isel(t=-1).to_numpy()
@@ -1399,28 +1411,29 @@ def fig_train(axes, quick):
         theory.sawtooth(m["x"], 0.0, up_star, GAMMA_FB, V_FB, x0=x_front),
         "k--",
         lw=1,
-        label=f"saw-tooth of eq. (L): u+ = {up_star:.4f}",
+        label=f"saw-tooth of eq. (L): $u_+ = {up_star:.4f}$",
     )
-    ax.set_xlabel("x")
-    ax.set_ylabel("u")
+    ax.set_xlabel("$x$")
+    ax.set_ylabel("$u$")
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=2)
-    ax.set_title(f"Wave train on a ring, gamma = {GAMMA_FB}, v = {V_FB} (Fig. 5)", fontsize=9)
+    ax.set_title(f"Wave train on a ring, $\\gamma = {GAMMA_FB}$, $v = {V_FB}$ (Fig. 5)", fontsize=9)
     first = ds.isel(t=slice(0, -1))
     mesh = axes[1].pcolormesh(
         first.x, first.t, first.u, shading="nearest", cmap="viridis", rasterized=True
     )
-    axes[1].figure.colorbar(mesh, ax=axes[1], label="u")
-    axes[1].set_xlabel("x")
-    axes[1].set_ylabel("t")
-    axes[1].set_title("u(x, t), first laps: the train selects its amplitude", fontsize=9)
+    axes[1].figure.colorbar(mesh, ax=axes[1], label="$u$")
+    axes[1].set_xlabel("$x$")
+    axes[1].set_ylabel("$t$")
+    axes[1].set_title("$u(x, t)$, first laps: the train selects its amplitude", fontsize=9)
     return (
         f"Fig. 5: a periodic wave train that selected itself. A ring of length "
-        f"{m['teeth']} x {m['L']:.2f} (gamma = {GAMMA_FB}, v = {V_FB}) starts at uniform u = "
-        f"{m['u0']} with {m['teeth']} equally spaced right-moving shocks (grey); the free "
-        f"boundary engine (`bk.FreeBoundary`) runs it to t = {t_end:.0f}. Left: the final "
-        f"profile (blue) on the saw-tooth (dashed) of the train whose wavelength L = c A / v "
-        f"is the ring's: measured u_+ = {s['up']:.6f} vs {up_star:.6f}. Right: u(x, t) over the "
-        f"first {float(first.t[-1]):.0f} time units; the first laps (u_+ = {m['up'][0]:.3f} on "
+        f"{m['teeth']} x {m['L']:.2f} (gamma = {GAMMA_FB}, v = {V_FB}) starts at uniform "
+        f"u = {m['u0']} with {m['teeth']} equally spaced right-moving shocks (grey, "
+        f"dash-dotted); the free boundary engine (`bk.FreeBoundary`) runs it to "
+        f"t = {t_end:.0f}. Left: the final profile (broad pale blue) under the saw-tooth "
+        f"(dashed) of the train whose wavelength L = c A / v is the ring's: measured "
+        f"u_+ = {s['up']:.6f} vs {up_star:.6f}. Right: u(x, t) over the first "
+        f"{float(first.t[-1]):.0f} time units; the first laps (u_+ = {m['up'][0]:.3f} on "
         "the first) relax to the train."
     )
 
