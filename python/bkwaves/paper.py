@@ -551,7 +551,9 @@ def fb_source(quick: bool, a: float = 1e-4, events: int | None = None):
             warnings.simplefilter("ignore", NoCreepWarning)  # the far ends creep; recorded
             fb = FreeBoundary(_fb_params(), x, 1 - 1e-3 - a * (x - x0) ** 2)
         T = theory.source_period(V_FB, GAMMA_FB)
-        r = fb.run(max_events=nev, snapshots=np.linspace(0, (nev - 0.5) * T, 40 * nev))
+        # every T/40, and every 0.25 over the first birth (Fig. 6 zooms into it)
+        snaps = np.union1d(np.linspace(0, (nev - 0.5) * T, 40 * nev), np.arange(0.0, 30.0, 0.25))
+        r = fb.run(max_events=nev, snapshots=snaps)
         _CACHE[key] = (r, dict(a=a, x0=x0, T=T))
     return _CACHE[key]
 
@@ -1444,14 +1446,26 @@ def fig_source(axes, quick):
     r, m = fb_source(quick)
     ds = r.snapshots
     ax = axes[0]
-    mesh = ax.pcolormesh(ds.x, ds.t, ds.u, shading="nearest", cmap="viridis", rasterized=True)
-    ax.figure.colorbar(mesh, ax=ax, label="u")
-    for _, g in r.shocks[r.shocks.kind.isin(["birth", "node", "exit", "death"])].groupby("shock"):
-        ax.plot(g.x, g.t, "w-", lw=0.6)
-    ax.set_ylim(0, float(ds.t[-1]))
-    ax.set_xlabel("x")
-    ax.set_ylabel("t")
-    ax.set_title(f"Source, a = {m['a']:g} < a_max: u(x, t)", fontsize=9)
+    # zoomed into the first birth: its two shocks (from the shock table, red) run out of x0
+    # as a V over u(x, t)
+    ev0 = r.events.iloc[0]
+    first = r.shocks[
+        (r.shocks.event == ev0.id) & r.shocks.kind.isin(["birth", "node", "exit", "death"])
+    ]
+    t0, t1 = float(ev0.t_start), float(first.t.max())
+    pad = 0.15 * (t1 - t0)
+    lo = max(t0 - pad, float(ds.t[0]))
+    near = ds.sel(t=slice(lo, t1 + pad))
+    mesh = ax.pcolormesh(near.x, near.t, near.u, shading="nearest", cmap="viridis", rasterized=True)
+    cb = ax.figure.colorbar(mesh, ax=ax, pad=0.02)
+    cb.ax.set_title("$u$", fontsize=9)  # above the bar, clear of the next panel
+    for k, (_, g) in enumerate(first.groupby("shock")):
+        ax.plot(g.x, g.t, "-", color="C3", lw=1.5, label="shock paths" if k == 0 else None)
+    ax.set_ylim(lo, t1 + pad)
+    ax.legend(fontsize=7, loc="upper center")
+    ax.set_xlabel("$x$")
+    ax.set_ylabel("$t$")
+    ax.set_title(f"Source, $a = {m['a']:g} < a_{{\\max}}$: the first birth", fontsize=9)
     ax = axes[1]
     ev = r.events
     sh = r.shocks
@@ -1469,17 +1483,18 @@ def fig_source(axes, quick):
             "-",
             color=col,
             lw=0.8,
-            label=f"birth {k + 1}: x0 +- sqrt(b t), a = {a_k:.2e}, b = {b:.0f}",
+            label=f"birth {k + 1}: $x_0 \\pm \\sqrt{{b\\,t}}$, $a = {a_k:.2e}$, $b = {b:.0f}$",
         )
-    ax.set_xlabel("x - x0")
-    ax.set_ylabel("t - t_birth")
+    ax.set_xlabel("$x - x_0$")
+    ax.set_ylabel(r"$t - t_{\mathrm{birth}}$")
     ax.legend(fontsize=7, loc="upper center")
     ax.set_title("Shock paths near the birth (dots) and eq. (b)", fontsize=9)
     return (
         f"Fig. 6: a source of counter-propagating waves: u = 1 - 1e-3 - a (x - x0)^2 with "
         f"a = {m['a']:g} < a_max at gamma = {GAMMA_FB}, v = {V_FB}, {len(ev)} births (free "
-        "boundary engine, `bk.FreeBoundary`). Left: u(x, t) with the shock paths (white); the "
-        "shocks are born at u = 1, where c is infinite, so at this scale they are flat stripes. "
+        "boundary engine, `bk.FreeBoundary`). Left: u(x, t) around the first birth with its "
+        "two shock paths (red, from the engine's shock table): born at u = 1, where c is "
+        "infinite, they leave x0 as a V. "
         f"Right: the V (here a parabola t = (x - x0)^2/b) of the two shocks within {span:g} of "
         "x0 after the first two births, as recorded by the engine (dots, every grid node "
         "crossed), with eq. (b) for the curvature measured at each birth (lines)."
