@@ -28,17 +28,93 @@ FIGURES = [
 PAPER_PY = Path(__file__).resolve().parents[1] / "python" / "bkwaves" / "paper.py"
 
 
+#: What :func:`figure_problems` found in each figure of the ``paper`` fixture's run.
+FIGURE_PROBLEMS: dict[str, list[str]] = {}
+
+
 @pytest.fixture(scope="module")
 def paper(tmp_path_factory):
+    """`bkwaves paper --quick --json`, run once in this process so that every figure is
+    also checked by :func:`figure_problems` just before it is saved."""
+    import contextlib
+    import io
+
+    import bkwaves.paper
+    from bkwaves.cli import main
+
     out = tmp_path_factory.mktemp("paper")
-    r = subprocess.run(
-        [sys.executable, "-m", "bkwaves", "paper", "-o", str(out), "--quick", "--json"],
-        capture_output=True,
-        text=True,
-        timeout=900,
-    )
-    assert r.returncode == 0, r.stderr
-    return out, json.loads(r.stdout)
+    save = bkwaves.paper._save
+
+    def checked_save(fig, where, name):
+        FIGURE_PROBLEMS[name] = figure_problems(fig)
+        return save(fig, where, name)
+
+    stdout = io.StringIO()
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(bkwaves.paper, "_save", checked_save)
+        with contextlib.redirect_stdout(stdout), pytest.raises(SystemExit) as done:
+            main(["paper", "-o", str(out), "--quick", "--json"])
+    assert done.value.code in (0, None)
+    return out, json.loads(stdout.getvalue())
+
+
+def _overlaps(boxes) -> bool:
+    return any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
+
+
+def figure_problems(fig) -> list[str]:
+    """What a program can check in a figure: every axes with its axis labels (a colorbar
+    with one, or a title), a legend wherever an axes holds more than one labelled series,
+    tick labels that do not overlap, and marker data inside the axes limits."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    problems = []
+    for n, ax in enumerate(fig.axes):
+        if not ax.axison:
+            continue
+        where = f"axes {n} ({ax.get_title() or ax.get_label()})"
+        if ax.get_label() == "<colorbar>":
+            if not (ax.get_ylabel() or ax.get_xlabel() or ax.get_title()):
+                problems.append(f"{where}: colorbar without a label")
+            continue
+        if not ax.get_xlabel() or not ax.get_ylabel():
+            problems.append(f"{where}: an axis without a label")
+        labelled = [
+            a
+            for a in (*ax.lines, *ax.collections, *ax.patches, *ax.containers)
+            if not str(a.get_label()).startswith("_")
+        ]
+        if len(labelled) > 1 and ax.get_legend() is None and not fig.legends:
+            problems.append(f"{where}: {len(labelled)} labelled series and no legend")
+        for axis in (ax.xaxis, ax.yaxis):
+            lo, hi = sorted(axis.get_view_interval())
+            boxes = [
+                t.get_window_extent(renderer)
+                for loc, t in zip(axis.get_majorticklocs(), axis.get_majorticklabels(), strict=True)
+                if lo <= loc <= hi and t.get_visible() and t.get_text()
+            ]
+            minor = [
+                t.get_window_extent(renderer)
+                for loc, t in zip(axis.get_minorticklocs(), axis.get_minorticklabels(), strict=True)
+                if lo <= loc <= hi and t.get_visible() and t.get_text()
+            ]
+            if _overlaps(boxes + minor):
+                problems.append(f"{where}: overlapping tick labels on {axis.axis_name}")
+        (x0, x1), (y0, y1) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
+        for line in ax.lines:
+            if line.get_transform() != ax.transData or line.get_linestyle() not in ("None", ""):
+                continue  # reference lines and curves may run past the frame; markers not
+            x, y = (np.asarray(v, float) for v in line.get_data())
+            ok = np.isfinite(x) & np.isfinite(y)
+            if not np.all((x[ok] >= x0) & (x[ok] <= x1) & (y[ok] >= y0) & (y[ok] <= y1)):
+                problems.append(f"{where}: markers of {line.get_label()!r} outside the axes")
+    return problems
+
+
+def test_figures_readable(paper):
+    assert sorted(FIGURE_PROBLEMS) == sorted([*paper[1]["figures"], *paper[1]["beyond_figures"]])
+    problems = {k: v for k, v in FIGURE_PROBLEMS.items() if v}
+    assert not problems, problems
 
 
 def _rows(d):

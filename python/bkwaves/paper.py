@@ -1702,28 +1702,28 @@ def fig_map(axes, quick):
     curv = r.events.curvature.to_numpy() / amax
     it = theory.iterate_map(0.9 * amax, v, g, 8) / amax
     for k, ax in enumerate(axes):
-        log = k == 1
+        log = k == 1  # the right panel: the same series, named by the left panel's legend
         a = np.geomspace(amax * 1e-3, 1.3 * amax, 400)
         ap = theory.a_prime(a, v, g) / amax
         if log:  # a' < 0 past a_max (no source) has no place on a log axis
             ap = np.where(ap > 0, ap, np.nan)
-        ax.plot(a / amax, ap, "C0", lw=2, label=r"$a'(a)$, eq. (ap)")
-        ax.plot(a / amax, a / amax, "k:", lw=1, label=r"$a' = a$")
+        ax.plot(a / amax, ap, "C0", lw=2, label=None if log else r"$a'(a)$, eq. (ap)")
+        ax.plot(a / amax, a / amax, "k:", lw=1, label=None if log else r"$a' = a$")
         # the staircase a_0 -> a_1 -> a_1 on the diagonal -> a_2 ...; on log axes it starts
         # at (a_0, a_1), the axis a' = 0 being out of reach
         xs, ys = ([it[0]], [it[1]]) if log else ([it[0]], [0.0])
         for i in range(len(it) - 1):
             xs += [it[i], it[i + 1]]
             ys += [it[i + 1], it[i + 1]]
-        ax.plot(xs, ys, "C1-", lw=0.8, label=r"iterates from $a = 0.9\,a_{\max}$")
-        ax.axvline(1.0, color="C3", ls="--", lw=1, label=r"$a_{\max}$, eq. (amax)")
+        ax.plot(xs, ys, "C1-", lw=0.8, label=None if log else r"iterates from $a = 0.9\,a_{\max}$")
+        ax.axvline(1.0, color="C3", ls="--", lw=1, label=None if log else r"$a_{\max}$, eq. (amax)")
         ax.plot(
             curv[:-1],
             curv[1:],
             "o",
             color="C2",
             mfc="none",
-            label="measured in a free-boundary run",
+            label=None if log else "measured in a free-boundary run",
         )
         ax.set_xlabel(r"$a / a_{\max}$")
         ax.set_ylabel(r"$a' / a_{\max}$")

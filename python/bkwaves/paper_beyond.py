@@ -290,6 +290,10 @@ def noise_scan(quick: bool) -> dict:
     return paper._CACHE[key]
 
 
+#: The noise strength's axis label (Lambda is constant for u > 0: nu_R = Lambda R_0 / v).
+NU_R_LABEL = r"noise strength $\nu_R = \Lambda R_0 / v$"
+
+
 def fig_noise_statistics(axes, quick):
     """Noise-triggered slips (issue 14): size-frequency, b-value and recurrence against
     the noise strength, from the synchronised and the chaotic regimes to noise dominated."""
@@ -307,10 +311,10 @@ def fig_noise_statistics(axes, quick):
             continue
         s, cc = stats.size_frequency(cat.moment.to_numpy())
         nu_r = tab_s.Lambda_mean[i] * r0 / v
-        lab = "no noise" if tab_s.nu[i] == 0 else f"nu_R = {nu_r:.2g}"
+        lab = "no noise" if tab_s.nu[i] == 0 else f"$\\nu_R = {nu_r:.2g}$"
         ax.loglog(s, cc, "-", color=f"C{k}", lw=1.2, label=f"{lab} ({len(cat)})")
-    ax.set_xlabel("rupture moment  int A dx")
-    ax.set_ylabel("fraction of ruptures >= size")
+    ax.set_xlabel(r"rupture moment $\int A\,dx$")
+    ax.set_ylabel(r"fraction of ruptures $\geq$ size")
     ax.legend(fontsize=6, loc="lower left")
     ax.set_title("Size-frequency (smooth start)", fontsize=9)
     ax = axes[1]
@@ -325,22 +329,35 @@ def fig_noise_statistics(axes, quick):
             ax.axhline(q.b.iloc[0], color=col, ls=":", lw=1, label=f"{name}, no noise")
     ax.axvline(1.0, color="k", ls="--", lw=0.8)
     ax.set_xscale("log")
-    ax.set_xlabel("noise strength nu_R = R_0 int_0^1 Lambda du / v")
-    ax.set_ylabel("b (moment magnitudes above Mc)")
-    ax.legend(fontsize=6)
+    ax.set_xlabel(NU_R_LABEL)
+    ax.set_ylabel("$b$ (moment magnitudes above $M_c$)")
+    # below the axes: a legend inside would hide points
+    ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncols=2)
     ax.set_title("b-value, 95 % interval (no point: no b)", fontsize=9)
     ax = axes[2]
     a1 = 1.0 - theory.u_minus_at_one(g)
     noisy = tab_s[tab_s.nu > 0]
     nu_r = noisy.Lambda_mean * r0 / v
-    ax.loglog(nu_r, noisy.v_recurrence, "o", color="C0", ms=4, label="v x mean recurrence")
+    ax.loglog(nu_r, noisy.v_recurrence, "o", color="C0", ms=4, label=r"$v \times$ mean recurrence")
     lam = np.geomspace(v**2 / (2 * a1**2), noisy.Lambda_mean.max(), 50)
-    ax.loglog(lam * r0 / v, v / np.sqrt(2 * lam), "k-", lw=0.8, label="v (2 Lambda)^-1/2")
-    ax.axhline(a1, color="k", ls=":", lw=0.8, label="A(1) = v T, no noise")
-    ax.loglog(nu_r, noisy.spontaneous, "s", color="C2", ms=3, label="spontaneous fraction")
+    ax.loglog(lam * r0 / v, v / np.sqrt(2 * lam), "k-", lw=0.8, label=r"$v\,(2\Lambda)^{-1/2}$")
+    ax.axhline(a1, color="k", ls=":", lw=0.8, label="$A(1) = v\\,T$, no noise")
     ax.axvline(1.0, color="k", ls="--", lw=0.8)
-    ax.set_xlabel("noise strength nu_R")
-    ax.legend(fontsize=6, loc="lower left")
+    ax.set_xlabel(NU_R_LABEL)
+    ax.set_ylabel(r"$v \times$ mean recurrence time at a point")
+    from matplotlib.ticker import FormatStrFormatter
+
+    ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+    ax.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
+    # the spontaneous fraction is another quantity: its own (linear) axis on the right
+    ay = ax.twinx()
+    ay.plot(nu_r, noisy.spontaneous, "s", color="C2", ms=3, label="spontaneous fraction")
+    ay.set_ylim(-0.05, 1.05)
+    ay.set_ylabel("spontaneous fraction of ruptures", color="C2")
+    ay.tick_params(axis="y", colors="C2")
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = ay.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncols=2)
     ax.set_title("Recurrence at a point", fontsize=9)
     half = noisy.spontaneous.to_numpy()
     cross = (
@@ -356,7 +373,8 @@ def fig_noise_statistics(axes, quick):
         f"{m['periods'] - m['burn']} source periods after {m['burn']} discarded, same noise "
         "seed for every strength; statistics per rupture (the shocks born together and what "
         "they sweep: the engine's events merge overlapping ruptures). nu_R = "
-        f"Lambda R_0 / v with R_0 = {r0:.0f} the noiseless rupture length of the smooth start: "
+        f"Lambda R_0 / v (on both axes) with R_0 = {r0:.0f} the noiseless rupture length of "
+        "the smooth start: "
         "the expected nucleations in a rupture's region during one loading from u = 0 to 1. "
         "Left: size-frequency. Middle: b of moment magnitudes (bk.stats.gutenberg_richter: Mc "
         "by maximum curvature + 0.2, Aki-Utsu, 95 % bootstrap interval; none where fewer "
@@ -366,7 +384,7 @@ def fig_noise_statistics(axes, quick):
         f"recurrence time at a point falls from A(1) = {a1:.3f} to the noise-dominated "
         f"v (2 Lambda)^-1/2 (mean field; measured/estimate {mf:.2f} at the strongest noise, "
         "with the measured rate of ruptures for Lambda); the "
-        f"spontaneous fraction of ruptures passes 1/2 at nu_R = {cross:.2g}."
+        f"spontaneous fraction of ruptures (squares, right axis) passes 1/2 at nu_R = {cross:.2g}."
     )
 
 
