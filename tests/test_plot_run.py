@@ -98,7 +98,22 @@ def test_a_real_chain_run_draws_titled_figures(tmp_path):
     from bkwaves.runner import run
 
     run(parse_config(cfg))
-    files = plot_run(tmp_path / "noise.nc", tmp_path)
+    from figure_checks import figure_problems
+
+    import bkwaves.plot
+
+    problems, save = {}, bkwaves.plot.save
+
+    def checked_save(ax, path):
+        problems[Path(path).name] = figure_problems(ax.figure)
+        return save(ax, path)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(bkwaves.plot, "save", checked_save)
+        files = plot_run(tmp_path / "noise.nc", tmp_path)
+    # every picture readable: axis labels, legends, tick labels apart, markers in the axes
+    assert sorted(problems) == sorted(f.name for f in files)
+    assert not {k: v for k, v in problems.items() if v}, problems
     names = {f.name for f in files}
     assert "noise_slips.png" in names and "noise_spacetime_u.png" in names
     ds, tables = bk.io.load_tables(tmp_path / "noise.nc")
