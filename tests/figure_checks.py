@@ -23,7 +23,10 @@ def figure_problems(fig) -> list[str]:
             if not (ax.get_ylabel() or ax.get_xlabel() or ax.get_title()):
                 problems.append(f"{where}: colorbar without a label")
             continue
-        if not ax.get_xlabel() or not ax.get_ylabel():
+        # a twin axes (twinx, twiny) shares one axis, and its label, with its sibling
+        xs = ax.get_shared_x_axes().get_siblings(ax)
+        ys = ax.get_shared_y_axes().get_siblings(ax)
+        if not any(a.get_xlabel() for a in xs) or not any(a.get_ylabel() for a in ys):
             problems.append(f"{where}: an axis without a label")
         labelled = [
             a

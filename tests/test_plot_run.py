@@ -153,3 +153,23 @@ def test_sweep_plots_results_not_diagnostics_and_use_the_base_dx(tmp_path):
     assert len(panels[0].get_legend().get_texts()) == len(panels[0].lines)
     assert "steadiness" in plot._SWEEP_DIAGNOSTICS and "blocks" in plot._SWEEP_DIAGNOSTICS
     matplotlib.pyplot.close("all")
+
+
+def test_figure_checks_catch_each_fault():
+    """The picture checks fail where they should: each fault of a bad figure is named."""
+    import matplotlib.pyplot as plt
+    from figure_checks import figure_problems
+
+    fig, (good, bad) = plt.subplots(1, 2, figsize=(6, 3))
+    good.plot([0, 1], [0, 1], "o", label="a")
+    good.set_xlabel("x")
+    good.set_ylabel("y")
+    assert figure_problems(fig)[0].startswith("axes 1")  # only the bad one is faulted
+    bad.plot([0, 1], [0, 1], label="a")
+    bad.plot([0, 1], [1, 0], "s", label="b")
+    bad.set_xlim(0, 0.5)  # the square at x = 1 falls outside
+    bad.set_xticks(np.linspace(0, 0.5, 6), [f"label {k} long" for k in range(6)])
+    found = " | ".join(figure_problems(fig))
+    for fault in ("without a label", "no legend", "overlapping tick labels on x", "outside"):
+        assert fault in found, (fault, found)
+    plt.close(fig)
