@@ -1240,11 +1240,11 @@ def fig_friction(ax):
     ax.plot([0, 0], [-fr, fr], "C0", lw=2)
     ax.plot([0], [fr], "o", color="C0")
     ax.plot([0], [-fr], "o", color="C0")
-    ax.annotate("f_r (static)", (0, fr), (0.25, fr + 0.05))
-    ax.annotate("f_s + alpha v", (1.2, fs + alpha * 1.2), (0.9, fs + alpha * 1.2 - 0.35))
+    ax.annotate("$f_r$ (static)", (0, fr), (0.25, fr + 0.05))
+    ax.annotate(r"$f_s + \alpha\,v$", (1.2, fs + alpha * 1.2), (0.9, fs + alpha * 1.2 - 0.35))
     ax.axhline(0, color="0.7", lw=0.8)
-    ax.set_xlabel("block velocity v")
-    ax.set_ylabel("friction force f")
+    ax.set_xlabel("block velocity $v$")
+    ax.set_ylabel("friction force $f$")
     ax.set_title("Coulomb friction with viscous term (Fig. 2)")
     return (
         f"Fig. 2: the friction law of the model: static threshold f_r = {fr:g}, kinetic "
@@ -1262,7 +1262,7 @@ def fig_schematic(ax):
     ax.fill_between([-0.5, 6.5], -0.6, -0.3, color="0.8", hatch="//")
     ax.text(6.4, -0.5, "frictional surface", ha="right", fontsize=8)
     ax.fill_between([-0.5, 6.5], 2.0, 2.2, color="0.6")
-    ax.text(6.4, 2.25, "loader plate, speed V ->", ha="right", fontsize=8)
+    ax.text(6.4, 2.25, r"loader plate, speed $V \rightarrow$", ha="right", fontsize=8)
     for i in range(6):
         ax.add_patch(plt.Rectangle((i + 0.05, -0.3), 0.5, 0.5, color="C0"))
         zz = np.linspace(0.2, 2.0, 30)
@@ -1270,9 +1270,9 @@ def fig_schematic(ax):
         if i < 5:
             xx = np.linspace(i + 0.55, i + 1.05, 30)
             ax.plot(xx, -0.05 + 0.05 * np.sin((xx - i) * 60), color="C2", lw=1)
-    ax.text(0.6, 1.0, "k_p", color="C1")
-    ax.text(1.65, 0.1, "k_c", color="C2")
-    ax.text(2.2, -0.2, "m", color="white")
+    ax.text(0.6, 1.0, "$k_p$", color="C1")
+    ax.text(1.65, 0.1, "$k_c$", color="C2")
+    ax.text(2.2, -0.2, "$m$", color="white")
     ax.set_title("The Burridge-Knopoff model (Fig. 1)")
     return (
         "Fig. 1: the model: blocks of mass m coupled by springs k_c, pulled through springs "
