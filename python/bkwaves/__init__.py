@@ -11,11 +11,22 @@ command line and scripts that need one function do not pay for the rest.
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING
+import sys as _sys
 
-from . import _core
-from ._core import ConvergenceError, ParameterError
+_cmd = getattr(_sys, "orig_argv", [])
+if (_sys.argv and _sys.argv[0].replace("\\", "/").rsplit("/", 1)[-1] == "bkwaves") or (
+    "-m" in _cmd and _cmd[_cmd.index("-m") + 1 :][:1] == ["bkwaves"]
+):
+    # the command line: a signal from its first line on is answered (bkwaves._signals)
+    from . import _signals
+
+    _signals.install_early()
+
+import importlib  # noqa: E402
+from typing import TYPE_CHECKING  # noqa: E402
+
+from . import _core  # noqa: E402
+from ._core import ConvergenceError, ParameterError  # noqa: E402
 
 __version__ = _core.__version__
 

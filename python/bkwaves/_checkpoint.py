@@ -42,9 +42,13 @@ def write(path, kind: str, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
             raise TypeError(f"checkpoint array {name!r} is not plain data ({a.dtype})")
         payload[name] = a
     tmp = path.with_name(path.name + ".tmp")
-    with open(tmp, "wb") as f:
-        np.savez(f, **payload)
-    tmp.replace(path)
+    try:
+        with open(tmp, "wb") as f:
+            np.savez(f, **payload)
+        tmp.replace(path)
+    except BaseException:  # (a full disk, a signal): the earlier checkpoint stays
+        tmp.unlink(missing_ok=True)
+        raise
     return path
 
 

@@ -73,9 +73,15 @@ MIDPOINT_MAX_STEP = 0.5
 #: Per-block properties a chain can carry (docs/chain.md): ``coupling`` has one value per
 #: bond (n - 1 free, n + 1 fixed, n periodic), the others one per block; default 1.
 PROPERTIES = ("threshold", "mass", "loader", "coupling")
-#: Work per engine call (steps plus sliding-block steps; ~0.5 s): Ctrl-C, SIGTERM and
-#: progress reports are handled between calls, so this bounds their latency.
-CHUNK_WORK = 2_000_000
+#: Work per engine call (steps plus sliding-block steps plus the values of the snapshots
+#: taken, each about 0.1-0.25 us; ~0.25 s): Ctrl-C, SIGTERM and progress reports are
+#: handled between calls, so this bounds their latency, and the snapshots one call hands
+#: over (at most ~17 MB to write).
+CHUNK_WORK = 1_000_000
+#: Wall time per engine call in seconds (the engine checks it every few steps): with
+#: CHUNK_WORK (which counts the values of the snapshots taken too), the bound on the
+#: latency of Ctrl-C and SIGTERM whatever a step costs.
+CHUNK_WALL = 0.25
 
 
 def default_max_event_slips(n: int) -> int:
@@ -651,6 +657,7 @@ class Chain:
             )
         self._engine.add_snapshots(times, int(snapshot_every))
         self._engine.set_run_limits(limit, max_duration, CHUNK_WORK)
+        self._engine.set_chunk_wall(CHUNK_WALL)
         t_stop = t_end if math.isfinite(t_end) else 1e300
         events_left = max_events if max_events is not None else 2**62
         start_events = self._engine.events_finished
@@ -666,6 +673,10 @@ class Chain:
                 if stop != "steps":
                     break
         except KeyboardInterrupt:
+            from . import _signals
+
+            if _signals.propagate:  # a command line stopping: not a result to draw from
+                raise
             interrupted = True
             stop = "interrupted"
         finally:
@@ -981,6 +992,7 @@ def run_front(
     # the engine directly (Chain.run builds pandas and xarray outputs at every piece)
     eng = ch._engine
     eng.set_run_limits(default_max_event_slips(n), default_max_event_duration(n, dx), CHUNK_WORK)
+    eng.set_chunk_wall(CHUNK_WALL)
     eng.add_snapshots(np.sort(np.asarray(snapshots, dtype=float)), 0)
     while (t_end is not None or not np.isfinite(first[-1])) and ch.t < t_max:
         t_stop = min(ch.t + 0.05 * n * dx, t_max)

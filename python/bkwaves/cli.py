@@ -425,7 +425,8 @@ def _time_text(summary) -> str:
 
 
 def run(args) -> int | None:
-    from .runner import OutputFull, _StopRequest
+    from .io import OutputError
+    from .runner import RunNotStarted, _StopRequest
 
     show = not args.quiet and not args.json_out
     with _StopRequest():  # before anything: a signal from here on keeps what was computed
@@ -460,9 +461,12 @@ def run(args) -> int | None:
                 )
         except (ParameterError, ConvergenceError) as e:
             _fail(e)
-        except OutputFull as e:
+        except OutputError as e:  # a full disk, a folder removed or read-only: one line
             _echo(f"Error: {e.strerror}", err=True)
             return 1
+        except RunNotStarted as e:
+            _echo(f"bkwaves run: {e}", err=True)
+            return 128 + int(e.signal)
     d = summary.to_dict()
     if args.json_out:
         _echo(_json(d, default=str))
@@ -488,6 +492,10 @@ def run(args) -> int | None:
     if runaway:
         _echo(f"Stopped: {summary.extra['message']}", err=True)
         return 3
+    late = summary.extra.get("late_signal")
+    if late:  # arrived once the output was complete and published
+        _echo(f"{late} arrived after {summary.out} was complete and published", err=True)
+        return 128 + int(getattr(signal, late))
     return None
 
 
@@ -547,7 +555,10 @@ RUN = Command(
             "--checkpoint-every",
             type=float,
             metavar="SECONDS",
-            help="Also checkpoint every this many seconds.",
+            help="Checkpoint every this many seconds of wall time (default: every 60 s, "
+            "less often when a checkpoint is slow to write, so they cost at most 1/20 of the "
+            "run; inf: only when interrupted). A killed run resumes from its last "
+            "checkpoint.",
         ),
         QUIET,
         JSON,
@@ -902,28 +913,41 @@ def main(argv: list[str] | None = None) -> None:
     130/143 interrupted by SIGINT/SIGTERM)."""
     import warnings
 
+    from . import _signals
+
+    _signals.install_early()  # (again: `python -m bkwaves`, or main() called from code)
     # pictures are written to files: draw off-screen unless the user chose a backend
     os.environ.setdefault("MPLBACKEND", "Agg")
     warnings.showwarning = _show_warning
     argv = sys.argv[1:] if argv is None else list(argv)
     top = _main_parser()
+    name = "bkwaves"
     try:
         if not argv:
             top.print_help(sys.stderr)
             sys.exit(2)
         ns = top.parse_args(argv)
         command = COMMANDS[ns.command]
+        name = f"bkwaves {command.name}"
         # options and arguments in any order, as in `bkwaves speed 0.3 --json 0.6`
         parser = command.parser()
         parser.refuse_unknown_options(ns.args)
         args = parser.parse_intermixed_args(ns.args)
+        if _signals.pending is not None:
+            _stopped_before_start(name, _signals.pending)
+        if command.name != "run":  # (run notes signals and stops between chunks)
+            _signals.install_raising()
         status = command.run(args)
     except UsageError as e:
         _echo(str(e), err=True)
         sys.exit(2)
-    except KeyboardInterrupt:  # commands that do not stop cleanly on their own
-        _echo("\nInterrupted.", err=True)
-        sys.exit(128 + signal.SIGINT)
+    except KeyboardInterrupt as e:  # commands that do not stop cleanly on their own
+        sig = getattr(e, "signal", None)  # (bkwaves.runner.RunNotStarted says which)
+        if sig is None:
+            sig = signal.SIGTERM if isinstance(e, _signals.Terminated) else signal.SIGINT
+        text = str(e) or f"interrupted by {signal.Signals(sig).name}."
+        _echo(f"\n{name}: {text}", err=True)
+        sys.exit(128 + sig)
     except BrokenPipeError:  # e.g. `bkwaves speed ... | head -1`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         sys.exit(1)
@@ -932,7 +956,20 @@ def main(argv: list[str] | None = None) -> None:
 
         _echo(f"Error: {os_error_line(e)}", err=True)
         sys.exit(2)
+    if not status and _signals.pending is not None:  # (noted, never lost)
+        sig = signal.Signals(_signals.pending)
+        _echo(f"{name}: {sig.name} arrived as it ended; it had finished", err=True)
+        sys.exit(128 + sig)
     sys.exit(status or 0)
+
+
+def _stopped_before_start(name: str, signum: int):
+    sig = signal.Signals(signum)
+    _echo(
+        f"{name}: stopped by {sig.name} before it started: nothing was computed or written",
+        err=True,
+    )
+    sys.exit(128 + sig)
 
 
 if __name__ == "__main__":

@@ -56,6 +56,7 @@ __all__ = [
     "table_path",
     "partial_path",
     "NO_SPACE",
+    "OutputError",
 ]
 
 SUFFIXES = (".nc", ".zarr")
@@ -65,6 +66,20 @@ RECORDS_ATTR = "bkwaves_records"
 RUN_ID_ATTR = "bkwaves_run_id"
 #: errno values of a write that failed for lack of space
 NO_SPACE = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
+#: How xarray declares a NaN fill value of a float64 Zarr (v3) array: its bytes, base64
+_NAN_FILL = "AAAAAAAA+H8="
+#: Bytes of one chunk of a published NetCDF variable (and of the pieces merged at once)
+NC_CHUNK_BYTES = 4 << 20
+
+
+class OutputError(OSError):
+    """Writing a run's output failed (a full disk, a folder removed or made read-only):
+    ``strerror`` is one line saying what failed, what was kept and how to continue."""
+
+
+class PublishStopped(Exception):
+    """A signal arrived while a complete run was being published: nothing was renamed,
+    ``OUT.partial/`` is kept as it was."""
 
 
 def table_path(out, name: str, suffix: str = ".parquet") -> Path:
@@ -122,22 +137,71 @@ def _write_bytes(path: Path, data) -> None:
     tmp.replace(path)
 
 
+LOCK_TAG = "bkwaves lock"
+
+
+def _lock_text_is_ours(text: str) -> bool:
+    """Is this the text of a lock bkwaves wrote (now, or a PID alone as before)?"""
+    if text.startswith(LOCK_TAG + " "):
+        return True
+    return text.strip().isdigit() and text.endswith("\n") and text.count("\n") == 1
+
+
 class _Lock:
-    """An exclusive ``flock`` on ``OUT.lock``, taken without waiting. The file is removed
-    on release; a taker checks that the file it locked is still the one at the path."""
+    """An exclusive ``flock`` on ``OUT.lock``, taken without waiting. The file is created
+    with its text at once (a temporary file linked to the name), so a file of that name
+    without bkwaves' text is someone else's: it is refused, never overwritten nor
+    removed. A lock left by a killed run is taken over. The file is removed on release
+    (if it is still the one locked)."""
 
     def __init__(self, path: Path, out: Path):
         import fcntl
 
         self.path = path
+        self.fd = None
+        text = f"{LOCK_TAG} pid {os.getpid()}\n".encode()
         while True:
-            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+            tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp")
+            try:
+                with open(tmp, "xb") as f:
+                    f.write(text)
+                try:
+                    os.link(tmp, path)
+                except OSError as e:
+                    if e.errno not in (errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP):
+                        raise
+                    # no hard links here: create it exclusively, then write
+                    fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o644)
+                    try:
+                        os.write(fd, text)
+                    finally:
+                        os.close(fd)
+                created = True
+            except FileExistsError:
+                created = False
+            finally:
+                tmp.unlink(missing_ok=True)
+            try:
+                fd = os.open(path, os.O_RDWR)
+            except FileNotFoundError:  # removed meanwhile by its holder: try again
+                continue
+            if not created:
+                held = os.read(fd, 256).decode(errors="replace")
+                if not _lock_text_is_ours(held):
+                    os.close(fd)
+                    raise ParameterError(
+                        f"{path} exists and was not written by bkwaves (not a bkwaves "
+                        "lock): bkwaves will not overwrite or remove it; move it away or "
+                        "choose another output"
+                    )
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
-                holder = os.read(fd, 64).decode(errors="replace").strip()
+                os.lseek(fd, 0, os.SEEK_SET)
+                held = os.read(fd, 256).decode(errors="replace").strip()
                 os.close(fd)
-                who = f" (process {holder})" if holder else ""
+                holder = held.removeprefix(LOCK_TAG).strip()
+                who = f" (process {holder.removeprefix('pid ')})" if holder else ""
                 raise ParameterError(
                     f"output {out} is being written by another bkwaves run{who}: wait for "
                     f"it to end or choose another output (lock {path})"
@@ -149,16 +213,31 @@ class _Lock:
             if same:
                 break
             os.close(fd)  # the holder removed it meanwhile: lock the new one
-        os.ftruncate(fd, 0)
-        os.write(fd, f"{os.getpid()}\n".encode())
+        if not created:  # a lock left by a run that was killed: ours now
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, text, 0)
         self.fd = fd
 
     def release(self):
         if self.fd is None:
             return
-        self.path.unlink(missing_ok=True)
+        try:
+            if os.path.samestat(os.fstat(self.fd), os.stat(self.path)):
+                self.path.unlink(missing_ok=True)
+        except FileNotFoundError:
+            pass
         os.close(self.fd)
         self.fd = None
+
+
+def _start_error(out: Path, e: OSError, doing: str) -> OutputError:
+    """The one-line error of an output that cannot be started (nothing was computed)."""
+    where = f" ({e.filename})" if getattr(e, "filename", None) else ""
+    return OutputError(
+        e.errno,
+        f"cannot write {out}: {e.strerror or e}{where} while {doing}; nothing was "
+        "computed or kept; free space or fix the folder, then run again",
+    )
 
 
 # --- what bkwaves wrote ---------------------------------------------------------------
@@ -203,10 +282,7 @@ def _is_ours(path: Path, out: Path) -> bool:
         if "bkwaves_version" not in _main_attrs(path):
             return False
         if path.is_dir():  # a Zarr group: its zarr.json and arrays, nothing else
-            return all(
-                e.name == "zarr.json" or (e.is_dir() and (e / "zarr.json").is_file())
-                for e in path.iterdir()
-            )
+            return _zarr_group_is_ours(path)
         return True
     if path.suffix == ".parquet":
         return b"bkwaves_version" in _parquet_meta(path)
@@ -223,6 +299,41 @@ def _is_ours(path: Path, out: Path) -> bool:
             return False
         return True
     return False
+
+
+def _zarr_group_is_ours(root: Path) -> bool:
+    """Does the Zarr group at ``root`` hold nothing but what bkwaves writes, at every
+    depth: its ``zarr.json`` and arrays, each an array's ``zarr.json`` and its chunks
+    (``c/`` and below: numbered files and folders only), no links?"""
+
+    def chunks_only(d: Path) -> bool:
+        for e in d.iterdir():
+            if e.is_symlink() or not e.name.isdigit():
+                return False
+            if e.is_dir() and not chunks_only(e):
+                return False
+        return True
+
+    def array_only(d: Path) -> bool:
+        for e in d.iterdir():
+            if e.is_symlink():
+                return False
+            if e.name == "zarr.json" and e.is_file():
+                continue
+            if e.name == "c" and e.is_dir() and chunks_only(e):
+                continue
+            return False
+        return True
+
+    for e in root.iterdir():
+        if e.is_symlink():
+            return False
+        if e.name == "zarr.json" and e.is_file():
+            continue
+        if e.is_dir() and (e / "zarr.json").is_file() and array_only(e):
+            continue
+        return False
+    return True
 
 
 def _published_items(out: Path) -> list[Path]:
@@ -301,15 +412,23 @@ class RunWriter:
         self._buf_since = None
         self._tables: dict[str, dict] = {}
         self._replaces: list[Path] = []
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._lock = _Lock(_lock_path(self.path), self.path)
+        self._created = False
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._lock = _Lock(_lock_path(self.path), self.path)
+        except OSError as e:
+            raise _start_error(self.path, e, "taking its lock") from None
         try:
             if resume_count is not None:
                 self._resume(int(resume_count), dict(resume_rows or {}), attrs)
             else:
                 self._start(overwrite, attrs)
-        except BaseException:
+        except BaseException as e:
+            if self._created:  # made by this call, holding nothing yet: not left behind
+                shutil.rmtree(self.partial, ignore_errors=True)
             self._lock.release()
+            if isinstance(e, OSError) and not isinstance(e, OutputError):
+                raise _start_error(self.path, e, "creating its records") from None
             raise
 
     # --- opening -----------------------------------------------------------------------
@@ -362,6 +481,7 @@ class RunWriter:
         self.run_id = uuid.uuid4().hex
         self.attrs = self._global_attrs(attrs, self.run_id)
         self.partial.mkdir()
+        self._created = True
         (self.partial / "tables").mkdir()
         marker = {
             "format": PARTIAL_FORMAT,
@@ -371,8 +491,14 @@ class RunWriter:
             "replaces": [p.name for p in self._replaces],
         }
         _write_bytes(self.partial / MARKER, json.dumps(marker).encode())
+        # what a commit needs, imported now: a commit, and so the answer to a signal,
+        # never waits for imports
+        import pandas  # noqa: F401
+        import pyarrow.parquet  # noqa: F401
+
         if self.path.suffix == ".nc":
             self._blocks_dir.mkdir()
+            import h5netcdf  # noqa: F401
         else:
             self._create_zarr()
 
@@ -392,8 +518,7 @@ class RunWriter:
                 if start >= count:
                     f.unlink()
                 elif start + n > count:
-                    ds = _open_nc(f).isel(t=slice(0, count - start))
-                    _write_bytes(f, ds.to_netcdf(engine="h5netcdf"))
+                    _write_bytes(f, _copy_nc(f, count - start))
                     have += count - start
                 else:
                     have += n
@@ -472,18 +597,69 @@ class RunWriter:
             attrs=self.attrs,
         )
 
+    def _nc_block(self, t, fields) -> bytes:
+        """A NetCDF-4 file of the records ``t`` built in memory by h5netcdf (HDF5 crashes
+        the process when a write fails for lack of space, so the file is written by
+        Python). Variables contiguous: one write each. The same file as xarray writes
+        for :meth:`_dataset`, without its start-up cost (its first ``to_netcdf`` imports
+        dask and distributed: a second and more, where a commit must be prompt)."""
+        import io
+
+        import h5netcdf
+
+        bio = io.BytesIO()
+        with h5netcdf.File(bio, "w") as f:
+            f.attrs.update(self.attrs)
+            f.dimensions = {"t": len(t), "x": len(self.x)}
+            for name, data in (("t", np.asarray(t, dtype=float)), ("x", self.x)):
+                v = f.create_variable(name, (name,), "f8", data=data)
+                v.attrs.update(self._coord_attrs(name))
+            for name, (u, ln, dt, more) in self.variables.items():
+                data = np.asarray(fields[name], dtype=dt)
+                v = f.create_variable(name, ("t", "x"), dt, data=data)
+                v.attrs.update({"units": u, "long_name": ln, **more})
+        return bio.getvalue()
+
     def _create_zarr(self):
-        nx = len(self.x)
-        empty = {n: np.zeros((0, nx), dtype=dt) for n, (_, _, dt, _) in self.variables.items()}
-        ds = self._dataset(np.zeros(0), empty)
-        row = max(1, nx * max(dt.itemsize for _, _, dt, _ in self.variables.values()))
-        chunk_t = int(min(max(1, (1 << 20) // row), 4096))
-        enc = {n: {"chunks": (chunk_t, nx)} for n in self.variables}
-        enc["t"] = {"chunks": (4096,)}
-        ds.to_zarr(self._zarr_store, mode="w", consolidated=False, encoding=enc)
+        """The empty store, made by zarr directly (as xarray's ``to_zarr`` makes it: CF
+        attributes, dimension names, NaN fill values declared in ``_FillValue``), in a
+        few milliseconds: xarray's first ``to_zarr`` imports dask (a second and more),
+        and a signal must not wait for it."""
         import zarr
 
-        zarr.open_group(str(self._zarr_store), mode="r+").attrs[RECORDS_ATTR] = 0
+        nx = len(self.x)
+        row = max(1, nx * max(dt.itemsize for _, _, dt, _ in self.variables.values()))
+        chunk_t = int(min(max(1, (1 << 20) // row), 4096))
+        g = zarr.open_group(str(self._zarr_store), mode="w", zarr_format=3)
+        g.attrs.update({**self.attrs, RECORDS_ATTR: 0})
+
+        def array(name, dims, shape, chunks, dtype, attrs, data=None):
+            dtype = np.dtype(dtype)
+            attrs = dict(attrs)
+            if dtype.kind == "f":
+                attrs["_FillValue"] = _NAN_FILL
+            a = g.create_array(
+                name,
+                shape=shape,
+                chunks=chunks,
+                dtype=dtype,
+                fill_value=np.nan if dtype.kind == "f" else 0,
+                dimension_names=dims,
+                attributes=attrs,
+            )
+            if data is not None:
+                a[...] = data
+
+        array("t", ("t",), (0,), (4096,), "f8", self._coord_attrs("t"))
+        array("x", ("x",), (nx,), (max(nx, 1),), "f8", self._coord_attrs("x"), self.x)
+        for name, (u, ln, dt, more) in self.variables.items():
+            attrs = {"units": u, "long_name": ln, **more}
+            array(name, ("t", "x"), (0, nx), (chunk_t, nx), dt, attrs)
+
+    def _coord_attrs(self, name: str) -> dict:
+        if name == "t":
+            return {"units": self.t_units, "long_name": "time", **self.t_attrs}
+        return {"units": self.x_units, "long_name": "position along the chain", **self.x_attrs}
 
     # --- appending ---------------------------------------------------------------------
 
@@ -579,19 +755,31 @@ class RunWriter:
         if self._buf_t:
             t = np.asarray(self._buf_t)
             fields = {name: np.concatenate(rows) for name, rows in self._buf.items()}
+            self._buf_t = []
+            self._buf = {name: [] for name in self.variables}
+            self._buf_bytes = 0
+            self._write_records(t, fields)
+        self._buf_bytes = 0
+        self._buf_since = None
+
+    def _write_records(self, t, fields):
+        """Commit the records ``t`` (fields: one row each); on a full disk, as many of
+        them as fit (halves, quarters, ... down to single records), then raise."""
+        try:
             if self.path.suffix == ".nc":
-                ds = self._dataset(t, fields)
                 _write_bytes(
-                    self._blocks_dir / f"block-{self.count:010d}.nc",
-                    ds.to_netcdf(engine="h5netcdf"),
+                    self._blocks_dir / f"block-{self.count:010d}.nc", self._nc_block(t, fields)
                 )
             else:
                 self._append_zarr(t, fields)
-            self.count += len(t)
-            self._buf_t = []
-            self._buf = {name: [] for name in self.variables}
-        self._buf_bytes = 0
-        self._buf_since = None
+        except OSError as e:
+            if e.errno not in NO_SPACE or len(t) == 1:
+                raise
+            h = len(t) // 2
+            self._write_records(t[:h], {k: v[:h] for k, v in fields.items()})
+            self._write_records(t[h:], {k: v[h:] for k, v in fields.items()})
+            return
+        self.count += len(t)
 
     def _append_zarr(self, t, fields):
         """Write the variables of the block, then advance the committed length."""
@@ -620,16 +808,28 @@ class RunWriter:
 
     # --- closing -----------------------------------------------------------------------
 
-    def close(self, publish: bool = True, remove=()):
+    def close(self, publish: bool = True, remove=(), stop=None, on_stop=None) -> bool:
         """Commit the buffer; with ``publish`` (a complete run) merge the parts and rename
         the output and its tables onto ``OUT``, replacing an earlier output, then remove
-        ``OUT.partial/`` and the files in ``remove``. Without: keep ``OUT.partial/``."""
+        ``OUT.partial/`` and the files in ``remove``. Without: keep ``OUT.partial/``.
+
+        ``stop``: a function asked between the pieces of the merge; when it returns true
+        the publication is abandoned before anything is renamed (``OUT.partial/`` kept),
+        ``on_stop()`` is called while the lock is still held, and close returns False.
+        Returns True when the output was published."""
         if self.closed:
-            return
+            return False
         try:
             self.commit()
             if publish:
-                _publish(self.path, self.partial, self._replaces, remove)
+                try:
+                    _publish(self.path, self.partial, self._replaces, remove, stop)
+                except PublishStopped:
+                    if on_stop is not None:
+                        on_stop()
+                    return False
+                return True
+            return False
         finally:
             self.closed = True
             self._lock.release()
@@ -665,10 +865,12 @@ class RunWriter:
 
 def _blocks(d: Path):
     """(first record, records, file) of the NetCDF blocks in ``d``, in order."""
+    import h5netcdf
+
     out = []
     for f in sorted(d.glob("block-*.nc")):
-        with _open_nc(f) as ds:
-            out.append((int(f.stem.split("-")[1]), ds.sizes["t"], f))
+        with h5netcdf.File(f, "r") as nc:
+            out.append((int(f.stem.split("-")[1]), nc.dimensions["t"].size, f))
     return out
 
 
@@ -735,6 +937,69 @@ def _merged_nc(blocks_dir: Path):
     return ds
 
 
+def nc_chunks(nx: int, itemsize: int) -> tuple[int, int]:
+    """HDF5 chunk shape (t, x) of a variable of ``nx`` values per record: about
+    NC_CHUNK_BYTES each (whole records where they fit, else pieces of one record)."""
+    cx = max(1, min(nx, NC_CHUNK_BYTES // itemsize))
+    ct = max(1, min(4096, NC_CHUNK_BYTES // (cx * itemsize)))
+    return ct, cx
+
+
+def _copy_nc(src: Path, k: int | None = None, dst=None, merged: bool = False):
+    """The NetCDF file ``src`` (its first ``k`` records) copied by h5netcdf: to ``dst``
+    (a path), or returned as bytes. ``merged``: t unlimited and the variables chunked
+    (about NC_CHUNK_BYTES each), to append further records (:func:`_merge_nc`)."""
+    import io
+
+    import h5netcdf
+
+    target = io.BytesIO() if dst is None else dst
+    with h5netcdf.File(src, "r") as s, h5netcdf.File(target, "w") as f:
+        f.attrs.update(dict(s.attrs))
+        nt = s.dimensions["t"].size
+        k = nt if k is None else min(k, nt)
+        f.dimensions = {"t": None if merged else k, "x": s.dimensions["x"].size}
+        if merged:
+            f.resize_dimension("t", k)
+        for name, var in s.variables.items():
+            in_t = var.dimensions[:1] == ("t",)
+            kw = {}
+            if merged and in_t:
+                item = var.dtype.itemsize
+                if len(var.dimensions) == 2:
+                    kw["chunks"] = nc_chunks(s.dimensions["x"].size, item)
+                else:
+                    kw["chunks"] = (max(1, min(4096, NC_CHUNK_BYTES // item)),)
+            v = f.create_variable(name, var.dimensions, var.dtype, **kw)
+            v[...] = var[:k] if in_t else var[...]
+            v.attrs.update(dict(var.attrs))
+    return target.getvalue() if dst is None else None
+
+
+def _merge_nc(blocks_dir: Path, main: Path, check) -> None:
+    """The NetCDF blocks of an unfinished run merged into one file ``main``, streamed:
+    the first block copied with t unlimited and chunked variables, the others appended
+    block by block (memory: one block), ``check()`` asked between blocks."""
+    import h5netcdf
+
+    blocks = _blocks(blocks_dir)
+    if not blocks:
+        return
+    check()
+    _copy_nc(blocks[0][2], dst=main, merged=True)
+    with h5netcdf.File(main, "a") as f:
+        n = blocks[0][1]
+        for _, k, path in blocks[1:]:
+            check()
+            with h5netcdf.File(path, "r") as b:
+                f.resize_dimension("t", n + k)
+                for name, var in b.variables.items():
+                    if var.dimensions[:1] == ("t",):
+                        f.variables[name][n : n + k, ...] = var[...]
+            n += k
+    check()
+
+
 def _merged_table(d: Path):
     import pyarrow as pa
 
@@ -746,18 +1011,37 @@ def _merged_table(d: Path):
     return pa.concat_tables(tables).replace_schema_metadata(meta)
 
 
-def _publish(out: Path, partial: Path, replaces, remove=()):
-    """Build the final files in ``partial/final`` and rename them onto ``out``."""
-    import pyarrow.parquet as pq
-
+def _publish(out: Path, partial: Path, replaces, remove=(), stop=None):
+    """Build the final files in ``partial/final`` and rename them onto ``out``. ``stop``
+    (a function) is asked between pieces of the merge: when it returns true, ``final``
+    is removed and :class:`PublishStopped` raised, before anything is renamed."""
     final = partial / "final"
     if final.exists():
         shutil.rmtree(final)
     final.mkdir()
+
+    def check():
+        if stop is not None and stop():
+            raise PublishStopped
+
+    try:
+        _build_final(out, partial, final, check)
+    except PublishStopped:
+        shutil.rmtree(final, ignore_errors=True)
+        raise
+    _install(out, partial, final, replaces, remove)
+
+
+def _build_final(out: Path, partial: Path, final: Path, check) -> None:
+    """The merged tables and the main output, in ``final`` (memory: one part or one
+    block at a time)."""
+    import pyarrow.parquet as pq
+
     marker = _read_marker(partial) or {}
     run_id = marker.get("run_id", "")
     produced = []
     for d in sorted((partial / "tables").iterdir()):
+        check()
         parts = _table_parts(d)
         if not parts:
             continue
@@ -767,6 +1051,7 @@ def _publish(out: Path, partial: Path, replaces, remove=()):
         if meta.get(b"bkwaves_csv", b"1") == b"1":
             csv = target.with_suffix(".csv")
             for k, (_, _, f) in enumerate(parts):
+                check()
                 _read_parquet(f).to_pandas().to_csv(
                     csv, index=False, mode="w" if k == 0 else "a", header=k == 0
                 )
@@ -775,6 +1060,7 @@ def _publish(out: Path, partial: Path, replaces, remove=()):
         schema = pq.read_schema(parts[0][2]).with_metadata(meta)
         with pq.ParquetWriter(target, schema) as w:
             for _, _, f in parts:  # one row group per part: appended, never rewritten
+                check()
                 w.write_table(_read_parquet(f).replace_schema_metadata(meta))
         produced.append(target)
     main = final / out.name
@@ -789,21 +1075,29 @@ def _publish(out: Path, partial: Path, replaces, remove=()):
                 f"No space left on device: merging {out.name} needs {human_bytes(need)}, "
                 f"{human_bytes(free)} free",
             )
-        ds = _merged_nc(blocks_dir)
-        if ds is not None:
-            enc = {
-                v: {"chunksizes": (min(ds.sizes["t"], 4096) or 1, ds.sizes["x"])}
-                for v in ds.data_vars
-            }
-            ds.to_netcdf(main, engine="h5netcdf", unlimited_dims=["t"], encoding=enc)
+        _merge_nc(blocks_dir, main, check)
     else:
         import zarr
 
+        check()
         store = partial / out.name
         with warnings.catch_warnings():  # "consolidated metadata is not in the v3 spec"
             warnings.simplefilter("ignore")
             zarr.consolidate_metadata(str(store))
         store.replace(main)
+    (final / "produced.json").write_text(json.dumps([p.name for p in produced]))
+
+
+def _install(out: Path, partial: Path, final: Path, replaces, remove=()):
+    """Rename the files built in ``final`` onto ``out`` and its tables."""
+    produced = [final / n for n in json.loads((final / "produced.json").read_text())]
+    main = final / out.name
+    if main.exists() and out.is_dir() and not _is_ours(out, out):
+        # changed since the run began: not replaced
+        raise ParameterError(
+            f"not replacing {out}: it now holds files bkwaves did not write; the new "
+            f"output is in {final}"
+        )
     # install: tables first, the main output last; then drop what the old output had
     # and the new one has not
     old = partial / "replaced"
@@ -899,15 +1193,21 @@ def load_tables(path):
                 f"`bkwaves run --resume {p}`",
                 stacklevel=2,
             )
-        ds = _open_zarr(p, p) if p.suffix == ".zarr" else _open_nc(p)
+        ds = _readable(p, lambda: _open_zarr(p, p) if p.suffix == ".zarr" else _open_nc(p))
         raw = {}
         for f in sorted(p.parent.glob(f"{p.name}.*.parquet")):
             raw[f.name[len(p.name) + 1 : -len(".parquet")]] = _read_parquet(f)
     elif marker is not None:
+        store = partial / p.name
+        if p.suffix == ".zarr" and not (store / "zarr.json").is_file():
+            raise ParameterError(
+                f"{p} has no records: its run stopped before its store {store} was "
+                "written (run it again with --overwrite)"
+            )
         if p.suffix == ".zarr":
-            ds = _open_zarr(partial / p.name, p)
+            ds = _readable(store, lambda: _open_zarr(store, p))
         else:
-            ds = _merged_nc(partial / "snapshots")
+            ds = _readable(partial, lambda: _merged_nc(partial / "snapshots"))
             if ds is None:
                 raise ParameterError(f"no completed records in {partial}")
         raw = {}
@@ -941,6 +1241,20 @@ def load_tables(path):
         df.attrs["descriptions"] = json.loads(meta.get(b"bkwaves_descriptions", b"{}"))
         tables[name] = df
     return ds, tables
+
+
+def _readable(path: Path, read):
+    """``read()``, with a damaged or unreadable file reported in one line."""
+    try:
+        return read()
+    except ParameterError:
+        raise
+    except Exception as e:  # noqa: BLE001 - h5py, zarr, codecs, JSON: all one message
+        what = "NetCDF (HDF5)" if path.suffix == ".nc" else "bkwaves"
+        text = " ".join(str(e).split())[:200] or type(e).__name__
+        raise ParameterError(
+            f"cannot read {path}: not a readable {what} output ({type(e).__name__}: {text})"
+        ) from None
 
 
 def _open_zarr(store: Path, out: Path):

@@ -407,7 +407,7 @@ def frequency_magnitude(moments, ax=None, what: str = "events"):
 def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
     """The standard pictures of a run output (see :func:`bkwaves.io.load`): space-time
     diagrams of every field, profiles, trajectories and the catalog's size-frequency."""
-    from .io import load_tables
+    from .io import _readable, load_tables
 
     if fmt not in FORMATS:
         from ._validate import _fail
@@ -420,6 +420,7 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
     if _is_sweep(out):
         return plot_sweep(out, outdir, fmt)
     ds, tables = load_tables(out)
+    ds = _readable(out, ds.load)  # (a damaged chunk: one line, not a codec's traceback)
     outdir = Path(outdir) if outdir is not None else out.parent
     stem = out.name.rsplit(".", 1)[0]
     written = []

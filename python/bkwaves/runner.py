@@ -42,7 +42,7 @@ from . import __version__
 from ._progress import ProgressBar
 from .catalog import DESCRIPTIONS, MOMENT_SCALE, MOMENT_SI
 from .config import RunConfig, disorder_arrays, initial_state, threshold_field
-from .io import NO_SPACE, RunWriter, human_bytes, partial_path
+from .io import NO_SPACE, OutputError, RunWriter, human_bytes, partial_path
 
 __all__ = [
     "OutputFull",
@@ -57,9 +57,22 @@ __all__ = [
 ]
 
 
-class OutputFull(OSError):
+class OutputFull(OutputError):
     """The disk filled up during a run: what was committed is kept in ``OUT.partial/``;
     the message (one line) says what was kept and how much space the output needs."""
+
+
+class RunNotStarted(KeyboardInterrupt):
+    """A signal (SIGINT, SIGTERM) arrived before the run started: nothing was computed
+    and nothing written. ``signal`` is its number. (A KeyboardInterrupt: no ``except
+    Exception`` on the way swallows it.)"""
+
+    def __init__(self, signum: int):
+        self.signal = signum
+        name = signal.Signals(signum).name
+        super().__init__(
+            f"stopped by {name} before the run started: nothing was computed or written"
+        )
 
 
 def checkpoint_path(out) -> Path:
@@ -140,12 +153,16 @@ class _StopRequest:
     def __init__(self):
         self.requested = False
         self.signal: int | None = None
+        # until the run begins to write, a signal stops it at once (nothing to keep)
+        self.raising = True
         self._old = {}
         self._outer = None
 
     def _handler(self, signum, frame):
         self.requested = True
         self.signal = signum
+        if self.raising:
+            raise RunNotStarted(signum)
 
     def __enter__(self):
         if _StopRequest.active is not None:
@@ -156,7 +173,13 @@ class _StopRequest:
                 self._old[sig] = signal.signal(sig, self._handler)
             except ValueError:  # not in the main thread: leave the defaults
                 pass
+        from . import _signals
+
         _StopRequest.active = self
+        if _signals.pending is not None:  # noted while the command line started
+            self.requested, self.signal = True, _signals.pending
+            self.__exit__()
+            raise RunNotStarted(self.signal)
         return self
 
     def __exit__(self, *exc):
@@ -292,8 +315,11 @@ def run(
     bkwaves wrote are replaced, once the new output is complete). Returns a summary;
     Ctrl-C or SIGTERM end the run cleanly, keep what was computed in ``OUT.partial/`` and
     leave a checkpoint ``OUT.checkpoint`` from which :func:`resume` continues (the
-    summary's ``signal`` names the signal). With ``checkpoint_every`` (seconds of wall
-    time) checkpoints are also written during the run. A resumed run equals the
+    summary's ``signal`` names the signal). Checkpoints are also written during the run:
+    by default every DEFAULT_CHECKPOINT_S = 60 s of wall time (longer when a checkpoint
+    is expensive: at most 1/20 of the wall time goes into them), so that a killed run
+    (SIGKILL, a crash) can be resumed; ``checkpoint_every`` (seconds of wall time) sets
+    the cadence, ``inf`` turns them off. A resumed run equals the
     uninterrupted one bit for bit: checkpoints are taken between engine chunks, where the
     engines restart exactly. A full disk raises :class:`OutputFull`."""
     from ._core import ParameterError
@@ -312,8 +338,33 @@ def run(
         )
         if out is not None:
             _check_output(out, cfg)
+        _import_writers(out)
+        # from here on a signal is noted and acted on between engine chunks
+        stop_request.raising = False
+        if stop_request.requested:  # (before anything is written: nothing to keep)
+            raise RunNotStarted(stop_request.signal or signal.SIGINT)
         body = _run_chain if cfg.model == "chain" else _run_free_boundary
-        return body(cfg, out, progress, overwrite, flush_every, chunk, ctl)
+        summary = body(cfg, out, progress, overwrite, flush_every, chunk, ctl)
+        if not summary.interrupted and stop_request.requested:
+            # a signal after the output was published: it is complete; said, not lost
+            summary.extra["late_signal"] = ctl.signal_name()
+        return summary
+
+
+def _import_writers(out) -> None:
+    """Import what writing the outputs needs now, while a signal still stops the run at
+    once: later, an import (seconds on a busy machine) would delay the answer."""
+    import pandas  # noqa: F401
+
+    if out is None:
+        return
+    import pyarrow.parquet  # noqa: F401
+
+    if Path(out).suffix == ".zarr":
+        import xarray  # noqa: F401
+        import zarr  # noqa: F401
+    else:
+        import h5netcdf  # noqa: F401
 
 
 def _check_output(out, cfg: RunConfig) -> None:
@@ -580,17 +631,28 @@ def simulate(cfg, out=None, *, snapshots: bool = False, progress: bool = False) 
     )
 
 
+#: Checkpoints by default (a run with an output and no ``checkpoint_every``): every
+#: DEFAULT_CHECKPOINT_S seconds of wall time, or CHECKPOINT_COST_RATIO times as long as
+#: the last checkpoint took to write if that is longer (so they cost at most 1/20 of
+#: the run), and when a run is interrupted.
+DEFAULT_CHECKPOINT_S = 60.0
+CHECKPOINT_COST_RATIO = 20.0
+
+
 class _Control:
     """Checkpoint timing, the resume state, and the stop request of a run."""
 
     def __init__(self, out, cfg, every, stop_after, state, stop_request, memory=None):
-        self.out, self.cfg, self.every = out, cfg, every
+        self.out, self.cfg = out, cfg
+        # None: the default cadence (by wall time and by the cost of a checkpoint)
+        self.every = every
         self.memory = memory
         self.stop_after = stop_after
         self.state = state
         self.stop_request = stop_request
         self.chunks = 0
         self.last = time.perf_counter()
+        self.cost = 0.0  # seconds the last checkpoint took
 
     @property
     def resuming(self) -> bool:
@@ -605,17 +667,27 @@ class _Control:
         if self.stop_after is not None and self.chunks >= self.stop_after:
             self.stop_request.requested = True
 
+    def interval(self) -> float:
+        """Seconds of wall time between checkpoints."""
+        if self.every is not None:
+            return self.every
+        return max(DEFAULT_CHECKPOINT_S, CHECKPOINT_COST_RATIO * self.cost)
+
     def due(self) -> bool:
-        return self.every is not None and time.perf_counter() - self.last > self.every
+        if self.out is None or self.memory is not None:
+            return False
+        return time.perf_counter() - self.last > self.interval()
 
     def save(self, engine_obj, writer, runner=None):
         """Commit what is buffered, then checkpoint: the checkpoint never counts records
         that are not on disk."""
         if self.out is None:
             return
+        t0 = time.perf_counter()
         writer.commit()
         _save_checkpoint(self.out, self.cfg, engine_obj, writer.count, runner or {})
         self.last = time.perf_counter()
+        self.cost = self.last - t0
 
     def signal_name(self) -> str | None:
         sig = self.stop_request.signal
@@ -654,22 +726,32 @@ def _expected_snapshots(cfg) -> int | None:
     return len(_snapshot_times(cfg))
 
 
-def _finish(writer, ctl, engine_obj, runner_state, give_all, interrupted):
+def _finish(writer, ctl, engine_obj, runner_state, give_all, interrupted) -> bool:
     """End a run: a complete one is published; an interrupted one commits, checkpoints,
-    then adds the rows of the running event (dropped again when resuming)."""
+    then adds the rows of the running event (dropped again when resuming). A signal
+    that arrives after the last engine chunk, or while the output is being merged, stops
+    the publication before anything is renamed: the run is kept in ``OUT.partial/`` with
+    a checkpoint of its end, and ``--resume`` publishes it. Returns whether the run
+    ended interrupted."""
     if writer is None:
-        return
+        return interrupted
     if ctl.memory is not None:
         give_all()
         writer.close()
-        return
-    if interrupted:
+        return interrupted
+    if interrupted or ctl.stop:
         ctl.save(engine_obj, writer, runner_state)
         give_all()
         writer.close(publish=False)
-    else:
-        give_all()
-        writer.close(publish=True, remove=[checkpoint_path(ctl.out)])
+        return True
+    give_all()
+    published = writer.close(
+        publish=True,
+        remove=[checkpoint_path(ctl.out)],
+        stop=lambda: ctl.stop,
+        on_stop=lambda: ctl.save(engine_obj, writer, runner_state),
+    )
+    return not published
 
 
 @contextlib.contextmanager
@@ -679,20 +761,47 @@ def _guard_writes(bar, writer, cfg, where):
     closes the progress bar and leaves the partial output unpublished."""
     try:
         yield
+    except OutputError:
+        bar.close()
+        raise
     except OSError as err:
         bar.close()
-        if writer is None:
-            raise
-        if err.errno not in NO_SPACE:
-            writer.abandon()
+        if writer is None or isinstance(writer, _MemoryWriter):
             raise
         events, t_now = where()
+        if err.errno not in NO_SPACE:
+            raise _write_failed(err, writer, events, t_now) from err
         raise _disk_full(err, writer, cfg, events, t_now) from err
     except BaseException:
         bar.close()
         if writer is not None and not writer.closed:
             writer.close(publish=False)
         raise
+
+
+def _continue_hint(writer) -> str:
+    ck = checkpoint_path(writer.path)
+    if ck.exists():
+        return f"then continue with `bkwaves run --resume {writer.path}` (from its checkpoint)"
+    return "then run again with --overwrite (or publish what was kept: bkwaves.io.finalize)"
+
+
+def _write_failed(err, writer, events, t_now) -> OutputError:
+    """The one-line report of a write that failed other than for space (a folder
+    removed or made read-only): the committed records and the last checkpoint stay."""
+    writer.abandon()
+    partial = partial_path(writer.path)
+    where = f" ({err.filename})" if getattr(err, "filename", None) else ""
+    kept = (
+        f"kept {writer.count} snapshots and the catalog of {events} events in {partial}"
+        if partial.is_dir()
+        else f"{partial} is gone, nothing written there is kept"
+    )
+    return OutputError(
+        err.errno,
+        f"cannot write {writer.path}: {err.strerror or err}{where} (the run reached "
+        f"t = {t_now:.6g}); {kept}; fix the folder, {_continue_hint(writer)}",
+    )
 
 
 def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
@@ -708,12 +817,7 @@ def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
         need = f"the output needs about {total} for {expected} snapshots"
     else:
         need = f"the output needs about {human_bytes(per_record)} per snapshot"
-    ck = checkpoint_path(writer.path)
-    then = (
-        f"then continue with `bkwaves run --resume {writer.path}`"
-        if ck.exists()
-        else "then run again with --overwrite (or publish what was kept: bkwaves.io.finalize)"
-    )
+    then = _continue_hint(writer)
     return OutputFull(
         err.errno,
         f"disk full writing {writer.path} (the run reached t = {t_now:.6g}): kept "
@@ -816,6 +920,7 @@ def _check_resumed_integration(cfg: RunConfig, chain, path) -> None:
 
 def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     from .chain import (
+        CHUNK_WALL,
         CHUNK_WORK,
         Chain,
         default_max_event_duration,
@@ -838,6 +943,10 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     slip_limit = cfg.max_event_slips or default_max_event_slips(cfg.blocks)
     duration_limit = cfg.max_event_duration or default_max_event_duration(cfg.blocks, p.dx)
     eng.set_run_limits(slip_limit, duration_limit, CHUNK_WORK)
+    eng.set_chunk_wall(CHUNK_WALL)
+    if ctl.resuming:
+        # snapshots a checkpoint of an earlier version still holds were all written
+        eng.take_snapshots()
     units = _Units(cfg)
     x = np.arange(cfg.blocks) * p.dx
     rate_units, rate_attrs = units.rate_spec()
@@ -891,7 +1000,8 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
             )
             writer.append_rows("slips", sl, su, csv=False, scales=ss)
         # the snapshots last: a commit they trigger writes their catalog rows first
-        ts, us, uts = eng.snapshots(writer.records)
+        # (handed over and dropped by the engine: memory stays bounded on long runs)
+        ts, us, uts = eng.take_snapshots()
         if len(ts):
             # stuck blocks drift with the loader exactly (u_t == v to the bit), so the
             # sign of the speed over the ground v - u_t is the sliding state
@@ -930,7 +1040,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
                     sliding=np.sign(p.v - uts).astype(np.int8)[None, :],
                 )
 
-        _finish(writer, ctl, chain, None, give_all, interrupted)
+        interrupted = _finish(writer, ctl, chain, None, give_all, interrupted)
     extra = {
         "blocks": cfg.blocks,
         "ruptures": len(rup),
@@ -1081,7 +1191,7 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         if writer is None:
             if snapshots == 0 or interrupted or cfg.t_end is None:
                 snapshots += 1
-        _finish(writer, ctl, fb, runner_state(), give_all, interrupted)
+        interrupted = _finish(writer, ctl, fb, runner_state(), give_all, interrupted)
     return RunSummary(
         model="free_boundary",
         out=str(out) if out else None,

@@ -514,6 +514,11 @@ def load_sweep(path) -> SweepSpec:
 # --------------------------------------------------------------------------- the store
 
 
+class SweepRepairWarning(UserWarning):
+    """A re-run found done points that no longer hold what they wrote (a lost chunk, a
+    missing per-point file): they are computed again."""
+
+
 class _Store:
     """The Zarr store of a grid sweep, written by the client as points finish."""
 
@@ -585,10 +590,15 @@ class _Store:
                 "error": (dims, np.full(shape, "", dtype=object)),
                 "key": (dims, np.full(shape, "", dtype=object)),
                 "wall_s": (dims, np.full(shape, np.nan)),
+                "check": (dims, np.full(shape, "", dtype=object)),
             },
             coords=coords,
         )
         ds["status"].attrs["doc"] = "0 pending, 1 done, 2 failed"
+        ds["check"].attrs["doc"] = (
+            "what a done point wrote: a digest of its values, then its per-point files "
+            "(verified before a re-run skips it)"
+        )
         ds["key"].attrs["doc"] = "hash of the point's input, task and bkwaves version"
         ds["wall_s"].attrs["units"] = "s"
         for a in spec.axes:
@@ -599,10 +609,10 @@ class _Store:
             ds.to_zarr(str(self.path), mode="w-", consolidated=True)
 
     def status(self) -> np.ndarray:
-        return np.asarray(self.g["status"][...])
+        return self._read("status")
 
     def keys(self) -> np.ndarray:
-        return np.asarray(self.g["key"][...])
+        return self._read("key")
 
     def _variable(self, name: str, value):
         """The array of summary scalar ``name``, created at its first value."""
@@ -626,36 +636,116 @@ class _Store:
         return arr
 
     def write(self, records) -> None:
-        """Write finished points ``(index, key, summary or None, error or None)``: each
-        variable is read, updated and written once for the whole batch; the status goes
+        """Write finished points ``(index, key, summary or None, error or None[, files])``:
+        each variable is read, updated and written once for the whole batch; then the
+        check (a digest of the values as stored, and the point's files), the status
         last, so a point is done only once all its values are on disk."""
         if not records:
             return
         reserved = {*self.spec.dims, *(a.name for a in self.spec.axes)}
         columns: dict[str, list] = {}
-        for index, _key, summary, _error in records:
+        stored: dict[tuple, dict] = {}
+        for index, _key, summary, _error, *_files in records:
             idx = tuple(int(i) for i in index)
+            stored[idx] = {}
             for name, value in (summary or {}).items():
                 if name.startswith("__") or name in reserved:
                     continue  # inputs echoed back by the task are the coordinates
                 columns.setdefault(name, []).append((idx, value))
         for name, cells in columns.items():
             arr = self._variable(name, cells[0][1])
-            self._update(arr, cells, name)
+            for idx, value in self._update(arr, cells, name):
+                stored[idx][name] = value
         self._update(self.g["error"], [(tuple(r[0]), r[3] or "") for r in records], "error")
         self._update(self.g["key"], [(tuple(r[0]), r[1]) for r in records], "key")
+        if "check" in self.g:
+            checks = []
+            for r in records:
+                idx = tuple(int(i) for i in r[0])
+                files = r[4] if len(r) > 4 else []
+                checks.append((idx, " ".join([_digest(stored[idx]), *files])))
+            self._update(self.g["check"], checks, "check")
         status = [(tuple(r[0]), FAILED if r[3] else DONE) for r in records]
         self._update(self.g["status"], status, "status")
 
-    @staticmethod
-    def _update(arr, cells, name):
-        values = arr[...]
+    def verify(self, done: np.ndarray) -> tuple[np.ndarray, list[str]]:
+        """Which of the ``done`` points (a boolean mask) hold what they wrote: their values
+        (the digest of the stored values, so a lost chunk, whose values read as NaN, is
+        seen) and their per-point files. Returns (mask of the points that do, notes).
+        A store written before checks existed is trusted as it is."""
+        if "check" not in self.g or not done.any():
+            return done, []
+        check = self._read("check")
+        reserved = {"status", "error", "key", "check", *self.spec.dims}
+        reserved |= {a.name for a in self.spec.axes}
+        values = {
+            name: self._read(name)
+            for name, a in self.g.arrays()
+            if name not in reserved and tuple(a.shape) == tuple(self.spec.shape)
+        }
+        pdir = points_dir(self.path)
+        good = done.copy()
+        lost_values = lost_files = 0
+        for idx in zip(*np.nonzero(done), strict=True):
+            digest, *files = str(check[idx]).split(" ") if check[idx] else ("",)
+            have = {}
+            for name, arr in values.items():
+                v = arr[idx]
+                if arr.dtype.kind not in "fiub":
+                    if str(v) != "":
+                        have[name] = str(v)
+                elif not math.isnan(float(v)):
+                    have[name] = float(v)
+            if _digest(have) != digest:
+                good[idx] = False
+                lost_values += 1
+            elif any(not (pdir / f).is_file() for f in files):
+                good[idx] = False
+                lost_files += 1
+        notes = []
+        if lost_values:
+            notes.append(
+                f"{lost_values} done points of {self.path} no longer hold the values they "
+                "wrote (a chunk of the store lost or changed): computed again"
+            )
+        if lost_files:
+            notes.append(f"{lost_files} done points miss their files in {pdir}: computed again")
+        return good, notes
+
+    def _read(self, name: str) -> np.ndarray:
+        try:
+            return np.asarray(self.g[name][...])
+        except Exception as e:  # noqa: BLE001 - a damaged chunk (codec, JSON): one line
+            raise ParameterError(
+                f"-o {self.path}: the sweep store is damaged (variable {name!r} cannot be "
+                f"read: {type(e).__name__}: {' '.join(str(e).split())[:160]}); run the "
+                "sweep again with --overwrite, or into another store"
+            ) from None
+
+    def _update(self, arr, cells, name):
+        """Set the cells of ``arr`` (read, updated, written whole); returns
+        ``[(index, value as stored)]``."""
+        values = self._read(name)
         text = arr.dtype.kind != "f" and arr.dtype.kind not in "iu"
+        out = []
         for idx, value in cells:
             if isinstance(value, str) != text:
                 value = math.nan if not text else str(value)
             values[idx] = value
+            out.append((idx, values[idx]))
         arr[...] = values
+        return [
+            (idx, str(v) if text else float(v))
+            for idx, v in out
+            if (v != "" if text else not math.isnan(float(v)))
+        ]
+
+
+def _digest(values: dict) -> str:
+    """A digest of a point's stored values (name -> float or str, fill values left out):
+    exact (floats by their bits)."""
+    items = sorted((k, v.hex() if isinstance(v, float) else f"s:{v}") for k, v in values.items())
+    return hashlib.sha256(json.dumps(items).encode()).hexdigest()[:24]
 
 
 def store_attrs(spec: SweepSpec, marker: str, signature: str) -> dict:
@@ -869,12 +959,21 @@ def sweep(
     t0 = time.perf_counter()
     store = _Store(out, spec, overwrite=overwrite)
     status, keys = store.status(), store.keys()
+    points = [(idx, spec.point(idx)) for idx in spec.indices()]
+    points = [(idx, spec.key(point), point) for idx, point in points]
+    claimed = np.zeros(spec.shape, dtype=bool)
+    for idx, k, _ in points:
+        claimed[idx] = status[idx] == DONE and keys[idx] == k
+    # verify what a re-run would skip: values as written, per-point files present
+    verified, notes = store.verify(claimed)
+    for note in notes:
+        import warnings
+
+        warnings.warn(note, SweepRepairWarning, stacklevel=2)
     todo, skipped = [], 0
-    for idx in spec.indices():
-        point = spec.point(idx)
-        k = spec.key(point)
-        done = status[idx] == DONE or (status[idx] == FAILED and not retry_failed)
-        if done and keys[idx] == k:
+    for idx, k, point in points:
+        failed_before = status[idx] == FAILED and not retry_failed and keys[idx] == k
+        if verified[idx] or failed_before:
             skipped += 1
             continue
         todo.append((idx, k, point))
@@ -893,7 +992,7 @@ def sweep(
         try:
             with _Signals() as signals:
                 computed, failed, interrupted = _execute(
-                    client, spec, store, todo, progress, dashboard, _stop_after
+                    client, spec, store, todo, progress, dashboard, _stop_after, signals
                 )
         finally:
             if made_client:
@@ -916,17 +1015,22 @@ def sweep(
 
 
 class _Signals:
-    """While active (in the main thread), SIGTERM interrupts the sweep like Ctrl-C: the
-    finished points are flushed and the pending ones cancelled. ``received`` is the
-    signal number (SIGINT for Ctrl-C)."""
+    """While active (in the main thread), SIGINT (Ctrl-C) and SIGTERM interrupt the
+    sweep: the finished points are flushed and the pending ones cancelled. A signal
+    breaks the wait for the next point (KeyboardInterrupt) only while ``waiting``; during
+    a write it is noted and acted on after it, so no chunk of the store is cut in half.
+    ``received`` is the signal number."""
 
     def __init__(self):
         self.received = None
+        self.waiting = False
         self._old = {}
 
     def _handler(self, signum, frame):
         self.received = signum
-        raise KeyboardInterrupt
+        if self.waiting:
+            self.waiting = False
+            raise KeyboardInterrupt
 
     def __enter__(self):
         for sig in (signal.SIGINT, signal.SIGTERM):
@@ -942,9 +1046,13 @@ class _Signals:
         return False
 
 
-def _execute(client, spec, store, todo, progress, dashboard, stop_after):
+def _execute(client, spec, store, todo, progress, dashboard, stop_after, signals=None):
+    """Submit the points, write them as they finish: every point that has arrived is in
+    the store before the loop waits again (so within the time one batch takes to write,
+    well under a second), and a signal is answered once the batch in hand is written."""
     from distributed import as_completed
 
+    signals = signals if signals is not None else _Signals()
     futures = {}
     for idx, k, point in todo:
         fut = client.submit(
@@ -963,35 +1071,48 @@ def _execute(client, spec, store, todo, progress, dashboard, stop_after):
     computed = failed = 0
     interrupted = False
     batch: list = []
-    last_flush = time.perf_counter()
 
     def flush():
-        nonlocal last_flush
         store.write(batch)
         batch.clear()
-        last_flush = time.perf_counter()
 
+    ready = as_completed([f for _, _, f in futures.values()])
     try:
-        for fut in as_completed([f for _, _, f in futures.values()]):
-            idx, k, _ = futures[fut.key]
+        while True:
+            signals.waiting = True
             try:
-                # result() also waits for a point whose result was lost with a killed
-                # worker and is being recomputed elsewhere
-                summary = fut.result()
-            except Exception as exc:  # noqa: BLE001 - the point's own failure, recorded
-                batch.append((idx, k, None, f"{type(exc).__name__}: {exc}"))
-                failed += 1
-            else:
-                _write_point_files(store.path, k, summary)
-                batch.append((idx, k, summary, None))
-                computed += 1
-            fut.release()
-            # finished points reach the store within FLUSH_SECONDS (and in batches)
-            if time.perf_counter() - last_flush > FLUSH_SECONDS or len(batch) >= FLUSH_POINTS:
-                flush()
+                if signals.received is not None:
+                    raise KeyboardInterrupt
+                arrived = ready.next_batch(block=True)
+            except StopIteration:
+                arrived = None
+            finally:
+                signals.waiting = False
+            if arrived is None:
+                break
+            for fut in arrived:
+                idx, k, _ = futures[fut.key]
+                try:
+                    # result() also waits for a point whose result was lost with a killed
+                    # worker and is being recomputed elsewhere
+                    summary = fut.result()
+                except Exception as exc:  # noqa: BLE001 - the point's own failure, recorded
+                    batch.append((idx, k, None, f"{type(exc).__name__}: {exc}"))
+                    failed += 1
+                else:
+                    files = _write_point_files(store.path, k, summary)
+                    batch.append((idx, k, summary, None, files))
+                    computed += 1
+                fut.release()
+                if len(batch) >= FLUSH_POINTS:
+                    flush()
+                if stop_after is not None and computed + failed >= stop_after:
+                    interrupted = True
+                    break
+            flush()  # every point that arrived is written before waiting again
             if bar is not None:
                 bar.update(task_id, completed=computed + failed)
-            if stop_after is not None and computed + failed >= stop_after:
+            if interrupted or signals.received is not None:
                 interrupted = True
                 break
     except KeyboardInterrupt:
@@ -1012,23 +1133,28 @@ def points_dir(out) -> Path:
     return out.with_name(out.name + ".points")
 
 
-def _write_point_files(out: Path, key: str, summary: dict):
+def _write_point_files(out: Path, key: str, summary: dict) -> list[str]:
     """A point's tables and snapshots (popped from its summary), each written to a
-    temporary name and renamed, before the point is marked done."""
+    temporary name and renamed, before the point is marked done. Returns their names
+    (recorded in the store's ``check``: a re-run verifies they are there)."""
     tables = summary.pop("__tables__", None) or {}
     snapshots = summary.pop("__snapshots__", None)
     if not tables and snapshots is None:
-        return
+        return []
     d = points_dir(out)
     d.mkdir(exist_ok=True)
+    names = []
     for name, df in tables.items():
         tmp = d / f".{key}.{name}.parquet.tmp"
         df.to_parquet(tmp)
         tmp.replace(d / f"{key}.{name}.parquet")
+        names.append(f"{key}.{name}.parquet")
     if snapshots is not None:
         tmp = d / f".{key}.nc.tmp"
         snapshots.to_netcdf(tmp, engine="h5netcdf")
         tmp.replace(d / f"{key}.nc")
+        names.append(f"{key}.nc")
+    return names
 
 
 def load_sweep_result(out):

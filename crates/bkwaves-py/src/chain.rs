@@ -462,6 +462,28 @@ impl ChainEngine {
             .set_run_limits(event_slips, event_duration, chunk_work);
     }
 
+    /// Bound the wall time of one `advance` call (seconds; inf: no bound): it returns
+    /// "steps" once that much time has passed, so interrupts are answered promptly.
+    fn set_chunk_wall(&mut self, seconds: f64) {
+        self.inner.set_chunk_wall(seconds);
+    }
+
+    /// The snapshots taken since the last call, handed over and dropped by the engine:
+    /// (t, u[k, i], u_t[k, i]). `snapshots` counts from the first one not yet taken.
+    #[allow(clippy::type_complexity)]
+    fn take_snapshots<'py>(
+        &mut self,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+    )> {
+        let n = self.inner.n();
+        let s = self.inner.take_snapshots();
+        Ok((vec1(py, s.t), mat(py, &s.u, n)?, mat(py, &s.u_t, n)?))
+    }
+
     /// (slips, duration) of the running event, or None.
     #[getter]
     fn open_event(&self) -> Option<(usize, f64)> {

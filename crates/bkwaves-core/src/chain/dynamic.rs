@@ -54,6 +54,10 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
     fn run(&mut self, t_end: f64, max_events: usize, max_steps: u64) -> Result<Stop>;
     /// See [`Chain::set_run_limits`].
     fn set_run_limits(&mut self, event_slips: usize, event_duration: f64, chunk_work: u64);
+    /// See [`Chain::set_chunk_wall`].
+    fn set_chunk_wall(&mut self, seconds: f64);
+    /// See [`Chain::take_snapshots`].
+    fn take_snapshots(&mut self) -> Snapshots;
     /// See [`Chain::open_event`].
     fn open_event(&self) -> Option<(usize, f64)>;
     /// Current time.
@@ -91,6 +95,12 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
 impl<F: Friction, M: Medium> DynChain for Chain<F, M> {
     fn set_run_limits(&mut self, event_slips: usize, event_duration: f64, chunk_work: u64) {
         Chain::set_run_limits(self, event_slips, event_duration, chunk_work)
+    }
+    fn set_chunk_wall(&mut self, seconds: f64) {
+        Chain::set_chunk_wall(self, seconds)
+    }
+    fn take_snapshots(&mut self) -> Snapshots {
+        Chain::take_snapshots(self)
     }
     fn open_event(&self) -> Option<(usize, f64)> {
         Chain::open_event(self)

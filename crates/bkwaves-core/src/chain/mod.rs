@@ -228,6 +228,10 @@ pub struct Chain<F: Friction, M: Medium = Uniform> {
     event_slip_limit: usize,
     event_duration_limit: f64,
     chunk_work: u64,
+    /// Wall time per `run` call in seconds (infinite: no bound), and the snapshot values
+    /// written in the current call (counted as work); neither is part of the state.
+    chunk_wall: f64,
+    snap_work: u64,
     /// Work lists reused from step to step (not part of the state).
     scratch: Scratch,
 }
@@ -386,6 +390,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             event_slip_limit: usize::MAX,
             event_duration_limit: f64::INFINITY,
             chunk_work: u64::MAX,
+            chunk_wall: f64::INFINITY,
+            snap_work: 0,
             scratch: Scratch::default(),
             st,
         };
@@ -820,6 +826,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     }
 
     fn snapshot_now(&mut self) {
+        self.snap_work += self.st.n as u64;
         self.snapshots.t.push(self.t);
         self.snapshots.u.push(self.u());
         self.snapshots.u_t.push(self.u_t());
@@ -979,25 +986,35 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     w.push(self.cfg.v);
                 }
             }
+            self.snap_work += n as u64;
             self.snapshots.t.push(ts);
             self.snapshots.u.push(u);
             self.snapshots.u_t.push(w);
         }
     }
 
-    /// Snapshots due in (t, t_next] while everything is stuck (exact).
-    fn quiet_snapshots(&mut self, t_next: f64) {
+    /// Snapshots due in (t, t_next] while everything is stuck (exact): all of them, or
+    /// (returning false) as many as `budget` values of work allow, at least one; the
+    /// rest are taken by the next call (a stuck block's u depends on the time only, so
+    /// this is exact wherever the cut falls).
+    fn quiet_snapshots(&mut self, t_next: f64, budget: u64) -> bool {
+        let first = self.snap_work;
         while let Some(&ts) = self.snap_times.last() {
             if ts > t_next {
                 break;
             }
+            if self.snap_work > first && self.snap_work - first >= budget {
+                return false;
+            }
             self.snap_times.pop();
+            self.snap_work += self.st.n as u64;
             self.snapshots.t.push(ts);
             self.snapshots
                 .u
                 .push((1..=self.st.n).map(|p| self.st.stuck_u(p, ts)).collect());
             self.snapshots.u_t.push(vec![self.cfg.v; self.st.n]);
         }
+        true
     }
 
     fn apply_trigger(&mut self, tr: Trigger, cause: Cause) {
@@ -1044,6 +1061,26 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.chunk_work = chunk_work.max(1);
     }
 
+    /// Bound the wall time of one [`Chain::run`] call: it returns [`Stop::Steps`] once
+    /// `seconds` have passed (checked every few steps, after at least one step, jump or
+    /// snapshot), so that the caller answers an interrupt promptly however the work of
+    /// a step varies. Infinite (the default): no bound. Returning there changes nothing
+    /// in the results (the next call continues exactly), but where it returns depends on
+    /// the machine.
+    pub fn set_chunk_wall(&mut self, seconds: f64) {
+        self.chunk_wall = if seconds > 0.0 {
+            seconds
+        } else {
+            f64::INFINITY
+        };
+    }
+
+    /// The snapshots taken so far, handed over and no longer kept (a long run's
+    /// snapshots are written out as they come instead of accumulating).
+    pub fn take_snapshots(&mut self) -> Snapshots {
+        std::mem::take(&mut self.snapshots)
+    }
+
     /// Slips and duration so far of the running event (None when none is running).
     pub fn open_event(&self) -> Option<(usize, f64)> {
         if !self.catalog.event_open() {
@@ -1074,6 +1111,10 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         let target_events = self.catalog.finished().saturating_add(max_events);
         let mut steps = 0u64;
         let work0 = self.work_done();
+        self.snap_work = 0;
+        let started = std::time::Instant::now();
+        let mut passes = 0u32;
+        let mut jumps = 0u64;
         loop {
             if self.need_check {
                 self.settle()?;
@@ -1107,7 +1148,16 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 self.quiet_or_dense_tail();
                 return Ok(Stop::Time);
             }
-            if steps >= max_steps || self.work_done() - work0 >= self.chunk_work {
+            let work = self.work_done() - work0 + self.snap_work;
+            if steps >= max_steps || work >= self.chunk_work {
+                return Ok(Stop::Steps);
+            }
+            passes = passes.wrapping_add(1);
+            if self.chunk_wall.is_finite()
+                && passes % 16 == 0
+                && (steps > 0 || jumps > 0 || self.snap_work > 0)
+                && started.elapsed().as_secs_f64() >= self.chunk_wall
+            {
                 return Ok(Stop::Steps);
             }
             if let Some((slips, duration)) = self.open_event() {
@@ -1117,7 +1167,11 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             }
             let t_next = tq.min(t_source).min(t_end);
             if self.st.n_active == 0 {
-                // quiet: everything drifts exactly; jump
+                // quiet: everything drifts exactly; jump (once the snapshots on the way
+                // are taken: as many as the work budget allows per call)
+                if !self.quiet_snapshots(t_next, self.chunk_work.saturating_sub(work)) {
+                    return Ok(Stop::Steps);
+                }
                 let dt = t_next - self.t;
                 self.ledger.load += self.cfg.v
                     * dt
@@ -1125,9 +1179,9 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                         + 0.5 * self.cfg.v * dt * self.stuck_loader
                         + self.beta() * self.st.n as f64);
                 self.stuck_sum += self.cfg.v * dt * self.stuck_loader;
-                self.quiet_snapshots(t_next);
                 self.t = t_next;
                 self.counters.jumps += 1;
+                jumps += 1;
                 continue;
             }
             steps += 1;
@@ -1155,7 +1209,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     fn quiet_or_dense_tail(&mut self) {
         // snapshots requested exactly at the current time
         if self.st.n_active == 0 {
-            self.quiet_snapshots(self.t);
+            self.quiet_snapshots(self.t, u64::MAX);
         } else {
             let t = self.t;
             while let Some(&ts) = self.snap_times.last() {
@@ -1163,6 +1217,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     break;
                 }
                 self.snap_times.pop();
+                self.snap_work += self.st.n as u64;
                 self.snapshots.t.push(t);
                 self.snapshots.u.push(self.u());
                 self.snapshots.u_t.push(self.u_t());

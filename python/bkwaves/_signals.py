@@ -1,0 +1,60 @@
+"""Signals of the command line, from the first line bkwaves runs.
+
+Before the command line knows what it will do, SIGINT (Ctrl-C) and SIGTERM are only
+noted (:func:`install_early`, called when ``bkwaves`` starts, before its imports): a
+signal that arrives while it starts is answered with one line and its exit status
+(130, 143) once the command line can speak, never with a traceback nor a silent death.
+Then each command decides: ``bkwaves run`` notes them and stops between engine chunks
+(``bkwaves.runner``); the other commands get :func:`install_raising`: SIGINT raises
+KeyboardInterrupt and SIGTERM :class:`Terminated` (a KeyboardInterrupt too), so the
+cleanup a Ctrl-C does also runs for SIGTERM.
+"""
+
+from __future__ import annotations
+
+import signal
+
+#: The signal noted while only noting (None: none).
+pending: int | None = None
+#: True in the command line's other commands: ``Chain.run`` passes an interrupt on
+#: instead of returning what it computed (a figure must not be drawn from half a run).
+propagate = False
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised like Ctrl-C's KeyboardInterrupt."""
+
+
+def _note(signum, frame):
+    global pending
+    pending = signum
+
+
+def _raise(signum, frame):
+    global pending
+    pending = signum
+    if signum == signal.SIGTERM:
+        raise Terminated
+    raise KeyboardInterrupt
+
+
+def _install(handler) -> None:
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        try:
+            if signal.getsignal(sig) == signal.SIG_IGN:
+                continue  # ignored by whoever started us (a background job): stays so
+            signal.signal(sig, handler)
+        except ValueError:  # not the main thread
+            pass
+
+
+def install_early() -> None:
+    """Note SIGINT and SIGTERM (see the module's docs)."""
+    _install(_note)
+
+
+def install_raising() -> None:
+    """SIGINT raises KeyboardInterrupt, SIGTERM :class:`Terminated`."""
+    global propagate
+    propagate = True
+    _install(_raise)
