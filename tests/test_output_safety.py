@@ -199,9 +199,9 @@ def test_a_full_disk_keeps_every_snapshot_that_fits(tmp_path, monkeypatch):
     b, _ = bk.load(ref)
     record = 200 * 17  # bytes of one snapshot (u, u_t: 8 bytes, sliding: 1, per block)
     kept = []
+    write = io._write_bytes
     for capacity in (4, 20, 45):  # snapshots' worth of space
         used = []
-        write = io._write_bytes
 
         def sized(path, data, limit=capacity * record + 30_000, used=used):
             if path.suffix == ".nc":
