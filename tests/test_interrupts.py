@@ -342,3 +342,28 @@ def test_a_writer_flushes_in_parts_and_reads_back_equal(tmp_path):
         np.testing.assert_array_equal(ds.u.values, u)
         np.testing.assert_array_equal(ds.t.values, np.arange(300.0))
         ds.close()
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_paper_answers_a_signal_in_one_line_and_keeps_its_figures(tmp_path, sig):
+    out = tmp_path / "paper"
+    p = subprocess.Popen(
+        [*BK, "paper", "-o", str(out), "--quick", "--quiet"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.time() + 300
+    while time.time() < deadline and p.poll() is None and len(list(out.glob("*.png"))) < 2:
+        time.sleep(0.05)
+    assert p.poll() is None, "the paper ended before it could be interrupted"
+    t0 = time.perf_counter()
+    p.send_signal(sig)
+    _, stderr = p.communicate(timeout=120)
+    latency = time.perf_counter() - t0
+    assert p.returncode == 128 + sig and "Traceback" not in stderr, stderr
+    lines = [ln for ln in stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and f"interrupted by {signal.Signals(sig).name}" in lines[0]
+    assert "run the same command again" in lines[0]
+    assert latency < 1.0, latency
+    assert len(list(out.glob("*.png"))) >= 2  # what it wrote is kept

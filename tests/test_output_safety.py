@@ -341,3 +341,41 @@ def test_a_damaged_sweep_store_is_one_line(tmp_path, client):
     assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
     lines = [ln for ln in _lines(r.stderr) if "distributed" not in ln]
     assert len(lines) == 1 and "damaged" in lines[0] and "status" in lines[0], r.stderr
+
+
+def test_a_finished_point_is_written_while_the_others_compute(tmp_path, client):
+    """A point is in the store as soon as it arrives, not when the next one does (the
+    store was written only when a point arrived: a fast point waited for a slow one)."""
+    import threading
+    import time
+
+    import zarr
+
+    from bkwaves.sweeps import DONE, sweep
+
+    doc = {
+        "task": "run",
+        "base": {**SMALL, "run": {"t_end": 300.0}, "output": {}},
+        "axes": {"domain.blocks": {"values": [20, 21, 6000]}},
+    }
+    out = tmp_path / "two.zarr"
+    done_at, result = [], {}
+
+    def go():
+        result["r"] = sweep(doc, out, client=client)
+        result["end"] = time.perf_counter()
+
+    th = threading.Thread(target=go)
+    th.start()
+    while th.is_alive():
+        try:
+            status = zarr.open_group(str(out), mode="r", use_consolidated=False)["status"][...]
+        except Exception:  # noqa: BLE001 - not created yet, or being written
+            status = np.zeros(0)
+        if (status == DONE).sum() >= 1 and not done_at:
+            done_at.append(time.perf_counter())
+        time.sleep(0.02)
+    th.join()
+    assert result["r"].computed == 3
+    assert done_at, "no point was in the store before the sweep ended"
+    assert result["end"] - done_at[0] > 0.5  # the slow point was still running

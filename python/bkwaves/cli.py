@@ -322,6 +322,7 @@ def _check_dict(check) -> dict:
 
 
 def paper(args) -> None:
+    from . import _signals
     from .paper import reproduce
 
     _check_out(args.out, "-o", directory=True)
@@ -334,6 +335,12 @@ def paper(args) -> None:
         )
     except ParameterError as e:
         _fail(e)
+    except KeyboardInterrupt as e:  # (SIGINT, or SIGTERM as _signals.Terminated)
+        sig = "SIGTERM" if isinstance(e, _signals.Terminated) else "SIGINT"
+        raise type(e)(
+            f"interrupted by {sig}: the figures written so far are kept in {args.out}; "
+            "run it again with --overwrite to make them all and the report"
+        ) from None
     verdicts = {}
     for c in rep.claims:
         verdicts[c.verdict] = verdicts.get(c.verdict, 0) + 1
@@ -947,7 +954,10 @@ def main(argv: list[str] | None = None) -> None:
             sig = signal.SIGTERM if isinstance(e, _signals.Terminated) else signal.SIGINT
         text = str(e) or f"interrupted by {signal.Signals(sig).name}."
         _echo(f"\n{name}: {text}", err=True)
-        sys.exit(128 + sig)
+        # at once: what these commands wrote is closed; the interpreter's teardown (a
+        # second on a busy machine after matplotlib) would only delay the answer
+        sys.stdout.flush()
+        os._exit(128 + sig)
     except BrokenPipeError:  # e.g. `bkwaves speed ... | head -1`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         sys.exit(1)
@@ -959,7 +969,13 @@ def main(argv: list[str] | None = None) -> None:
     if not status and _signals.pending is not None:  # (noted, never lost)
         sig = signal.Signals(_signals.pending)
         _echo(f"{name}: {sig.name} arrived as it ended; it had finished", err=True)
-        sys.exit(128 + sig)
+        status = 128 + sig
+    if status in (128 + signal.SIGINT, 128 + signal.SIGTERM):
+        # interrupted, everything written and closed: no interpreter teardown (a second
+        # on a busy machine) between the answer and the exit
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
     sys.exit(status or 0)
 
 

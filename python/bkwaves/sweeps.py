@@ -60,8 +60,7 @@ __all__ = ["Axis", "SweepSpec", "SweepResult", "TASKS", "load_sweep", "parse_swe
 STORE_MARKER = "bkwaves-sweep-1"
 PENDING, DONE, FAILED = 0, 1, 2
 COMBINES = ("product", "zip")
-FLUSH_SECONDS = 1.0  # a finished point is in the store at most this long after it arrives
-FLUSH_POINTS = 256
+FLUSH_POINTS = 256  # points written at once at most (those that arrived together)
 
 
 # --------------------------------------------------------------------------- tasks
