@@ -367,3 +367,23 @@ def test_paper_answers_a_signal_in_one_line_and_keeps_its_figures(tmp_path, sig)
     assert "run the same command again" in lines[0]
     assert latency < 1.0, latency
     assert len(list(out.glob("*.png"))) >= 2  # what it wrote is kept
+
+
+def test_free_boundary_calls_are_bounded_in_wall_time_without_changing_the_run(monkeypatch):
+    """The free boundary engine returns after CHUNK_WALL too (here ~0: every 16 engine
+    events); the tables and the snapshots equal those of the unbounded run."""
+    from pathlib import Path
+
+    import bkwaves.chain
+
+    cfg = bk.config.load_config(
+        Path(__file__).parents[1] / "examples" / "free_boundary_random.toml"
+    ).to_dict()
+    cfg["run"] = {"t_end": 400.0}
+    ref = bk.run(cfg, snapshots=True)
+    monkeypatch.setattr(bkwaves.chain, "CHUNK_WALL", 1e-9)
+    cut = bk.run(cfg, snapshots=True)
+    assert ref.summary["n_events"] > 3
+    for name, df in ref.tables.items():
+        assert cut.tables[name].equals(df), name
+    np.testing.assert_array_equal(cut.snapshots.u.values, ref.snapshots.u.values)

@@ -610,6 +610,9 @@ class FreeBoundary:
         bar = RunProgress(
             progress, "free boundary", t0, t_end, max_events, self._engine.completed_events
         )
+        from .chain import CHUNK_WALL
+
+        self._engine.set_chunk_wall(CHUNK_WALL)
         try:
             for target in [*times.tolist(), t_end]:
                 while True:
@@ -622,6 +625,10 @@ class FreeBoundary:
                 if math.isfinite(target):
                     self._take_snapshot()
         except KeyboardInterrupt:
+            from . import _signals
+
+            if _signals.propagate:  # a command line stopping: not a result to draw from
+                raise
             interrupted = True
             warnings.warn(
                 f"free boundary run interrupted at t = {self.time:.6g}; returning the "

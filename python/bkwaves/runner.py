@@ -1094,6 +1094,9 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         for w in caught:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     eng = fb._engine
+    from .chain import CHUNK_WALL
+
+    eng.set_chunk_wall(CHUNK_WALL)
     units = _Units(cfg)
     variables = {"u": ("1", "slow field u (0: kinetic level, 1: static threshold)", "f8")}
     resume_rows = {"events": eng.completed_events, "shocks": len(eng.path()["t"]), "ruptures": 0}

@@ -96,6 +96,12 @@ impl PyFreeBoundary {
         })
     }
 
+    /// Bound the wall time of one `advance` call (seconds; inf: no bound): it returns
+    /// "steps" once that much time has passed, so interrupts are answered promptly.
+    fn set_chunk_wall(&mut self, seconds: f64) {
+        self.inner.set_chunk_wall(seconds);
+    }
+
     /// Spontaneous pair nucleation at Lambda(u) = rate g(u) (law "constant",
     /// "exponential" with phi0, "power" with exponent, "table" with nodes u and values g),
     /// seeded; from now on. A zero rate is no noise.

@@ -240,6 +240,9 @@ pub struct FreeBoundary {
     open: Option<usize>,
     path: Vec<PathPoint>,
     steps: u64,
+    /// Wall time per `advance` call in seconds (infinite: no bound; not part of the
+    /// state).
+    chunk_wall: f64,
     /// The shocks of each cell and the queue of their next events (derived state).
     sched: Schedule,
     /// Spontaneous nucleation (None: no noise; [`nucleation`]).
@@ -380,6 +383,7 @@ impl FreeBoundary {
             open: None,
             path: Vec::new(),
             steps: 0,
+            chunk_wall: f64::INFINITY,
             sched: Schedule::new(nc),
             noise: None,
             #[cfg(test)]
@@ -936,6 +940,18 @@ impl FreeBoundary {
     }
 
     // ------------------------------------------------------------------ the run
+    /// Bound the wall time of one [`FreeBoundary::advance`] call: it returns
+    /// [`Stop::Steps`] once `seconds` have passed (checked every few engine events, after
+    /// at least one), so that the caller answers an interrupt promptly. Returning there
+    /// changes nothing in the results. Infinite (the default): no bound.
+    pub fn set_chunk_wall(&mut self, seconds: f64) {
+        self.chunk_wall = if seconds > 0.0 {
+            seconds
+        } else {
+            f64::INFINITY
+        };
+    }
+
     /// Advance to `t_stop` at most, processing at most `max_steps` engine events and
     /// stopping once `max_events` events are complete.
     pub fn advance(&mut self, t_stop: f64, max_steps: u64, max_events: usize) -> Result<Stop> {
@@ -947,11 +963,19 @@ impl FreeBoundary {
             });
         }
         let mut done = 0u64;
+        let started = std::time::Instant::now();
         loop {
             if self.completed_events() >= max_events {
                 return Ok(Stop::Events);
             }
             if done >= max_steps {
+                return Ok(Stop::Steps);
+            }
+            if self.chunk_wall.is_finite()
+                && done > 0
+                && done % 16 == 0
+                && started.elapsed().as_secs_f64() >= self.chunk_wall
+            {
                 return Ok(Stop::Steps);
             }
             let (t, next) = self.next_event(t_stop);
