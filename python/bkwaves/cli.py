@@ -514,10 +514,15 @@ RUN = Command(
 
     Snapshots go to OUT (NetCDF or Zarr by suffix); the event catalog and trajectories to
     OUT.events.parquet/.csv and OUT.slips/shocks.parquet. Until the run is complete they are
-    kept in OUT.partial/, then published onto OUT at once. An existing OUT is refused unless
-    --overwrite. Ctrl-C or SIGTERM stop the run, keep what was computed and leave
-    OUT.checkpoint (exit status 130 or 143): `bkwaves run --resume OUT` continues it, bit
-    for bit like an uninterrupted run. A full disk keeps what was written (exit status 1).
+    kept in OUT.partial/, then published onto OUT at once; snapshots are written as they
+    come (memory does not grow with them). An existing OUT is refused unless --overwrite
+    (only files bkwaves wrote are replaced; a file of yours named OUT.lock or inside
+    OUT.zarr is never touched). Ctrl-C or SIGTERM stop the run within a second in any
+    phase, keep what was computed and leave OUT.checkpoint (exit status 130 or 143): `bkwaves
+    run --resume OUT` continues it, bit for bit like an uninterrupted run. Checkpoints are
+    also written every 60 s of wall time (see --checkpoint-every), so that a killed run
+    resumes. A write that fails (a full disk, a folder made read-only or removed) keeps
+    what fits and the last checkpoint and says so in one line (exit status 1).
     An event that does not end (creep, steady sliding; bounds run.max_event_slips and
     run.max_event_duration) stops the run with everything kept (exit status 3).
 
@@ -844,10 +849,12 @@ SWEEP = Command(
     "A parameter sweep on Dask: every point of SWEEP.toml's axes is one task.",
     """A parameter sweep on Dask: every point of SWEEP.toml's axes is one task, the
     summaries go into one Zarr store (an xarray Dataset indexed by the axes) as points
-    finish. Re-running computes only the points not yet done; Ctrl-C keeps every
-    finished point. -o is relative to the working directory, [output] path (and the
-    default SWEEP.zarr) to the sweep file's folder, as in `bkwaves run`. See
-    docs/sweeps.md for the schema.""",
+    finish (each as soon as it arrives). Re-running computes only the points not yet done,
+    after checking that the done ones still hold the values and files they wrote (those
+    that do not are computed again); Ctrl-C or SIGTERM keep every finished point (exit
+    status 130 or 143). A damaged store is reported in one line. -o is relative to the
+    working directory, [output] path (and the default SWEEP.zarr) to the sweep file's
+    folder, as in `bkwaves run`. See docs/sweeps.md for the schema.""",
     [
         opt(
             "sweep_file",
