@@ -125,7 +125,7 @@ def test_interrupted_command_exits_130_without_traceback(monkeypatch, capsys):
     monkeypatch.setitem(cli.COMMANDS, "speed", cli.SPEED._replace(run=interrupted))
     with pytest.raises(SystemExit) as e:
         cli.main(["speed", "0.5"])
-    assert e.value.code == 130 and "Interrupted" in capsys.readouterr().err
+    assert e.value.code == 130 and "interrupted by SIGINT" in capsys.readouterr().err
 
 
 def test_plot_command(tmp_path):

@@ -400,7 +400,7 @@ def test_free_boundary_calls_are_bounded_in_wall_time_without_changing_the_run(m
     ref = bk.run(cfg, snapshots=True)
     monkeypatch.setattr(bkwaves.chain, "CHUNK_WALL", 1e-9)
     cut = bk.run(cfg, snapshots=True)
-    assert ref.summary["n_events"] > 3
+    assert ref.summary["n_events"] >= 3
     for name, df in ref.tables.items():
         assert cut.tables[name].equals(df), name
     np.testing.assert_array_equal(cut.snapshots.u.values, ref.snapshots.u.values)

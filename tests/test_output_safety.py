@@ -355,8 +355,10 @@ def test_a_finished_point_is_written_while_the_others_compute(tmp_path, client):
 
     doc = {
         "task": "run",
-        "base": {**SMALL, "run": {"t_end": 300.0}, "output": {}},
-        "axes": {"domain.blocks": {"values": [20, 21, 6000]}},
+        # the pulse costs ~45 blocks per step whatever the length: 20 and 21 blocks are
+        # done at once, 30000 take ~6e5 steps (seconds)
+        "base": {**SMALL, "run": {"t_end": 1500.0}, "output": {}},
+        "axes": {"domain.blocks": {"values": [20, 21, 30000]}},
     }
     out = tmp_path / "two.zarr"
     done_at, result = [], {}
@@ -372,10 +374,26 @@ def test_a_finished_point_is_written_while_the_others_compute(tmp_path, client):
             status = zarr.open_group(str(out), mode="r", use_consolidated=False)["status"][...]
         except Exception:  # noqa: BLE001 - not created yet, or being written
             status = np.zeros(0)
-        if (status == DONE).sum() >= 1 and not done_at:
+        if (status == DONE).sum() >= 2 and not done_at:  # both fast points
             done_at.append(time.perf_counter())
         time.sleep(0.02)
     th.join()
     assert result["r"].computed == 3
-    assert done_at, "no point was in the store before the sweep ended"
+    assert done_at, "the fast points were not in the store before the sweep ended"
     assert result["end"] - done_at[0] > 0.5  # the slow point was still running
+
+
+def test_reading_a_damaged_sweep_store_is_one_line(tmp_path, client):
+    from bkwaves.sweeps import load_sweep_result, sweep
+
+    out = tmp_path / "w.zarr"
+    sweep(WAVE, out, client=client)
+    for p in (out / "c" / "c").rglob("*"):
+        if p.is_file():
+            p.write_bytes(b"\x00garbage" * 10)
+    with pytest.raises(bk.ParameterError, match="damaged") as err:
+        load_sweep_result(out)
+    assert "\n" not in str(err.value)
+    r = subprocess.run([*BK, "plot", str(out), "-o", str(tmp_path)], capture_output=True, text=True)
+    assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
+    assert len(_lines(r.stderr)) == 1 and "damaged" in r.stderr

@@ -48,6 +48,27 @@ def _install(handler) -> None:
             pass
 
 
+def save() -> tuple:
+    """The handlers and the state now (for :func:`restore`)."""
+    handlers = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        try:
+            handlers[sig] = signal.getsignal(sig)
+        except ValueError:
+            pass
+    return handlers, pending, propagate
+
+
+def restore(saved: tuple) -> None:
+    global pending, propagate
+    handlers, pending, propagate = saved
+    for sig, h in handlers.items():
+        try:
+            signal.signal(sig, h)
+        except (ValueError, TypeError):
+            pass
+
+
 def install_early() -> None:
     """Note SIGINT and SIGTERM (see the module's docs)."""
     _install(_note)

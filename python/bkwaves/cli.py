@@ -924,16 +924,26 @@ def _main_parser() -> _Parser:
 def main(argv: list[str] | None = None) -> None:
     """The entry point: parse ``argv`` (default: the process's), run the command, exit with
     its status (0 done, 1 a full disk, 2 bad input, 3 an event that does not end (runaway),
-    130/143 interrupted by SIGINT/SIGTERM)."""
-    import warnings
-
+    130/143 interrupted by SIGINT/SIGTERM). Called from code (with ``argv``), it leaves
+    the process's signal handlers as it found them."""
     from . import _signals
 
+    if argv is None:  # the command line itself
+        _main(sys.argv[1:], _signals, process=True)
+    saved = _signals.save()
+    try:
+        _main(list(argv), _signals, process=False)
+    finally:
+        _signals.restore(saved)
+
+
+def _main(argv: list[str], _signals, process: bool) -> None:
     _signals.install_early()  # (again: `python -m bkwaves`, or main() called from code)
     # pictures are written to files: draw off-screen unless the user chose a backend
     os.environ.setdefault("MPLBACKEND", "Agg")
+    import warnings
+
     warnings.showwarning = _show_warning
-    argv = sys.argv[1:] if argv is None else list(argv)
     top = _main_parser()
     name = "bkwaves"
     try:
@@ -961,10 +971,7 @@ def main(argv: list[str] | None = None) -> None:
             sig = signal.SIGTERM if isinstance(e, _signals.Terminated) else signal.SIGINT
         text = str(e) or f"interrupted by {signal.Signals(sig).name}."
         _echo(f"\n{name}: {text}", err=True)
-        # at once: what these commands wrote is closed; the interpreter's teardown (a
-        # second on a busy machine after matplotlib) would only delay the answer
-        sys.stdout.flush()
-        os._exit(128 + sig)
+        _exit(128 + sig, process)
     except BrokenPipeError:  # e.g. `bkwaves speed ... | head -1`
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         sys.exit(1)
@@ -978,12 +985,19 @@ def main(argv: list[str] | None = None) -> None:
         _echo(f"{name}: {sig.name} arrived as it ended; it had finished", err=True)
         status = 128 + sig
     if status in (128 + signal.SIGINT, 128 + signal.SIGTERM):
-        # interrupted, everything written and closed: no interpreter teardown (a second
-        # on a busy machine) between the answer and the exit
+        _exit(status, process)
+    sys.exit(status or 0)
+
+
+def _exit(status: int, process: bool):
+    """Exit interrupted: everything written is closed, so the command line exits at once,
+    without the interpreter's teardown (a second on a busy machine, after matplotlib)
+    between its answer and its end; called from code, as sys.exit."""
+    if process:
         sys.stdout.flush()
         sys.stderr.flush()
         os._exit(status)
-    sys.exit(status or 0)
+    sys.exit(status)
 
 
 def _stopped_before_start(name: str, signum: int):

@@ -792,15 +792,16 @@ def _write_failed(err, writer, events, t_now) -> OutputError:
     writer.abandon()
     partial = partial_path(writer.path)
     where = f" ({err.filename})" if getattr(err, "filename", None) else ""
-    kept = (
-        f"kept {writer.count} snapshots and the catalog of {events} events in {partial}"
-        if partial.is_dir()
-        else f"{partial} is gone, nothing written there is kept"
-    )
+    if partial.is_dir():
+        kept = f"kept {writer.count} snapshots and the catalog of {events} events in {partial}"
+        then = _continue_hint(writer)
+    else:  # (its checkpoint, if any, counts records that are gone: no resuming)
+        kept = f"{partial} is gone, nothing written there is kept"
+        then = "then run again with --overwrite"
     return OutputError(
         err.errno,
         f"cannot write {writer.path}: {err.strerror or err}{where} (the run reached "
-        f"t = {t_now:.6g}); {kept}; fix the folder, {_continue_hint(writer)}",
+        f"t = {t_now:.6g}); {kept}; fix the folder, {then}",
     )
 
 

@@ -1203,6 +1203,12 @@ def load_sweep_result(out):
         return load_adaptive_result(out)
     if marker != STORE_MARKER:
         raise ParameterError(f"{out}: not a bkwaves sweep store")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return xr.open_zarr(str(out), consolidated=True).load()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return xr.open_zarr(str(out), consolidated=True).load()
+    except Exception as e:  # noqa: BLE001 - a damaged chunk (codec, JSON): one line
+        raise ParameterError(
+            f"{out}: the sweep store is damaged ({type(e).__name__}: "
+            f"{' '.join(str(e).split())[:160]}); run the sweep again with --overwrite"
+        ) from None
