@@ -161,10 +161,11 @@ def test_a_wall_time_bound_returns_control_without_changing_the_run():
 
 
 def _python_start_s() -> float:
-    """Wall time of a bare interpreter start here (before it, a signal meets Python's
-    own defaults: no bkwaves code runs yet)."""
+    """Wall time here of `bkwaves --version`: the interpreter's start and the command
+    line's own imports, by which time bkwaves notes signals (before, while Python itself
+    starts, a signal meets Python's defaults)."""
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-c", "pass"], check=True)
+    subprocess.run([*BK, "--version"], check=True, capture_output=True)
     return time.perf_counter() - t0
 
 
@@ -176,7 +177,7 @@ def test_a_signal_while_the_command_starts_ends_it_in_one_line(tmp_path, sig):
     cfg = tmp_path / "quiet.toml"
     cfg.write_text(QUIET)
     start = _python_start_s()
-    for delay in (start + 0.05, start + 0.2, start + 0.5):
+    for delay in (start, start + 0.2, start + 0.5):
         out = tmp_path / f"s{delay}.nc"
         p = subprocess.Popen(
             [*BK, "run", str(cfg), "-o", str(out), "--quiet"],
