@@ -382,7 +382,7 @@ def test_paper_answers_a_signal_in_one_line_and_keeps_its_figures(tmp_path, sig)
     assert p.returncode == 128 + sig and "Traceback" not in stderr, stderr
     lines = [ln for ln in stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and f"interrupted by {signal.Signals(sig).name}" in lines[0]
-    assert "run the same command again" in lines[0]
+    assert "run it again with --overwrite" in lines[0]
     assert cpu < 1.0 and wall < 20, (cpu, wall)
     assert len(list(out.glob("*.png"))) >= 2  # what it wrote is kept
 
