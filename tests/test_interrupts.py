@@ -374,6 +374,7 @@ def test_paper_answers_a_signal_in_one_line_and_keeps_its_figures(tmp_path, sig)
         stderr=subprocess.PIPE,
         text=True,
     )
+
     def figures():  # (written whole: beside under a temporary name, then renamed)
         return {f.name for f in out.glob("fig*.png")}
 
