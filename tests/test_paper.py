@@ -56,7 +56,8 @@ def paper(tmp_path_factory):
         with contextlib.redirect_stdout(stdout), pytest.raises(SystemExit) as done:
             main(["paper", "-o", str(out), "--quick", "--json"])
     assert done.value.code in (0, None)
-    return out, json.loads(stdout.getvalue())
+    yield out, json.loads(stdout.getvalue())
+    bkwaves.paper._CACHE.clear()  # the run's shared computations, not needed past here
 
 
 def test_figures_readable(paper):
