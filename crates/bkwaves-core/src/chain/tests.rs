@@ -566,3 +566,24 @@ fn a_run_call_is_bounded_in_work_not_only_in_steps() {
     // chunking does not change the trajectory
     assert!(whole.u() == chunked.u() && whole.u_t() == chunked.u_t());
 }
+
+#[test]
+fn a_step_far_below_round_off_of_v_reaches_a_tiny_t_end() {
+    // blocks over their threshold at t = 0 slip with u_t = v; to t_end = 1e-30 the whole
+    // step changes u_t by ~1e-30, below ulp(v): the rest test must not see a crossing in
+    // the rounded cubic (it used to halve the step for ever, t creeping towards t_end).
+    for &t_end in &[1e-30, 1e-100, 1e-310] {
+        let fr = Coulomb::new(0.3, 5.0).unwrap();
+        let u0 = [0.5, 2.0, 0.5, 3.0, 0.2];
+        let mut ch = Chain::new(cfg(0.1, 1e-3, 0.05), fr, &Free, &u0, None).unwrap();
+        let stop = ch.run(t_end, usize::MAX, 10_000).unwrap();
+        assert_eq!(
+            stop,
+            Stop::Time,
+            "t_end {t_end:e}: stopped at t = {:e}",
+            ch.t
+        );
+        assert_eq!(ch.t, t_end);
+        assert!(ch.counters.steps < 100, "{} steps", ch.counters.steps);
+    }
+}
