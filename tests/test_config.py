@@ -2,6 +2,7 @@
 
 import math
 import tomllib
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -242,7 +243,11 @@ def test_initial_files_that_cannot_be_read(tmp_path):
 
 # ----------------------------------------------------------------- issue 12: never run away
 def test_configs_that_cannot_be_done_are_refused_naming_key_and_estimate():
-    refused(cfg(run={"t_end": 1e30}), "run.t_end", "cannot be done", "block-steps")
+    # (issue 27: an estimated time alone never refuses a run; it warns, in one line)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", bk.limits.LongRunWarning)
+        with pytest.raises(bk.limits.LongRunWarning, match="run.t_end = 1e.30.*block-steps"):
+            parse_config(cfg(run={"t_end": 1e30}))
     msg = refused(cfg(output={"snapshot_every": 1e-9}), "output.snapshot_every", "TiB")
     assert "snapshots" in msg
     refused(cfg(domain__blocks=2**50), "domain.blocks", "RAM")
@@ -254,13 +259,15 @@ def test_configs_that_cannot_be_done_are_refused_naming_key_and_estimate():
 
 def test_a_long_physical_run_is_warned_with_its_time_units():
     doc = cfg(params=None, physical={"preset": "bristol_board", "V": 1e-6})
-    doc["run"] = {"t_end": 60.0}  # 60 s = 1.9e8 time units sqrt(m/k_p)
+    # 600 s = 1.9e9 time units sqrt(m/k_p): ~1.2e5 reloads of the uniform chain, each
+    # 200 blocks sliding ~3 time units at steps of 3.9e-5 (about 2.5 h)
+    doc["run"] = {"t_end": 600.0}
     with pytest.warns(bk.limits.LongRunWarning) as w:
         c = parse_config(doc)
     msg = str(w[0].message)
-    assert "run.t_end = 60 s" in msg and "time units" in msg, msg
-    assert c.t_end == pytest.approx(60.0 / c.params.units.time_scale)
-    assert 1e8 < c.t_end < 1e9
+    assert "run.t_end = 600 s" in msg and "time units" in msg, msg
+    assert c.t_end == pytest.approx(600.0 / c.params.units.time_scale)
+    assert 1e9 < c.t_end < 1e10
 
 
 def test_unwritable_output_is_refused_before_any_work(tmp_path):

@@ -502,8 +502,13 @@ HOSTILE_CALLS = [
     # estimated before the work: 5.6 GB for the tip solve, days for a front
     (lambda bk: bk.tip_solve(c=1.0001, decay=1e4), "GiB"),
     (lambda bk: bk.tip_solve(c=1.5, degree="16"), "degree"),
-    (lambda bk: __import__("bkwaves.chain").chain.front(0.6, 0.3, 0.1, step=1e-9), "step"),
-    (lambda bk: bk.Chain(10, _p(v=1e-3)).run(t_end=1e30), "cannot be done"),
+]
+
+#: estimated before the work to take years: warned, never refused on an estimate alone
+#: (issue 27); the warning, raised as an error here, comes before any work
+LONG_CALLS = [
+    (lambda bk: __import__("bkwaves.chain").chain.front(0.6, 0.3, 0.1, step=1e-9), "dx = 0.1"),
+    (lambda bk: bk.Chain(10, _p(v=1e-3)).run(t_end=1e30), "t_end = 1e.30"),
 ]
 
 
@@ -524,6 +529,18 @@ def test_hostile_api_calls_are_refused_naming_the_argument(call, words):
 
     with pytest.raises(bk.ParameterError, match=words):
         call(bk)
+
+
+@pytest.mark.parametrize("call, words", LONG_CALLS)
+def test_calls_estimated_to_take_years_are_warned_before_any_work(call, words):
+    import warnings
+
+    import bkwaves as bk
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", bk.limits.LongRunWarning)
+        with pytest.raises(bk.limits.LongRunWarning, match=words):
+            call(bk)
 
 
 def test_an_event_that_never_ends_stops_the_chain_run():

@@ -2,8 +2,12 @@
 docs/reliability.md): runs that never ended, lengths without a range, and a fixed-seed
 slice of the campaign itself."""
 
+import tomllib
+from pathlib import Path
+
 import pytest
 
+import bkwaves as bk
 from bkwaves.config import parse_config
 from bkwaves.runner import chain_from_config
 
@@ -35,3 +39,19 @@ def test_a_chain_reaches_a_tiny_t_end(t_end):
     assert ch.t == cfg.t_end
     assert ch._engine.counters()["steps"] < 1000
     assert (ch.modes != 0).sum() > 10  # the blocks over threshold slide (the case tested)
+
+
+@pytest.mark.parametrize("corr", [1e8, 1e300])
+def test_a_threshold_field_correlation_length_has_a_range(corr):
+    """1e8 allocated 8.9 GiB (the filter pads the domain by 6 lengths), 1e300 gave a numpy
+    traceback: at most 100 domains, a one-line error naming the key."""
+    path = Path(__file__).parents[1] / "examples" / "free_boundary_disordered.toml"
+    doc = tomllib.loads(path.read_text())
+    doc["disorder"]["threshold"]["correlation_length"] = corr
+    with pytest.raises(bk.ParameterError) as e:
+        parse_config(doc)
+    msg = str(e.value)
+    assert msg.startswith("disorder.threshold.correlation_length") and "\n" not in msg, msg
+    assert "100 x the domain" in msg
+    doc["disorder"]["threshold"]["correlation_length"] = 100 * 2000.0  # the largest allowed
+    parse_config(doc)

@@ -254,19 +254,25 @@ def test_the_rk4_stability_check_uses_the_configured_step():
 
 
 def test_the_work_estimate_uses_the_configured_step():
-    """work ~ blocks t_end / (step dx): half at twice the step; with step_tolerance the
-    estimate at the floor is a bound, and says so."""
+    """work = sliding block-time / (step dx): the front reaches c t_end/dx blocks, each
+    sliding w/c (App. B); half at twice the step; with step_tolerance the estimate at the
+    floor is a bound, and says so. After the front nothing slides: a t_end of 3e9 costs
+    what the front costs (issue 27: it was refused at "2 years")."""
+    import warnings
+
     w = {s: estimate(parse_config(with_run(FRONT, step=s))).work for s in (0.05, 0.1)}
-    assert w[0.05] == pytest.approx(200 * 5.0 / (0.05 * 0.05))
+    tw = bk.traveling_wave(0.6, 0.3)
+    reached = tw.c * 5.0 / 0.05
+    assert 100 < reached < 200
+    assert w[0.05] == pytest.approx(reached * (tw.w / tw.c) / (0.05 * 0.05))
     assert w[0.1] == pytest.approx(w[0.05] / 2, rel=1e-12)
     assert estimate(parse_config(FRONT)).work == w[0.05]
     bound = estimate(parse_config(with_run(FRONT, step=0.1, step_tolerance=1e-12)))
     assert bound.work == w[0.1] and "at most" in bound.notes[0]
-    # a run refused at the default step is possible at a longer one
-    big = with_run(FRONT, t_end=3e9)  # ~2 years of computation at the default step
-    refused(big, "run.t_end", "cannot be done", "block-steps")
-    with pytest.warns(bk.limits.LongRunWarning):
-        parse_config(with_run(big, step=0.5))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", bk.limits.LongRunWarning)
+        big = estimate(parse_config(with_run(FRONT, t_end=3e9)))
+    assert big.work == pytest.approx(200 * (tw.w / tw.c) / (0.05 * 0.05))
 
 
 # ------------------------------------------------------------------ resume keeps the settings

@@ -505,6 +505,7 @@ class Chain:
         du_t = V.number("du_t", du_t, lo=-1e6, hi=1e6)
         t = V.number("t", t, lo=self.t)
         self._engine.add_trigger(t, block, "kick", du_t)
+        self._pending = [*getattr(self, "_pending", []), t]  # (for the run-cost estimate)
         return self
 
     def release(self, block: int, t: float = 0.0, direction: int = 1) -> Chain:
@@ -528,6 +529,7 @@ class Chain:
         t = V.number("t", t, lo=self.t)
         direction = V.direction("direction", direction)
         self._engine.add_trigger(t, block, "release", float(direction))
+        self._pending = [*getattr(self, "_pending", []), t]
         return self
 
     def _block(self, block) -> int:
@@ -642,19 +644,16 @@ class Chain:
         times = np.sort(V.array("snapshots", [] if snapshots is None else snapshots).ravel())
         if times.size and times[0] < self.t:
             V._fail("snapshots", float(times[0]), f"times >= current time {self.t}")
-        if math.isfinite(t_end):
-            from .limits import chain_work, check_wall, noise_key, noise_work
+        from .limits import check_memory_use, check_wall, noise_key, noise_work
 
-            span, v = t_end - self.t, self.params.v
-            work, wall = chain_work(self.n, span, self.step, self.params.dx, v)
-            noise_cost = noise_work("chain", self.n, self.n, span, v, self.noise)
-            check_wall(
-                f"t_end = {t_end:.6g}",
-                wall,
-                f"~{work:.2g} block-steps",
-                noise_key(self.noise, "chain"),
-                noise_cost,
-            )
+        span = t_end - self.t if math.isfinite(t_end) else None
+        work, wall, mem = self._estimate(span, max_events, max_duration, times.size)
+        noise_cost = noise_work(
+            "chain", self.n, self.n, work.horizon, self.params.v, self.noise, work.sliding_fraction
+        )
+        what = f"t_end = {t_end:.6g}" if span is not None else f"max_events = {max_events}"
+        check_wall(what, wall, work.notes[0], noise_key(self.noise, "chain"), noise_cost)
+        check_memory_use(what, mem)
         self._engine.add_snapshots(times, int(snapshot_every))
         self._engine.set_run_limits(limit, max_duration, CHUNK_WORK)
         self._engine.set_chunk_wall(CHUNK_WALL)
@@ -688,6 +687,44 @@ class Chain:
                 runaway_message(self, limit, max_duration), RunawayEventWarning, stacklevel=2
             )
         return self._result(stop, interrupted, _time.perf_counter() - t_wall)
+
+    def _estimate(self, span, max_events, max_duration, snapshots):
+        """(work, wall seconds, memory bytes) of a run from the current state over
+        ``span`` (None: until ``max_events``): bkwaves._cost, docs/usage.md "Limits"."""
+        from ._cost import ChainRun, chain_work
+        from .limits import LIMITS, chain_step, chain_wall, memory_bytes
+
+        thr = np.asarray(self._engine.thresholds(), dtype=float)
+        mass = self.properties.get("mass")
+        m_min = 1.0 if mass is None else float(np.min(mass))
+        h = chain_step(self.params.dx, self.step, self.params.law, float(thr.max()), m_min)
+        phi, modes, u = self.phi, self.modes, self.u
+        stuck = modes == 0
+        pending = [t - self.t for t in getattr(self, "_pending", []) if t >= self.t]
+        run = ChainRun(
+            n=self.n,
+            dx=self.params.dx,
+            h=h,
+            v=self.params.v,
+            gamma=self.params.gamma,
+            u_ahead=float(u[stuck].mean()) if stuck.any() else float(u.mean()),
+            phi_max=float(np.max(phi - thr)) + 1.0,
+            started=bool((~stuck).any()),
+            trigger_times=tuple(pending),
+            uniform=bool(np.ptp(u) == 0 and np.ptp(thr) == 0 and self.noise is None),
+            t_span=span,
+            max_events=max_events,
+            event_duration=max_duration,
+            step_bound=self.step_tolerance is not None,
+        )
+        work = chain_work(run)
+        wall = chain_wall(work, self.n, snapshots, output=False)
+        mem = (
+            memory_bytes("chain", self.n)
+            + work.slips * LIMITS["chain_bytes_per_slip"]
+            + snapshots * self.n * 16.0
+        )
+        return work, wall, mem
 
     # --- outputs -------------------------------------------------------------------
     def _result(self, stop, interrupted, wall) -> ChainResult:
@@ -1083,6 +1120,40 @@ def _fmt(x: float) -> str:
     return f"{x:.3g}"
 
 
+def front_cost(u_plus, gamma, dx, blocks, step=DEFAULT_STEP, friction=None):
+    """(work, wall seconds) estimated for one front measurement on ``blocks`` blocks
+    (bkwaves._cost: the front's pulse slides, not the whole chain)."""
+    from ._cost import ChainRun, chain_work
+    from .friction import Law
+    from .limits import chain_step, chain_wall
+
+    law = Law(friction) if isinstance(friction, str) else (friction or Law())
+    run = ChainRun(
+        n=int(blocks),
+        dx=dx,
+        h=chain_step(dx, step, law),
+        v=0.0,
+        gamma=gamma,
+        u_ahead=u_plus,
+        phi_max=u_plus,
+        started=True,
+        trigger_times=(0.0,),
+        t_span=None,
+        max_events=1,
+        event_duration=default_max_event_duration(int(blocks), dx),
+    )
+    work = chain_work(run)
+    return work, chain_wall(work, int(blocks), 0, output=False)
+
+
+def _front_estimate(u_plus, gamma, dx, blocks, step, friction, fixed) -> None:
+    from .limits import check_wall
+
+    work, wall = front_cost(u_plus, gamma, dx, blocks, step, friction)
+    what = f"blocks = {blocks}" if fixed else f"dx = {dx:.6g} (a chain of {blocks} blocks)"
+    check_wall(what, wall, work.notes[0])
+
+
 def front(
     u_plus: float,
     gamma: float,
@@ -1159,20 +1230,10 @@ def front(
         plan = _plan(theory[0], theory[1], dx) if theory else None
         if plan is None:
             plan = (creep_n, creep_n // 2, 3 * creep_n // 4)
-    # one uninterruptible engine call: the front crosses the chain in ~ n dx (unit speed)
-    # with every block sliding behind it, at steps of step dx
-    from .limits import LIMITS, _duration
-
-    wall = float(plan[0]) ** 2 / step / LIMITS["chain_block_steps_per_s"]
-    if wall > LIMITS["max_call_s"]:
-        key, value = ("blocks", plan[0]) if fixed else ("dx", dx)  # dx sets the default size
-        V._fail(
-            "step" if step < DEFAULT_STEP else key,
-            step if step < DEFAULT_STEP else value,
-            f"a measurement of at most {_duration(LIMITS['max_call_s'])} (estimated "
-            f"blocks^2/step = {plan[0] ** 2 / step:.3g} block-steps, about {_duration(wall)}; "
-            "bkwaves.limits.LIMITS['max_call_s'])",
-        )
+    # one engine call: the front crosses the chain at c, a pulse of w/dx blocks sliding
+    # behind it (in creep all behind it slide); warned when long (never refused on an
+    # estimate alone)
+    _front_estimate(u_plus, gamma, dx, plan[0], step, friction, fixed)
     t0 = _time.perf_counter()
     from types import SimpleNamespace
 
@@ -1542,7 +1603,7 @@ def loaded_pulse(
     passed their first backswing, and the run stops then. Needs a pulse (u_+ > gamma) and
     0 <= v < 1 (a plate slower than the slip speed scale); beta = inf (no backward slip)."""
     from . import theory
-    from .limits import chain_work, check_memory, check_wall
+    from .limits import check_memory, check_wall
     from .waves import front_speed, traveling_wave
 
     u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
@@ -1577,8 +1638,8 @@ def loaded_pulse(
         )
     n = int(math.ceil(blocks))
     check_memory("dx", "chain", n)
-    work, wall = chain_work(n, t_end, DEFAULT_STEP, dx, 0.0)  # behind the front all slide
-    check_wall(what, wall, f"~{work:.2g} block-steps")
+    work, wall = front_cost(u_plus, gamma, dx, n)  # one pulse across the chain
+    check_wall(what, wall, work.notes[0])
     if stress not in ("arrival", "ramp"):
         V._fail("stress", stress, "'arrival' or 'ramp'")
     params = Params(gamma=gamma, v=v, dx=dx, beta=math.inf)

@@ -772,6 +772,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         and dict(cfg.disorder).get("threshold") is not None
     ):
         _err("noise", "not implemented with a threshold field ([disorder] threshold)")
+    _check_field_lengths(cfg)  # (before a field is drawn: its size follows from them)
     arrays = disorder_arrays(cfg) if cfg.model == "chain" else {"threshold": threshold_field(cfg)}
     for k, a in arrays.items() if cfg.disorder else ():
         if a is not None:
@@ -829,6 +830,31 @@ def _check_integration(step, integrator, step_tolerance) -> None:
             "run.integrator = 'rk4' only; with 'midpoint' give no step_tolerance "
             "(the fixed step)",
         )
+
+
+#: The longest correlation length of a smooth random field, in domain lengths: beyond it
+#: the field is a constant plus a slope (its filter pads the domain by 6 lengths).
+MAX_CORRELATION_DOMAINS = 100.0
+
+
+def _check_field_lengths(cfg: RunConfig) -> None:
+    """The correlation lengths of smooth random fields: at most MAX_CORRELATION_DOMAINS
+    times the domain (a threshold field of correlation_length 1e8 allocated 8.9 GiB,
+    1e300 overflowed inside numpy)."""
+    span = cfg.length if cfg.model != "chain" else cfg.blocks * cfg.params.dx
+    fields = [("initial.correlation_length", cfg.initial.correlation_length)]
+    fields = fields if cfg.initial.kind == "random" else []
+    for k, spec in cfg.disorder:
+        if isinstance(spec, dict) and "correlation_length" in spec:
+            fields.append((f"disorder.{k}.correlation_length", spec["correlation_length"]))
+    for key, corr in fields:
+        if not corr <= MAX_CORRELATION_DOMAINS * span:
+            _err(
+                key,
+                f"invalid correlation_length = {corr:.6g}: allowed 0 < correlation_length <= "
+                f"{MAX_CORRELATION_DOMAINS:g} x the domain = {MAX_CORRELATION_DOMAINS * span:.6g} "
+                "length units (beyond it the field is a constant plus a slope)",
+            )
 
 
 def _check_derived(cfg: RunConfig) -> None:
@@ -902,14 +928,6 @@ def _check_derived(cfg: RunConfig) -> None:
             )
         if not cfg.length / (cfg.grid - 1) > 0:
             _err("domain.length", "the grid spacing length/(grid - 1) underflows to 0")
-    if cfg.initial.kind == "random":
-        span = cfg.length if cfg.model != "chain" else cfg.blocks * p.dx
-        if cfg.initial.correlation_length > 100.0 * span:
-            _err(
-                "initial.correlation_length",
-                f"= {cfg.initial.correlation_length:.6g} length units is more than 100 times "
-                f"the domain ({span:.6g}): allowed correlation_length <= 100 x the domain",
-            )
 
 
 def _to_doc(cfg: RunConfig) -> dict:

@@ -592,20 +592,7 @@ class FreeBoundary:
                 times = times[times <= t_end]
         chunk = spec["chunk"].check(chunk)
         progress = V.flag("progress", progress)
-        if math.isfinite(t_end):
-            from .limits import check_wall, fb_work, noise_key, noise_work
-
-            span, v = t_end - t0, self.params.v
-            work, wall = fb_work(self.x.size, span, v)
-            length = self.x[-1] - self.x[0] + (self.h if self.boundary == "periodic" else 0.0)
-            noise_cost = noise_work("free_boundary", length, self.x.size, span, v, self.noise)
-            check_wall(
-                f"t_end = {t_end:.6g}",
-                wall,
-                f"~{work:.2g} shock-node crossings",
-                noise_key(self.noise, "free_boundary"),
-                noise_cost,
-            )
+        self._check_cost(t_end, max_events, times)
         interrupted = False
         bar = RunProgress(
             progress, "free boundary", t0, t_end, max_events, self._engine.completed_events
@@ -640,6 +627,29 @@ class FreeBoundary:
             bar.close()
         self._take_snapshot()
         return self.result(interrupted=interrupted)
+
+    def _check_cost(self, t_end, max_events, times) -> None:
+        """Warn (never refuse) about a run estimated to take long or hold much memory
+        (bkwaves._cost.fb_work; docs/usage.md, "Limits")."""
+        from ._cost import fb_work
+        from .limits import check_memory_use, check_wall, fb_wall, noise_key, noise_work
+
+        t0, v = self.time, self.params.v
+        span = t_end - t0 if math.isfinite(t_end) else None
+        u = np.asarray(self._engine.u_nodes())
+        thr = self.threshold if getattr(self, "threshold", None) is not None else 1.0
+        gap = float(np.min(np.asarray(thr) - u))
+        work = fb_work(self.x.size, v, span, max_events, gap)
+        wall = fb_wall(work, self.x.size, times.size, output=False)
+        length = self.x[-1] - self.x[0] + (self.h if self.boundary == "periodic" else 0.0)
+        noise_cost = noise_work(
+            "free_boundary", length, self.x.size, work.horizon, v, self.noise, work.sliding_fraction
+        )
+        what = f"t_end = {t_end:.6g}" if span is not None else f"max_events = {max_events}"
+        if span is None:
+            what += f" (estimated to end near t = {t0 + work.horizon:.3g})"
+        check_wall(what, wall, work.notes[0], noise_key(self.noise, "free_boundary"), noise_cost)
+        check_memory_use(what, (times.size + 2) * self.x.size * 8.0)
 
     # ------------------------------------------------------------------ results
     def result(self, interrupted: bool = False) -> FreeBoundaryResult:

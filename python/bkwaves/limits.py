@@ -1,53 +1,47 @@
 """What a run will need, estimated before it starts: snapshots and output size, memory,
-work and wall time. Runs that cannot be done are refused with a
-:class:`bkwaves.ParameterError` naming the config key and the estimate; runs that will
-take very long get a :class:`LongRunWarning`. The limits are documented in
+work and wall time. Runs that cannot fit (an engine state beyond the machine's RAM, an
+output beyond ``max_output_bytes``) are refused with a :class:`bkwaves.ParameterError`
+naming the config key and the figure; a run is never refused on its estimated time
+alone: one estimated to take long (``warn_wall_s``), to hold much memory or to write a
+large output gets one :class:`LongRunWarning` line. The limits are documented in
 docs/usage.md ("Limits") and can be changed in :data:`LIMITS`.
 
-The work estimates are order-of-magnitude figures, not promises:
+The work is what the engines really do (:mod:`bkwaves._cost`: the chain steps only its
+sliding blocks, a front's pulse of width w, and jumps over quiet stretches; the friction
+law's own time scale shortens the step; a max_events-only run gets a time horizon), times
+the per-unit costs of :data:`LIMITS`, measured as CPU seconds on one core of the
+development machine (benchmarks/bench_estimate.py; docs/benchmarks.md, "Run-cost
+estimate"). The estimate is an order of magnitude: within 10x of the measured cost on
+every example and on the cases of tests/test_estimate.py.
 
-- chain: integration block-steps ~ blocks x (t_end / h) x f with the time step
-  h = step dx (``run.step``, default 0.05; with ``run.step_tolerance`` the step only grows
-  above it, so the estimate at that floor is an upper bound) and f the fraction of
-  blocks sliding: in a steady stick-slip cycle every
-  block slides off what the loader adds, so f ~ v / s with s ~ 0.1 the typical slip
-  speed (measured on examples/chain_loading.toml); f = 1 when v = 0 (nothing sets the
-  time scale; a creeping or sliding chain slides all the time).
-- free boundary: shock-node crossings ~ 10 v t_end x grid (each node is reset about once
-  per reload of u by A ~ 0.1), plus ~ v t_end events of a few ms each (measured: 0.7
-  events per unit of v t_end on a parabola of 81 nodes and on a ring of 2000).
-- noise (a ``[noise]`` table; docs/noise.md, "The thinning envelope"): both engines draw
-  candidates under the envelope G, the running maximum of g (g(1) = 1, so G(1) >= 1:
-  more for a table peaking below the threshold). The chain's candidates fall at the
-  rate n rate G(1) while any block slides and at n rate G(X(t)) in quiet stretches
-  (X <= 1 the largest stress from the threshold, rising at v); the free boundary's at
-  L rate G(U(t)) (L the domain length, U <= 1 the largest stuck u). So
-  N rate G(1) t_end (N = n or L) is a bound (up to a quiet bound passing 1 by a hair);
-  the estimate is
+Noise (a ``[noise]`` table; docs/noise.md, "The thinning envelope"): both engines draw
+candidates under the envelope G, the running maximum of g (g(1) = 1, so G(1) >= 1:
+more for a table peaking below the threshold). The chain's candidates fall at the
+rate n rate G(1) while any block slides and at n rate G(X(t)) in quiet stretches
+(X <= 1 the largest stress from the threshold, rising at v); the free boundary's at
+L rate G(U(t)) (L the domain length, U <= 1 the largest stuck u). So
+N rate G(1) t_end (N = n or L) is a bound (up to a quiet bound passing 1 by a hair);
+the estimate is
 
-      candidates ~ N rate t_end [b G(1) + (1 - b) <G>],   <G> = int_0^1 G(u) du,
+    candidates ~ N rate t_end [b G(1) + (1 - b) <G>],   <G> = int_0^1 G(u) du,
 
-  <G> the mean of G over a loading from 0 to the threshold and b the fraction of the
-  time at the bound G(1): for the chain the time with any block sliding, b = min(1, n f)
-  (f the sliding fraction above; n f is its bound, each block sliding alone), for the
-  free boundary b = f. For an activated law (exponential, phi0 = 0.01) <G> = phi0 is
-  small and b G(1) dominates; for a table peaking below 1, <G> ~ G(1). Measured against
-  the engines' counters: 1.1 and 1.0 on the chain example (exponential, and a table
-  peaking at 100), 1.4 and 3.6 on the free boundary example; a ring where ruptures
-  sweep everything and noise starts each before the threshold (docs/noise.md, long runs)
-  is overestimated up to 80 times (chain) and 400 times (free boundary): the estimate
-  is on the high side. Wall time: chain, candidates x ``chain_seconds_per_candidate``
-  plus one more step over the sliding blocks per candidate while they slide (the
-  candidate cuts it short): N rate G(1) f n t_end block-steps x
-  ``chain_seconds_per_split_block_step``; free boundary, candidates x
-  ``fb_seconds_per_candidate``. Accepted candidates (slips, pairs) cost what the
-  engines' own work costs; their sliding is not estimated from the noise (a law that
-  keeps every block sliding costs more than the estimate says).
-
-Rates (per second of wall time, one core of the development machine): ``LIMITS``.
-A run beyond ``max_wall_s`` is refused, beyond ``warn_wall_s`` warned, naming
-``run.t_end`` or, when the noise costs more than the rest, ``noise.rate`` (``noise.g``
-for a table whose peak below u = 1 exceeds g(1)).
+<G> the mean of G over a loading from 0 to the threshold and b the fraction of the
+time at the bound G(1): for the chain the time with any block sliding, b = min(1, n f +
+n rate <G> pi) (f the fraction of the block-time spent sliding, from the work estimate;
+the second term the blocks the noise sets sliding, for about pi each), for the free
+boundary b = f. For an activated law (exponential, phi0 = 0.01) <G> = phi0 is small and
+b G(1) dominates; for a table peaking below 1, <G> ~ G(1). Measured against the
+engines' counters: 1.1 and 1.0 on the chain example (exponential, and a table peaking
+at 100), 1.4 and 3.6 on the free boundary example; a ring where ruptures sweep
+everything and noise starts each before the threshold (docs/noise.md, long runs) is
+overestimated up to 80 times (chain) and 400 times (free boundary): the estimate is on
+the high side. Wall time: chain, candidates x ``chain_seconds_per_candidate`` plus one
+more step over the sliding blocks per candidate while they slide (the candidate cuts it
+short): N rate G(1) f n t_end block-steps x ``chain_seconds_per_split_block_step``; free
+boundary, candidates x ``fb_seconds_per_candidate``. Accepted candidates (slips, pairs)
+cost what the engines' own work costs. When the noise costs more than the rest the
+warning names ``noise.rate`` (``noise.g`` for a table whose peak below u = 1 exceeds
+g(1)), else ``run.t_end`` (or ``run.max_events``).
 """
 
 from __future__ import annotations
@@ -63,24 +57,43 @@ from ._core import ParameterError
 
 __all__ = ["LIMITS", "Estimate", "LongRunWarning", "estimate", "check_sizes", "memory_bytes"]
 
-#: Documented limits and calibration constants (change them to override).
+#: Documented limits and calibration constants (change them to override). Costs are CPU
+#: seconds on one core of the development machine (benchmarks/bench_estimate.py).
 LIMITS = {
-    # refuse a run whose estimated wall time exceeds this (s): one year
-    "max_wall_s": 3.2e7,
-    # warn when the estimated wall time exceeds this (s)
+    # warn when the estimated wall time exceeds this (s); a run is never refused on it
     "warn_wall_s": 3600.0,
     # refuse an output larger than this (bytes), whatever the free space
     "max_output_bytes": 2**40,
     # warn when the output is larger than this (bytes)
     "warn_output_bytes": 10 * 2**30,
+    # warn when the run's memory exceeds this fraction of the machine's RAM
+    "warn_memory_fraction": 0.5,
     # engine memory per chain block and per free-boundary grid node (bytes, measured)
     "chain_bytes_per_block": 400,
     "fb_bytes_per_node": 200,
-    # throughput: chain block-steps per second, free boundary shock-node crossings per s
-    "chain_block_steps_per_s": 4e6,
+    # a slip record held by the chain (engine catalog and its table) (bytes)
+    "chain_bytes_per_slip": 128,
+    # chain: one sliding block over one step (RK4, event tests); one step (its fixed
+    # work: runs of sliding blocks, event location); one slip or stick (location,
+    # record, table row). Fitted on fronts of 2e4 to 1e5 blocks at dx = 0.05 and 0.5
+    "chain_seconds_per_block_step": 3.7e-9,
+    "chain_seconds_per_step": 1.7e-7,
+    "chain_seconds_per_slip": 5e-7,
+    # free boundary: shock-node crossings per second, and one event beyond its crossings
     "fb_crossings_per_s": 1e6,
-    # free boundary: cost of one event beyond its crossings (s; ~4 ms measured)
     "fb_seconds_per_event": 4e-3,
+    # a snapshot in memory: its fixed cost and one node's values (chain: u and u_t)
+    "seconds_per_snapshot": 2e-5,
+    "seconds_per_snapshot_node": 2e-8,
+    # ... and written to an output: per snapshot (chain, free boundary) and per node
+    # (measured on chains of 300 and 3000 blocks with 6 to 5001 snapshots, and on a
+    # free-boundary grid of 500 and 5000 nodes with 326 and 3246 snapshots)
+    "chain_output_seconds_per_snapshot": 4e-5,
+    "fb_output_seconds_per_snapshot": 7e-4,
+    "output_seconds_per_snapshot_node": 1.1e-7,
+    # fixed cost of a run (results, tables) and of writing an output file
+    "seconds_per_run": 0.02,
+    "seconds_per_output": 0.1,
     # noise: seconds per candidate, measured on this machine as (CPU time with noise -
     # without) / the engine's noise_counters candidates, under a table law g = 1e5 (or
     # 1e6) at u <= -5, 0 at -4, rising to 1 at 1 (almost every candidate rejected, the
@@ -95,17 +108,13 @@ LIMITS = {
     # more block-steps for 1.2e6 candidates, 0.21 s more, i.e. 3e-8 s per block-step as
     # the run's own steps; a ring where all 100 or 1000 blocks creep: 3e-9)
     "chain_seconds_per_split_block_step": 3e-8,
-    # the typical slip speed in the chain's work estimate (units of u per t')
-    "chain_slip_speed": 0.1,
-    # refuse a single uninterruptible engine call (bkwaves front) estimated longer (s)
-    "max_call_s": 3600.0,
     # refuse a tip solve (bkwaves.tip_solve) whose banded system exceeds this (bytes)
     "max_solver_bytes": 2 * 2**30,
 }
 
 
 class LongRunWarning(UserWarning):
-    """A run is estimated to take very long or to write a very large output."""
+    """A run is estimated to take long, to hold much memory or to write a large output."""
 
 
 @dataclass
@@ -113,7 +122,9 @@ class Estimate:
     """What a run needs: snapshots (None: not known in advance), output and memory bytes,
     work (chain block-steps or free-boundary crossings; None: not known) and wall time
     (None: not known), which includes the noise's candidates (their number and their
-    share of the wall time: ``noise_candidates``, ``noise_wall_s``)."""
+    share of the wall time: ``noise_candidates``, ``noise_wall_s``). ``horizon``: the
+    run's time span (estimated for a run bounded only by max_events); ``detail``: the
+    engine work behind it (:class:`bkwaves._cost.Work`)."""
 
     snapshots: int | None
     output_bytes: float
@@ -123,6 +134,8 @@ class Estimate:
     notes: list[str] = field(default_factory=list)
     noise_candidates: float = 0.0
     noise_wall_s: float = 0.0
+    horizon: float | None = None
+    detail: object = None
 
 
 def physical_memory() -> float:
@@ -150,58 +163,166 @@ def check_memory(name: str, model: str, nodes: int) -> None:
         )
 
 
-def _snapshot_count(cfg) -> int | None:
-    if cfg.snapshot_every is not None:
-        if cfg.t_end is None:
-            return 10**6  # open-ended by events: the runner schedules 10**6 times ahead
-        return int(math.floor(cfg.t_end / cfg.snapshot_every)) + 1
-    if cfg.snapshot_events is not None and cfg.max_events is not None:
-        return cfg.max_events // cfg.snapshot_events + 1
-    return None if cfg.snapshot_events is not None else 2
+#: The runner's snapshot schedule of a run bounded only by events (runner._snapshot_times)
+OPEN_SNAPSHOTS = 10**6
 
 
-def estimate(cfg) -> Estimate:
-    """Estimate what the run described by ``cfg`` (a RunConfig) needs."""
+def snapshot_count(snapshot_every, snapshot_events, t_span, events, open_ended=False):
+    """Snapshots of a run (the initial state included): every ``snapshot_every`` up to
+    ``t_span`` (``open_ended``: a run bounded by events, t_span its estimated horizon;
+    the runner schedules at most OPEN_SNAPSHOTS ahead), or one per ``snapshot_events``
+    events."""
+    if snapshot_every is not None:
+        if t_span is None or not math.isfinite(t_span):
+            return OPEN_SNAPSHOTS
+        count = math.floor(t_span / snapshot_every * (1 + 1e-12)) + 1
+        return int(min(count, OPEN_SNAPSHOTS) if open_ended else min(count, 2**62))
+    if snapshot_events is not None:
+        return None if events is None else int(events // snapshot_events + 1)
+    return 2
+
+
+def chain_step(dx: float, step: float, law=None, threshold_max: float = 1.0, mass_min=1.0):
+    """The chain's time step: step dx, or step m_min v_f/theta_max for a velocity-weakening
+    law if shorter (the engine's own rule)."""
+    h = step * dx
+    values = dict(law.params) if law is not None else {}
+    v_f = values.get("v_f")
+    if v_f is not None and getattr(law, "name", "") == "velocity_weakening":
+        h = min(h, step * mass_min * v_f / max(threshold_max, 1e-300))
+    return h
+
+
+def _snapshot_wall(model: str, snapshots: int | None, nodes: int, output: bool) -> float:
+    snaps = snapshots or 0
+    per = LIMITS["seconds_per_snapshot"] + nodes * LIMITS["seconds_per_snapshot_node"]
+    if output:
+        per += LIMITS[f"{model}_output_seconds_per_snapshot"]
+        per += nodes * LIMITS["output_seconds_per_snapshot_node"]
+    fixed = LIMITS["seconds_per_run"] + (LIMITS["seconds_per_output"] if output else 0.0)
+    return snaps * per + fixed
+
+
+def chain_wall(work, n: int, snapshots: int | None, output: bool) -> float:
+    """Wall seconds of a chain run's work (a :class:`bkwaves._cost.Work`)."""
+    return (
+        work.block_steps * LIMITS["chain_seconds_per_block_step"]
+        + work.steps * LIMITS["chain_seconds_per_step"]
+        + work.slips * LIMITS["chain_seconds_per_slip"]
+        + _snapshot_wall("chain", snapshots, n, output)
+    )
+
+
+def fb_wall(work, grid: int, snapshots: int | None, output: bool) -> float:
+    """Wall seconds of a free-boundary run's work."""
+    return (
+        work.crossings / LIMITS["fb_crossings_per_s"]
+        + work.events * LIMITS["fb_seconds_per_event"]
+        + _snapshot_wall("fb", snapshots, grid, output)
+    )
+
+
+def _initial_facts(cfg) -> tuple[float, float, bool]:
+    """(mean, max, uniform?) of a config's initial u, from its spec (no arrays of the
+    size of the chain: random fields peak at mean + amplitude by construction, plus
+    their curvature a/l^2 in phi = u - u_xx)."""
+    s = cfg.initial
+    if s.kind == "uniform":
+        return s.value, s.value, True
+    if s.kind == "ramp":
+        return 0.5 * (s.start + s.end), max(s.start, s.end), s.start == s.end
+    if s.kind == "random":
+        bend = s.amplitude / max(s.correlation_length, 1e-300) ** 2
+        return s.mean, s.mean + s.amplitude + min(bend, 1.0), s.amplitude == 0
+    from .config import initial_state
+
+    try:
+        u = initial_state(cfg)
+    except ParameterError:  # (an unreadable file: the run says so; assume a slip now)
+        return 0.5, 1.0, False
+    return float(np.mean(u)), float(np.max(u)), bool(np.ptp(u) == 0)
+
+
+def _chain_run(cfg, t_span, max_events):
+    """The :class:`bkwaves._cost.ChainRun` of a chain config."""
+    from ._cost import ChainRun
+    from .config import disorder_arrays
+
+    p = cfg.params
+    mean, top, uniform = _initial_facts(cfg)
+    props = disorder_arrays(cfg) if cfg.disorder else {}
+    thr = props.get("threshold")
+    mass = props.get("mass")
+    thr_min = 1.0 if thr is None else float(np.min(thr))
+    thr_max = 1.0 if thr is None else float(np.max(thr))
+    m_min = 1.0 if mass is None else float(np.min(mass))
+    steps = cfg.chain_integration()
+    h = chain_step(p.dx, steps["step"], p.law, thr_max, m_min)
+    phi_max = top - thr_min + 1.0
+    from .chain import default_max_event_duration
+
+    duration = cfg.max_event_duration or default_max_event_duration(cfg.blocks, p.dx)
+    return ChainRun(
+        n=cfg.blocks,
+        dx=p.dx,
+        h=h,
+        v=p.v,
+        gamma=p.gamma,
+        u_ahead=mean,
+        phi_max=phi_max,
+        started=phi_max >= 1.0 or abs(cfg.initial.velocity) > 0,
+        trigger_times=tuple(t.time for t in cfg.triggers),
+        uniform=uniform and not cfg.disorder and cfg.noise is None,
+        t_span=t_span,
+        max_events=max_events,
+        event_duration=duration,
+        step_bound=steps["step_tolerance"] is not None,
+    )
+
+
+def _fb_gap(cfg) -> float:
+    """threshold - max u of a free-boundary config (from the spec)."""
+    from .config import threshold_field
+
+    _, top, _ = _initial_facts(cfg)
+    thr = threshold_field(cfg) if cfg.disorder else None
+    return (1.0 if thr is None else float(np.min(thr))) - top
+
+
+def estimate(cfg, output: bool = True) -> Estimate:
+    """Estimate what the run described by ``cfg`` (a RunConfig) needs (module docs);
+    ``output``: the run writes a file."""
+    from . import _cost
+
     p = cfg.params
     chain = cfg.model == "chain"
     nodes = cfg.blocks if chain else cfg.grid
-    snaps = _snapshot_count(cfg)
-    per_snapshot = nodes * (17 if chain else 8)  # chain: u, u_t (f8), sliding (i1)
-    out = float(snaps or 0) * per_snapshot
-    mem = memory_bytes(cfg.model, nodes)
-    work = wall = None
-    notes = []
-    candidates = noise_wall = 0.0
-    if cfg.t_end is not None:
-        if chain:
-            steps = cfg.chain_integration()
-            work, wall = chain_work(nodes, cfg.t_end, steps["step"], p.dx, p.v)
-            if steps["step_tolerance"] is None:
-                notes.append(f"~{work:.2g} block-steps")
-            else:  # the controlled step only grows above run.step dx: a bound
-                notes.append(f"at most ~{work:.2g} block-steps (run.step_tolerance)")
-        else:
-            work, wall = fb_work(nodes, cfg.t_end, p.v)
-            notes.append(f"~{work:.2g} shock-node crossings")
-        size = nodes if chain else cfg.length
-        candidates, noise_wall = noise_work(cfg.model, size, nodes, cfg.t_end, p.v, cfg.noise)
-        wall += noise_wall
-        if candidates > 0:
-            notes.append(f"~{candidates:.2g} noise candidates")
-    return Estimate(snaps, out, mem, work, wall, notes, candidates, noise_wall)
-
-
-def sliding_fraction(v: float) -> float:
-    """The fraction of a chain's blocks sliding, min(1, v / s) (s: ``chain_slip_speed``);
-    1 at v = 0 (nothing sets the time scale)."""
-    return 1.0 if v == 0 else min(1.0, v / LIMITS["chain_slip_speed"])
-
-
-def chain_work(n: int, t_span: float, step: float, dx: float, v: float) -> tuple[float, float]:
-    """Estimated block-steps and wall seconds of a chain run over ``t_span``."""
-    frac = sliding_fraction(v)
-    work = n * (t_span / (step * dx)) * frac
-    return work, work / LIMITS["chain_block_steps_per_s"]
+    if chain:
+        work = _cost.chain_work(_chain_run(cfg, cfg.t_end, cfg.max_events))
+        count = work.block_steps
+    else:
+        work = _cost.fb_work(nodes, p.v, cfg.t_end, cfg.max_events, _fb_gap(cfg))
+        count = work.crossings
+    snaps = snapshot_count(
+        cfg.snapshot_every, cfg.snapshot_events, work.horizon, work.events, cfg.t_end is None
+    )
+    if cfg.max_events is not None and cfg.snapshot_events is not None:
+        snaps = cfg.max_events // cfg.snapshot_events + 1
+    fields = 17 if chain else 8  # chain: u, u_t (f8), sliding (i1)
+    out = float(snaps or 0) * nodes * fields
+    wall = (chain_wall if chain else fb_wall)(work, nodes, snaps, output)
+    # the engine, and the snapshots if the run held them all (its tables are streamed)
+    mem = memory_bytes(cfg.model, nodes) + out
+    notes = list(work.notes)
+    size = nodes if chain else cfg.length
+    candidates, noise_wall = noise_work(
+        cfg.model, size, nodes, work.horizon, p.v, cfg.noise, work.sliding_fraction
+    )
+    if candidates > 0:
+        notes.append(f"~{candidates:.2g} noise candidates")
+    return Estimate(
+        snaps, out, mem, count, wall + noise_wall, notes, candidates, noise_wall, work.horizon, work
+    )
 
 
 def _table_envelope(noise: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -246,25 +367,36 @@ def noise_envelope(noise: dict) -> tuple[float, float]:
 
 
 def noise_work(
-    model: str, size: float, n: int, t_span: float, v: float, noise: dict | None
+    model: str,
+    size: float,
+    n: int,
+    t_span: float,
+    v: float,
+    noise: dict | None,
+    frac: float | None = None,
 ) -> tuple[float, float]:
     """Estimated noise candidates and their wall seconds over ``t_span`` (module docs):
     ``size`` is the number of blocks (chain) or the domain length (free boundary), ``n``
-    the chain's blocks (unused for the free boundary). (0, 0) without noise."""
-    if noise is None or noise["rate"] == 0.0:
+    the chain's blocks (unused for the free boundary), ``frac`` the fraction of the
+    block-time spent sliding (default min(1, v / 0.1), 1 at v = 0). (0, 0) without noise."""
+    if noise is None or noise["rate"] == 0.0 or not t_span:
         return 0.0, 0.0
     g_top, g_mean = noise_envelope(noise)
-    frac = sliding_fraction(v)
+    if frac is None:
+        frac = 1.0 if v == 0 else min(1.0, v / 0.1)
     # the fraction of the time the bound is rate G(1): the chain's time with any block
     # sliding is at most n frac (each block sliding alone); the free boundary's U(t)
     # near the threshold: frac
-    busy = min(1.0, n * frac) if model == "chain" else frac
+    # (chain: plus the blocks the noise itself sets sliding, each for ~pi: accepted
+    # candidates at about n rate <G>)
+    own = n * noise["rate"] * g_mean * math.pi
+    busy = min(1.0, n * frac + own) if model == "chain" else frac
     per_g = size * noise["rate"] * t_span  # candidates per unit of the envelope G
     candidates = per_g * (busy * g_top + (1.0 - busy) * g_mean)
     wall = candidates * LIMITS[f"{'chain' if model == 'chain' else 'fb'}_seconds_per_candidate"]
     if model == "chain":
         # a candidate while blocks slide cuts a step short: one more step over the blocks
-        # sliding then, whose block-time is frac n t_span (chain_work)
+        # sliding then, whose block-time is frac n t_span
         wall += per_g * g_top * frac * n * LIMITS["chain_seconds_per_split_block_step"]
     return candidates, wall
 
@@ -291,35 +423,35 @@ def noise_key(noise: dict | None, model: str = "chain", units=None) -> str | Non
     return rate
 
 
-def fb_work(grid: int, t_span: float, v: float) -> tuple[float, float]:
-    """Estimated shock-node crossings and wall seconds of a free-boundary run."""
-    work = 10.0 * v * t_span * grid
-    events = v * t_span  # about one event per unit of loading (measured: 0.7)
-    return work, work / LIMITS["fb_crossings_per_s"] + events * LIMITS["fb_seconds_per_event"]
-
-
 def check_wall(
     what: str, wall: float, work_text: str, noise_what: str | None = None, noise_cost=(0.0, 0.0)
 ) -> None:
-    """Refuse beyond ``max_wall_s``, warn beyond ``warn_wall_s``; ``what`` names the key.
-    ``noise_cost``: the noise's (candidates, wall seconds) of :func:`noise_work`, added;
-    when they cost more than the rest the message names ``noise_what`` (the noise's key,
-    :func:`noise_key`) first."""
+    """Warn (one :class:`LongRunWarning`) beyond ``warn_wall_s``; never refuse: ``what``
+    names the key. ``noise_cost``: the noise's (candidates, wall seconds) of
+    :func:`noise_work`, added; when they cost more than the rest the message names
+    ``noise_what`` (the noise's key, :func:`noise_key`) first."""
     candidates, noise_wall = noise_cost
     if noise_what is not None and candidates > 0:
         work_text = f"~{candidates:.2g} noise candidates and {work_text}"
         if noise_wall > wall:
             what = f"{noise_what} with {what}"
         wall += noise_wall
-    if wall > LIMITS["max_wall_s"]:
-        raise ParameterError(
-            f"{what} cannot be done: estimated {work_text}, about {_duration(wall)} of "
-            f"computation (limit {_duration(LIMITS['max_wall_s'])}, "
-            "bkwaves.limits.LIMITS['max_wall_s'])"
-        )
     if wall > LIMITS["warn_wall_s"]:
         warnings.warn(
-            f"{what}: estimated {work_text}, about {_duration(wall)} of computation",
+            f"{what}: estimated {work_text}, about {_duration(wall)} of computation "
+            "(an estimate: the run goes on; Ctrl-C stops it and keeps what it computed)",
+            LongRunWarning,
+            stacklevel=4,
+        )
+
+
+def check_memory_use(what: str, need: float) -> None:
+    """Warn when a run will hold more than ``warn_memory_fraction`` of the RAM."""
+    have = physical_memory()
+    if need > LIMITS["warn_memory_fraction"] * have:
+        warnings.warn(
+            f"{what}: the run will hold about {_bytes(need)} in memory, of the "
+            f"{_bytes(have)} of RAM of this machine",
             LongRunWarning,
             stacklevel=4,
         )
@@ -349,10 +481,18 @@ def _t_end_text(cfg) -> str:
     )
 
 
+def _events_text(cfg) -> str:
+    what = f"run.max_events = {cfg.max_events}"
+    if cfg.t_end is None:
+        return what
+    return f"{_t_end_text(cfg)} with {what}" if cfg.max_events is not None else what
+
+
 def check_sizes(cfg) -> Estimate:
-    """Refuse a config that cannot be done (memory, output size, wall time beyond
-    ``LIMITS``) with the key and the estimate in the message; warn
-    (:class:`LongRunWarning`) about one that will take very long. Returns the estimate."""
+    """Refuse a config that cannot fit (memory, output size beyond ``LIMITS``) with the
+    key and the figure in the message; warn (:class:`LongRunWarning`, one line each)
+    about one that will take long, hold much memory or write a large output. Returns
+    the estimate."""
     chain = cfg.model == "chain"
     check_memory("domain.blocks" if chain else "domain.grid", cfg.model, cfg.blocks or cfg.grid)
     if cfg.model == "free_boundary" and cfg.params.v == 0 and cfg.t_end is None:
@@ -363,34 +503,45 @@ def check_sizes(cfg) -> Estimate:
     est = estimate(cfg)
     if cfg.snapshot_every is not None:
         snap_key = "output.snapshot_every"
-        if cfg.t_end is not None:
-            snap_key += " with run.t_end"
+        snap_key += " with run.t_end" if cfg.t_end is not None else " with run.max_events"
     else:
         snap_key = "output.snapshot_events with run.max_events"
+    nodes = cfg.blocks or cfg.grid
     if est.output_bytes > LIMITS["max_output_bytes"]:
         raise ParameterError(
-            f"{snap_key}: {est.snapshots:.3g} snapshots of {cfg.blocks or cfg.grid} nodes make "
+            f"{snap_key}: {est.snapshots:.3g} snapshots of {nodes} nodes make "
             f"about {_bytes(est.output_bytes)} of output, more than the limit "
             f"{_bytes(LIMITS['max_output_bytes'])} (bkwaves.limits.LIMITS['max_output_bytes'])"
         )
-    if est.memory_bytes > physical_memory():
-        raise ParameterError(
-            f"{snap_key}: {est.snapshots:.3g} snapshots of {cfg.blocks} blocks need about "
-            f"{_bytes(est.memory_bytes)} of memory during the run, more than the "
-            f"{_bytes(physical_memory())} of RAM of this machine"
-        )
-    if est.wall_s is not None:
-        check_wall(
-            _t_end_text(cfg),
-            est.wall_s - est.noise_wall_s,
-            est.notes[0],
-            noise_key(cfg.noise, cfg.model, cfg.params.units),
-            (est.noise_candidates, est.noise_wall_s),
-        )
+    what = _t_end_text(cfg) if cfg.t_end is not None else _events_text(cfg)
+    if cfg.t_end is None:
+        what += f" (estimated to end near t = {est.horizon:.3g})"
+    check_wall(
+        what,
+        est.wall_s - est.noise_wall_s,
+        est.notes[0],
+        noise_key(cfg.noise, cfg.model, cfg.params.units),
+        (est.noise_candidates, est.noise_wall_s),
+    )
     if est.output_bytes > LIMITS["warn_output_bytes"]:
         warnings.warn(
-            f"{snap_key}: about {_bytes(est.output_bytes)} of output", LongRunWarning, stacklevel=3
+            f"{snap_key}: {est.snapshots:.3g} snapshots of {nodes} nodes make about "
+            f"{_bytes(est.output_bytes)} of output",
+            LongRunWarning,
+            stacklevel=3,
         )
+    check_memory_use(what, est.memory_bytes)
+    if cfg.t_end is None and cfg.snapshot_every is not None and est.horizon:
+        wanted = est.horizon / cfg.snapshot_every
+        if wanted > OPEN_SNAPSHOTS:
+            warnings.warn(
+                f"{snap_key}: the run is estimated to end near t = {est.horizon:.3g}, "
+                f"{wanted:.3g} snapshots; it takes the first {OPEN_SNAPSHOTS} (to t = "
+                f"{OPEN_SNAPSHOTS * cfg.snapshot_every:.3g}; give run.t_end or a longer "
+                "output.snapshot_every)",
+                LongRunWarning,
+                stacklevel=3,
+            )
     return est
 
 

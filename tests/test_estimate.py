@@ -1,0 +1,173 @@
+"""The run-cost estimate (issue 27; bkwaves.limits, bkwaves._cost, docs/usage.md
+"Limits"): what the engines really do, within 10x of the measured cost on every example
+and on the issue's cases; warned, never refused, on an estimate alone; memory and
+output size foreseen.
+
+The cheap cases run here for real (CPU time of the run, imports warmed up, and the
+engine's counters against the estimated work); the expensive ones are checked against
+the figures measured by benchmarks/bench_estimate.py and stated in docs/benchmarks.md."""
+
+import re
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import pytest
+
+import bkwaves as bk
+from bkwaves.config import parse_config
+from bkwaves.limits import LongRunWarning, estimate
+
+ROOT = Path(__file__).parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+import bench_estimate as B  # noqa: E402
+
+CHEAP = [
+    *(f"example_{e}" for e in B.EXAMPLES),
+    "v0_quiet_t_end_1e6",
+    "velocity_weakening_v_f_1e-9",
+    "fb_v_1e-12_max_events",
+    "chain_front_2e4_dx_0.5",
+    "front_1e5",
+]
+EXPENSIVE = ["front_1e6", "config_front_4e5"]
+
+
+@pytest.fixture(scope="module")
+def warm():
+    est, run = B.config_case(B._chain_doc(200, 0.0, t_end=5.0, output={"snapshot_every": 1.0}))
+    run()
+
+
+@pytest.mark.parametrize("case", CHEAP)
+def test_the_estimate_is_within_10x_of_a_real_run(case, warm):
+    assert set(CHEAP) | set(EXPENSIVE) <= set(B.CASES)
+    est, run = B.CASES[case]()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t0 = time.process_time()
+        counters = run()
+        cpu = time.process_time() - t0
+    print(f"{case}: estimated {est:.3g} s, measured {cpu:.3g} s CPU")
+    assert 0.1 < est / cpu < 10, (case, est, cpu)
+    if counters:  # the chain engine's own count of the work estimated
+        work = _estimated_work(case)
+        if work is not None:
+            assert 0.1 < work / max(counters["block_steps"], 1) < 10, (work, counters)
+
+
+def _estimated_work(case):
+    name = case.removeprefix("example_")
+    if case.startswith("example_") and name in B.EXAMPLES:
+        doc = B._example(name)
+    elif case == "v0_quiet_t_end_1e6":
+        doc = B._chain_doc(3000, 0.0, t_end=1e6)
+    else:
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cfg = parse_config(doc)
+    return estimate(cfg).work if cfg.model == "chain" else None
+
+
+def _documented() -> dict:
+    """The measured CPU seconds of docs/benchmarks.md's table "Run-cost estimate"."""
+    text = (ROOT / "docs" / "benchmarks.md").read_text()
+    section = text[text.index("## Run-cost estimate") :]
+    rows = re.findall(r"^\| `(\w[\w.-]*)` \| [^|]* \| ([0-9.]+) \|", section, re.M)
+    return {name: float(cpu) for name, cpu in rows}
+
+
+@pytest.mark.parametrize("case", EXPENSIVE)
+def test_the_estimate_of_an_expensive_case_is_within_10x_of_its_measured_cost(case):
+    measured = _documented()[case]
+    if case.startswith("front_"):
+        from bkwaves.chain import front_cost
+
+        est = front_cost(B.U, B.GAMMA, B.DX, int(float(case.split("_")[1])))[1]
+    elif case == "chain_run_1e7":
+        ch = bk.Chain(10**7, bk.Params(gamma=B.GAMMA, v=0.0, dx=B.DX), "free", B.U)
+        ch.kick(0, -2.0)
+        est = ch._estimate(10**7 * B.DX / 1.25 + 5.0, None, 1e9, 0)[1]
+    else:
+        doc = {
+            "config_front_4e5": B._chain_doc(
+                400_000, 0.0, t_end=400_000 * 0.05 / 1.25 + 5.0, dx=0.05
+            ),
+            "chain_1e6_uniform_20_events": B._chain_doc(
+                1_000_000, 1e-3, max_events=20, value=0.5, kick=False
+            ),
+        }[case]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            est = estimate(parse_config(doc)).wall_s
+    print(f"{case}: estimated {est:.3g} s, measured {measured:.3g} s CPU (docs)")
+    assert 0.1 < est / measured < 10
+
+
+def test_the_issue_refusals_are_gone_and_the_long_runs_warned():
+    """Refused before at "58 days" and "15.8 years" (fronts of 1e6 and 1e7 blocks),
+    "12.3 years" (Chain.run at 1e7 blocks), warned at "1.74 days" (v = 0, t_end = 1e6):
+    none of them warns now; v_f = 1e-9 (estimated 0.01 s before) warns in one line."""
+    from bkwaves.chain import front_cost
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LongRunWarning)
+        assert front_cost(0.6, 0.3, 0.05, 10**7)[1] < 600
+        parse_config(B._chain_doc(3000, 0.0, t_end=1e6))
+        parse_config(B._chain_doc(1_000_000, 1e-3, max_events=20, value=0.5, kick=False))
+        with pytest.raises(LongRunWarning) as e:
+            parse_config(
+                B._chain_doc(
+                    200, 0.0, t_end=30.0, friction={"law": "velocity_weakening", "v_f": 1e-9}
+                )
+            )
+    msg = str(e.value)
+    assert "run.t_end = 30" in msg and "block-steps" in msg and "\n" not in msg, msg
+
+
+def test_a_run_bounded_only_by_max_events_gets_an_estimate():
+    """A loaded uniform chain: K system-wide events, the first when u reaches 1, then one
+    per reload 1/v; a free boundary at v = 1e-12: its first event after (1 - u)/v, more
+    snapshots every 1.0 until then than the runner takes (10**6): warned."""
+    cfg = parse_config(B._chain_doc(2000, 1e-3, max_events=5, value=0.5, kick=False))
+    est = estimate(cfg)
+    assert est.wall_s > 0 and est.work > 0
+    assert est.horizon == pytest.approx(0.5 / 1e-3 + 4 / 1e-3, rel=0.05)
+    fb = B.CASES["fb_v_1e-12_max_events"]
+    doc = {
+        "model": "free_boundary",
+        "params": {"gamma": 0.3, "v": 1e-12, "dx": 0.01},
+        "domain": {"length": 100.0, "grid": 500},
+        "initial": {"kind": "uniform", "value": 0.5},
+        "run": {"max_events": 3},
+        "output": {"snapshot_every": 1.0},
+    }
+    with pytest.warns(
+        LongRunWarning, match="snapshot_every with run.max_events.*first 1000000"
+    ) as w:
+        est = estimate(parse_config(doc))
+    assert est.snapshots == 10**6 and est.horizon > 0.5e12
+    assert all("\n" not in str(x.message) for x in w)
+    assert fb  # (the case run for real above, with snapshots every 1e9)
+
+
+def test_memory_and_output_size_are_foreseen(monkeypatch):
+    """The issue's OOM: a 1e7-block front, a snapshot every 1.0 to t_end = 60 (61 x 1e7
+    blocks x 17 bytes = 9.7 GiB, held in memory beside the 4 GB engine) was killed at
+    23 GB with nothing written: the memory is warned (on a machine of 24 GiB), and to
+    t_end = 100 the output of 16 GiB too; one line each, before any work."""
+    monkeypatch.setattr(bk.limits, "physical_memory", lambda: 24.0 * 2**30)
+    doc = B._chain_doc(10**7, 0.0, t_end=60.0, dx=0.05, output={"snapshot_every": 1.0})
+    with pytest.warns(LongRunWarning) as w:
+        est = estimate(parse_config(doc))
+    assert est.snapshots == 61 and est.output_bytes == 61 * 10**7 * 17
+    messages = [str(x.message) for x in w]
+    assert any("in memory" in m and "GiB" in m for m in messages), messages
+    doc["run"]["t_end"] = 100.0
+    with pytest.warns(LongRunWarning) as w:
+        parse_config(doc)
+    messages = [str(x.message) for x in w]
+    assert any("101 snapshots" in m and "of output" in m for m in messages), messages
+    assert all("\n" not in m for m in messages)
