@@ -55,3 +55,73 @@ def test_a_threshold_field_correlation_length_has_a_range(corr):
     assert "100 x the domain" in msg
     doc["disorder"]["threshold"]["correlation_length"] = 100 * 2000.0  # the largest allowed
     parse_config(doc)
+
+
+def test_a_fixed_seed_slice_of_the_campaign_finds_nothing():
+    """benchmarks/hostile.py with a fixed seed, 24 configs and 24 API calls (the full
+    campaign: docs/reliability.md): no traceback, crash, hang or error that does not name
+    its parameter."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parents[1] / "benchmarks"))
+    import hostile
+
+    results = hostile.campaign(seed=2027, n_configs=24, n_calls=24, timeout=20.0)
+    s = hostile.summary(results)
+    bad = [r for r in results if r["class"] in ("unnamed", "traceback", "crash", "hang")]
+    assert not bad, bad
+    assert s["config"]["total"] == 24 and s["call"]["total"] == 24
+    assert s["config"]["ok"] > 0 and s["config"]["error"] > 0  # both kinds exercised
+
+
+@pytest.mark.parametrize("length", [1e6, 1e308])
+def test_a_free_boundary_grid_spacing_has_a_range(length):
+    """Campaign findings: length = 1e6 on 201 nodes (v h = 50) ended in a ConvergenceError
+    after 1e6 trajectory steps in one cell, 1e308 never ended; v h <= 1 and |x| <= 1e12,
+    named: domain.length in a config, x in the API."""
+    import numpy as np
+
+    doc = {
+        "model": "free_boundary",
+        "params": {"gamma": 0.3, "v": 1e-2, "dx": 1e-3},
+        "domain": {"length": length, "grid": 201},
+        "initial": {"kind": "uniform", "value": 0.5},
+        "run": {"max_events": 2},
+    }
+    with pytest.raises(bk.ParameterError) as e:
+        parse_config(doc)
+    assert str(e.value).startswith("invalid domain.length"), str(e.value)
+    x = np.linspace(0.0, length, 201)
+    with pytest.raises(bk.ParameterError, match="invalid x"):
+        bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x, np.full(201, 0.5))
+    doc["domain"]["length"] = 20000.0  # v h = 1: the largest allowed
+    parse_config(doc)
+
+
+@pytest.mark.parametrize(
+    "call, words",
+    [
+        (lambda: bk.friction.law(1e-12), "invalid name"),
+        (lambda: bk.disorder.thresholds(10, 0.1, seed=1e-6), "invalid seed"),
+        (lambda: bk.disorder.thresholds(10**30, 0.1), "invalid n"),
+        (lambda: bk.disorder.thresholds(10, 0.1, distribution=[]), "invalid distribution"),
+        (
+            lambda: bk.Params.from_physical(
+                mass=1e-310,
+                k_c=1e3,
+                k_p=10.0,
+                f_static=1.0,
+                f_kinetic=0.5,
+                alpha=0.01,
+                V=1e-9,
+                spacing=1e-3,
+            ),  # fmt: skip
+            r"alpha/\(2 sqrt\(k_p mass\)\)",
+        ),
+    ],
+)
+def test_api_calls_the_campaign_found_name_their_argument(call, words):
+    """Tracebacks from inside numpy and the core (TypeError), and a derived gamma whose
+    message named alpha alone when mass was the absurd one."""
+    with pytest.raises(bk.ParameterError, match=words):
+        call()

@@ -42,6 +42,9 @@ from dataclasses import dataclass, field
 #: reload between two system-wide ruptures under loading is A/v
 RELOAD_SLIP = 1.0
 
+#: Where a chain run bounded only by events ends when no more can happen (runner t_stop)
+RUN_END = 1e300
+
 
 @dataclass
 class ChainRun:
@@ -61,6 +64,7 @@ class ChainRun:
     max_events: int | None = None
     event_duration: float = math.inf  # the runaway-event limit (run.max_event_duration)
     step_bound: bool = False  # run.step_tolerance: h is the floor, the work a bound
+    open_sources: bool = False  # noise: events may start at any time
 
 
 @dataclass
@@ -142,6 +146,10 @@ def chain_work(r: ChainRun) -> Work:
             # small and quick: about one reload in all)
             spread = 1.0 if r.uniform else 1.0 / max(loaded, 1.0)
             horizon = first + max(loaded - 1.0, 0.0) * reload * spread + a
+    if r.v == 0.0 and r.t_span is None and ruptures < cap and not r.open_sources:
+        # v = 0 and fewer ruptures than max_events: after the last one nothing loads the
+        # chain, and the run jumps to the end of time (the runner's t_stop, 1e300)
+        horizon = RUN_END
     w.horizon = float(span if math.isfinite(span) else horizon)
     if r.max_events is not None and ruptures >= cap:
         w.horizon = min(w.horizon, horizon)

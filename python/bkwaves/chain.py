@@ -716,6 +716,7 @@ class Chain:
             max_events=max_events,
             event_duration=max_duration,
             step_bound=self.step_tolerance is not None,
+            open_sources=self.noise is not None,
         )
         work = chain_work(run)
         wall = chain_wall(work, self.n, snapshots, output=False)

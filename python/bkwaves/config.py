@@ -928,6 +928,12 @@ def _check_derived(cfg: RunConfig) -> None:
             )
         if not cfg.length / (cfg.grid - 1) > 0:
             _err("domain.length", "the grid spacing length/(grid - 1) underflows to 0")
+        from .free_boundary import check_grid
+
+        try:
+            check_grid("domain.length", cfg.length, cfg.length / (cfg.grid - 1), p.v)
+        except ParameterError as e:
+            raise ParameterError(f"{e} (domain.length with domain.grid)") from None
 
 
 def _to_doc(cfg: RunConfig) -> dict:

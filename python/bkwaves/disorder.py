@@ -98,8 +98,8 @@ NOISE = {
 def thresholds(n: int, sigma: float, *, distribution: str = "uniform", seed=0) -> np.ndarray:
     """n thresholds theta_i = 1 + sigma xi_i, xi iid with zero mean and unit variance
     (``NOISE``), drawn with numpy's default generator seeded by ``seed``."""
-    if distribution not in NOISE:
-        V._fail("distribution", distribution, "one of " + ", ".join(NOISE))
+    distribution = V.choice("distribution", distribution, tuple(NOISE))
+    n = V.integer("n", n, lo=0, hi=10**9)
     sigma = V.number("sigma", sigma, lo=0.0)
     rng = np.random.default_rng(check_seed(seed))
     if distribution == "uniform":

@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass
 
 from . import _core
+from . import _validate as V
 
 __all__ = ["DEFAULT", "LAWS", "Law", "LawInfo", "ParamInfo", "law", "markdown"]
 
@@ -71,6 +72,7 @@ class Law:
     params: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self):
+        V.choice("name", self.name, tuple(LAWS))
         given = dict(self.params)
         checked = _core.friction_resolve(self.name, given, partial=True)
         object.__setattr__(self, "params", tuple(checked.items()))

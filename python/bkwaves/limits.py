@@ -277,6 +277,7 @@ def _chain_run(cfg, t_span, max_events):
         max_events=max_events,
         event_duration=duration,
         step_bound=steps["step_tolerance"] is not None,
+        open_sources=cfg.noise is not None,
     )
 
 
@@ -507,7 +508,9 @@ def check_sizes(cfg) -> Estimate:
     else:
         snap_key = "output.snapshot_events with run.max_events"
     nodes = cfg.blocks or cfg.grid
-    if est.output_bytes > LIMITS["max_output_bytes"]:
+    # (refused only where the snapshot count is exact; an estimated one warns below)
+    exact = cfg.t_end is not None if cfg.snapshot_every is not None else cfg.max_events
+    if est.output_bytes > LIMITS["max_output_bytes"] and exact:
         raise ParameterError(
             f"{snap_key}: {est.snapshots:.3g} snapshots of {nodes} nodes make "
             f"about {_bytes(est.output_bytes)} of output, more than the limit "
@@ -534,9 +537,15 @@ def check_sizes(cfg) -> Estimate:
     if cfg.t_end is None and cfg.snapshot_every is not None and est.horizon:
         wanted = est.horizon / cfg.snapshot_every
         if wanted > OPEN_SNAPSHOTS:
+            end = (
+                f"the run is estimated to end near t = {est.horizon:.3g}"
+                if est.horizon < 1e300
+                else f"with v = 0 fewer events than run.max_events = {cfg.max_events} are "
+                "estimated to happen, and the run then goes on to t = 1e300"
+            )
             warnings.warn(
-                f"{snap_key}: the run is estimated to end near t = {est.horizon:.3g}, "
-                f"{wanted:.3g} snapshots; it takes the first {OPEN_SNAPSHOTS} (to t = "
+                f"{snap_key}: {end}, {wanted:.3g} snapshots; it takes the first "
+                f"{OPEN_SNAPSHOTS} (to t = "
                 f"{OPEN_SNAPSHOTS * cfg.snapshot_every:.3g}; give run.t_end or a longer "
                 "output.snapshot_every)",
                 LongRunWarning,

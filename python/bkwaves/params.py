@@ -315,18 +315,18 @@ class Params:
         df = u.force_scale
         sq = math.sqrt(u.k_p) * math.sqrt(u.mass)
         derived = {
-            "gamma": (u.alpha / (2.0 * sq), "alpha"),
-            "v": (u.V * (sq / df), "V"),
-            "dx": (math.sqrt(u.k_p) / math.sqrt(u.k_c), "k_c"),
-            "beta": (u.f_kinetic / df, "f_kinetic"),
+            "gamma": (u.alpha / (2.0 * sq), "alpha", "alpha/(2 sqrt(k_p mass))"),
+            "v": (u.V * (sq / df), "V", "V sqrt(k_p mass)/(f_static - f_kinetic)"),
+            "dx": (math.sqrt(u.k_p) / math.sqrt(u.k_c), "k_c", "sqrt(k_p/k_c)"),
+            "beta": (u.f_kinetic / df, "f_kinetic", "f_kinetic/(f_static - f_kinetic)"),
         }
-        for name, (value, key) in derived.items():
+        for name, (value, key, formula) in derived.items():
             try:
                 _PARAMS[name].check(value)
             except ParameterError:
                 raise ParameterError(
-                    f"invalid {key} = {getattr(u, key)!r}: the dimensionless {name} derived "
-                    f"from it is {value!r}; allowed values giving {_PARAMS[name].allowed()}"
+                    f"invalid {key} = {getattr(u, key)!r}: the dimensionless {name} = "
+                    f"{formula} = {value!r}; allowed values giving {_PARAMS[name].allowed()}"
                 ) from None
         law = None
         if V_f is not None:
