@@ -125,3 +125,62 @@ def test_api_calls_the_campaign_found_name_their_argument(call, words):
     message named alpha alone when mass was the absurd one."""
     with pytest.raises(bk.ParameterError, match=words):
         call()
+
+
+def _warned(doc, *words):
+    import warnings
+
+    from bkwaves.limits import LongRunWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LongRunWarning)
+        with pytest.raises(LongRunWarning) as e:
+            parse_config(doc)
+    msg = str(e.value)
+    assert all(w in msg for w in words) and "\n" not in msg, msg
+    return msg
+
+
+def test_campaign_configs_that_ran_for_ever_or_overflowed_are_warned():
+    """A noise rate of 1e308 (inf x 0 = nan in the estimate: no warning), a free-boundary
+    ring whose noise nucleates faster than ruptures cross it with only max_events (events
+    merge and never complete: it ran for ever), a v = 0 chain bounded by more events than
+    can happen with snapshots every 1.0 (it ran on to t = 1e300 through 10**6 of them)."""
+    chain = {
+        "model": "chain",
+        "params": {"gamma": 0.3, "v": 1e-3, "dx": 0.1},
+        "domain": {"blocks": 20, "boundary": "periodic"},
+        "initial": {"kind": "ramp", "start": 0.4, "end": 0.7},
+        "noise": {"law": "exponential", "rate": 1e308, "phi0": 0.05},
+        "run": {"t_end": 5.0},
+    }
+    _warned(chain, "noise.rate = 1e+308", "inf")
+    ring = {
+        "model": "free_boundary",
+        "params": {"gamma": 0.3, "v": 0.01, "dx": 0.001},
+        "domain": {"length": 40.0, "grid": 201, "boundary": "periodic"},
+        "initial": {"kind": "random", "mean": 0.5, "amplitude": 0.2, "correlation_length": 2.0},
+        "noise": {"law": "constant", "rate": 0.1},
+        "run": {"max_events": 2},
+        "seed": 1,
+    }
+    _warned(ring, "run.max_events = 2", "never complete")
+    ring["noise"]["rate"] = 1e-4  # 0.16 nucleations per crossing: no word
+    parse_config(ring)
+    quiet = {
+        "model": "chain",
+        "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+        "domain": {"blocks": 50, "boundary": "periodic"},
+        "initial": {"kind": "uniform", "value": 0.6},
+        "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+        "run": {"max_events": 2},
+        "output": {"snapshot_every": 1.0},
+    }
+    _warned(quiet, "output.snapshot_every with run.max_events", "v = 0", "1e300")
+
+
+def test_a_vanishing_correlation_length_is_estimated():
+    """correlation_length = 5e-324 divided by zero in the estimate (a traceback)."""
+    doc = _disordered_random_chain(5.0)
+    doc["initial"]["correlation_length"] = 5e-324
+    parse_config(doc)

@@ -535,7 +535,13 @@ RUN = Command(
     overloaded); the free-boundary model refuses u >= 1, naming the key (its field is the
     stress of stuck blocks). [friction] laws other than coulomb run in the chain only. Snapshots
     every dt are taken at t_k = k dt, the last one at t_end when t_end is a multiple of
-    dt (to 1e-9 dt). See docs/usage.md for the schema.""",
+    dt (to 1e-9 dt).
+
+    Before any work the run's time, memory and output are estimated from what the engine
+    will do: a run that cannot fit (engine state beyond the RAM, output beyond 1 TiB) is
+    refused; one estimated to take over an hour, hold over half the RAM or write over
+    10 GiB is warned in one line and goes on (docs/usage.md, "Limits").
+    See docs/usage.md for the schema.""",
     [
         opt(
             "config",
@@ -780,7 +786,9 @@ FRONT = Command(
     twice) from the measured ones, further out while the spread exceeds 1e-6:
     typically 500-5000 blocks and under a second; near u_+ = gamma ~2e4 blocks
     and ~10 s.
-    Without an App. B pulse (u_+ <= gamma): 1600 blocks (at least 40 units).""",
+    Without an App. B pulse (u_+ <= gamma): 1600 blocks (at least 40 units).
+    A measurement estimated to take over an hour (the pulse's blocks times the
+    steps it takes to cross the chain) is warned in one line, never refused.""",
     [
         opt("--u-plus", type=float, required=True, metavar="U", help="Stress ahead, 0 < U < 1."),
         opt("--gamma", type=float, required=True, help="Viscous damping gamma >= 0."),

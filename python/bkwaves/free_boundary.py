@@ -653,7 +653,14 @@ class FreeBoundary:
         """Warn (never refuse) about a run estimated to take long or hold much memory
         (bkwaves._cost.fb_work; docs/usage.md, "Limits")."""
         from ._cost import fb_work
-        from .limits import check_memory_use, check_wall, fb_wall, noise_key, noise_work
+        from .limits import (
+            check_memory_use,
+            check_noise_events,
+            check_wall,
+            fb_wall,
+            noise_key,
+            noise_work,
+        )
 
         t0, v = self.time, self.params.v
         span = t_end - t0 if math.isfinite(t_end) else None
@@ -671,6 +678,8 @@ class FreeBoundary:
             what += f" (estimated to end near t = {t0 + work.horizon:.3g})"
         check_wall(what, wall, work.notes[0], noise_key(self.noise, "free_boundary"), noise_cost)
         check_memory_use(what, (times.size + 2) * self.x.size * 8.0)
+        if span is None:
+            check_noise_events(what, length, length, self.noise)
 
     # ------------------------------------------------------------------ results
     def result(self, interrupted: bool = False) -> FreeBoundaryResult:

@@ -232,8 +232,11 @@ def _initial_facts(cfg) -> tuple[float, float, bool]:
     if s.kind == "ramp":
         return 0.5 * (s.start + s.end), max(s.start, s.end), s.start == s.end
     if s.kind == "random":
-        bend = s.amplitude / max(s.correlation_length, 1e-300) ** 2
-        return s.mean, s.mean + s.amplitude + min(bend, 1.0), s.amplitude == 0
+        # (u_xx of the field, amplitude / l^2, at most the lattice's 4 amplitude/dx^2
+        # in phi = u - Lap u/dx^2: counted up to 1)
+        corr = max(s.correlation_length, 1e-100)
+        bend = min(s.amplitude / corr / corr, 1.0)
+        return s.mean, s.mean + s.amplitude + bend, s.amplitude == 0
     from .config import initial_state
 
     try:
@@ -398,7 +401,8 @@ def noise_work(
     if model == "chain":
         # a candidate while blocks slide cuts a step short: one more step over the blocks
         # sliding then, whose block-time is frac n t_span
-        wall += per_g * g_top * frac * n * LIMITS["chain_seconds_per_split_block_step"]
+        if frac > 0:
+            wall += per_g * g_top * frac * n * LIMITS["chain_seconds_per_split_block_step"]
     return candidates, wall
 
 
@@ -432,15 +436,36 @@ def check_wall(
     :func:`noise_work`, added; when they cost more than the rest the message names
     ``noise_what`` (the noise's key, :func:`noise_key`) first."""
     candidates, noise_wall = noise_cost
+    wall = math.inf if math.isnan(wall) else wall  # (inf x 0 of an overflowing input)
+    noise_wall = math.inf if math.isnan(noise_wall) else noise_wall
     if noise_what is not None and candidates > 0:
         work_text = f"~{candidates:.2g} noise candidates and {work_text}"
-        if noise_wall > wall:
+        if noise_wall > wall or math.isinf(noise_wall):
             what = f"{noise_what} with {what}"
         wall += noise_wall
     if wall > LIMITS["warn_wall_s"]:
         warnings.warn(
             f"{what}: estimated {work_text}, about {_duration(wall)} of computation "
             "(an estimate: the run goes on; Ctrl-C stops it and keeps what it computed)",
+            LongRunWarning,
+            stacklevel=4,
+        )
+
+
+def check_noise_events(what: str, size: float, crossing: float, noise: dict | None) -> None:
+    """A free-boundary run bounded only by events, with noise: when about one nucleation
+    or more falls within the time a rupture takes to cross the domain (``size`` rate <G>
+    x ``crossing``), ruptures merge into one event that never completes (a free-boundary
+    ring of length 40 at rate 0.1 ran for ever with no event complete): warn."""
+    if noise is None or noise["rate"] == 0.0:
+        return
+    _, g_mean = noise_envelope(noise)
+    overlap = size * noise["rate"] * g_mean * crossing
+    if overlap >= 1.0:
+        warnings.warn(
+            f"{what}: about {overlap:.3g} noise nucleations fall within one rupture's "
+            f"crossing of the domain (~{crossing:.3g} time units): events may merge and "
+            "never complete; give run.t_end",
             LongRunWarning,
             stacklevel=4,
         )
@@ -534,6 +559,8 @@ def check_sizes(cfg) -> Estimate:
             stacklevel=3,
         )
     check_memory_use(what, est.memory_bytes)
+    if cfg.t_end is None and not chain:  # (the chain's noise slips end on their own)
+        check_noise_events(what, cfg.length, cfg.length, cfg.noise)
     if cfg.t_end is None and cfg.snapshot_every is not None and est.horizon:
         wanted = est.horizon / cfg.snapshot_every
         if wanted > OPEN_SNAPSHOTS:

@@ -332,7 +332,7 @@ class Params:
         if V_f is not None:
             _number("V_f", V_f, lo=0.0, lo_open=True)
             law = Law("velocity_weakening", (("v_f", V_f * (sq / df)),))
-        return cls(**{k: v for k, (v, _) in derived.items()}, units=u, friction_law=law)
+        return cls(**{k: v for k, (v, _, _) in derived.items()}, units=u, friction_law=law)
 
     @property
     def backward_slip(self) -> bool:
