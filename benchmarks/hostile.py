@@ -8,8 +8,9 @@ bound, classified by outcome.
 
 Cases are generated from (seed, index) alone, so any one is rerun by its index
 (``--only config:17``). They run in a worker process (``--worker``) that imports bkwaves
-once; the parent gives each case ``--timeout`` seconds of wall time, kills and restarts
-the worker on a hang or a crash. Each case runs with ``LIMITS["warn_wall_s"]`` at a tenth
+once; the parent gives each case ``--timeout`` seconds of the worker's CPU time (and ten
+times that of wall time: a loaded machine does not make a hang), kills and restarts the
+worker on a hang or a crash. Each case runs with ``LIMITS["warn_wall_s"]`` at a tenth
 of the bound and the LongRunWarning raised as an error, so a run estimated long stops
 before any work. Classes:
 
@@ -515,7 +516,7 @@ def _named(msg: str, keys) -> bool:
     if any(name in msg for k in keys for name in str(k).split("|")):
         return True
     first = msg.removeprefix("invalid ").split()[0] if msg.strip() else ""
-    return bool(re.fullmatch(r"[A-Za-z_][\w.\[\]]*:?", first))
+    return bool(re.fullmatch(r"[A-Za-z_][\w.\[\]/]*:?", first))
 
 
 def worker(seed: int, timeout: float) -> None:
@@ -582,14 +583,27 @@ class _Worker:
             start_new_session=True,
         )
 
+    def cpu(self) -> float:
+        """CPU seconds the worker has used (Linux /proc; wall time elsewhere)."""
+        try:
+            fields = Path(f"/proc/{self.p.pid}/stat").read_text().rsplit(")", 1)[1].split()
+            return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+        except (OSError, ValueError, IndexError):
+            return time.monotonic()
+
     def ask(self, kind, index, timeout):
+        """The worker's answer, or None past ``timeout`` seconds of its CPU time (a
+        loaded machine does not make a hang) or ten times that of wall time."""
         self.p.stdin.write(f"{kind} {index}\n")
         self.p.stdin.flush()
-        ready, _, _ = select.select([self.p.stdout], [], [], timeout)
-        if not ready:
-            return None
-        line = self.p.stdout.readline()
-        return json.loads(line) if line else "died"
+        cpu0, wall0 = self.cpu(), time.monotonic()
+        while True:
+            ready, _, _ = select.select([self.p.stdout], [], [], 0.25)
+            if ready:
+                line = self.p.stdout.readline()
+                return json.loads(line) if line else "died"
+            if self.cpu() - cpu0 > timeout or time.monotonic() - wall0 > 10 * timeout:
+                return None
 
     def kill(self):
         try:
@@ -647,7 +661,7 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=27)
     ap.add_argument("--configs", type=int, default=1500)
     ap.add_argument("--calls", type=int, default=1000)
-    ap.add_argument("--timeout", type=float, default=20.0, help="wall seconds per case")
+    ap.add_argument("--timeout", type=float, default=20.0, help="CPU seconds per case")
     ap.add_argument("--only", nargs="*", help="cases as kind:index (config:17 call:3)")
     ap.add_argument("--json", help="write every result and the summary here")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)

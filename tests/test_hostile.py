@@ -105,6 +105,17 @@ def test_a_free_boundary_grid_spacing_has_a_range(length):
         (lambda: bk.disorder.thresholds(10, 0.1, seed=1e-6), "invalid seed"),
         (lambda: bk.disorder.thresholds(10**30, 0.1), "invalid n"),
         (lambda: bk.disorder.thresholds(10, 0.1, distribution=[]), "invalid distribution"),
+        (lambda: bk.disorder.draw("uniform", 10, spread=0.1, seed=1e-300), "invalid seed"),
+        (lambda: bk.disorder.draw("uniform", 0.5, spread=0.1, seed=1), "invalid n"),
+        (lambda: bk.disorder.draw([1], 10, spread=0.1, seed=1), "invalid distribution"),
+        (lambda: bk.disorder.draw("uniform", 10, spread=0.1, seed=[-1]), "invalid seed"),
+        (lambda: bk.stats.recurrence_times(3.0), "invalid times"),
+        (lambda: bk.velocity_weakening.min_friction(0.3, "x"), "invalid v_f"),
+        (lambda: bk.velocity_weakening.min_friction(-1.0, 0.01), "invalid gamma"),
+        (lambda: bk.friction.law("velocity_weakening", gamma={}), "invalid gamma"),
+        (lambda: __import__("bkwaves.chain").chain.front(0.6, 0.3, 5e-324), "invalid dx"),
+        # round-off in 1/dx^2: c off by 2e-5 at dx = 1e-6 (silent), no end at 1e-300
+        (lambda: bk.disorder.marched_speed(0.5, dx=1e-6), "invalid dx"),
         (
             lambda: bk.Params.from_physical(
                 mass=1e-310,
@@ -139,6 +150,34 @@ def _warned(doc, *words):
     msg = str(e.value)
     assert all(w in msg for w in words) and "\n" not in msg, msg
     return msg
+
+
+def test_a_snapshot_schedule_beyond_the_limit_is_refused_before_it_is_allocated():
+    """t_end = 2**64 with a snapshot every 50 (and max_events, which may end the run
+    sooner): the runner would schedule 3.7e17 times (a MemoryError of 2.6 EiB)."""
+    doc = {
+        "model": "free_boundary",
+        "params": {"gamma": 0.3, "v": 0.01, "dx": 0.001},
+        "domain": {"length": 40.0, "grid": 201},
+        "initial": {"kind": "uniform", "value": 0.5},
+        "run": {"t_end": 2**64, "max_events": 2},
+        "output": {"snapshot_every": 50.0},
+    }
+    with pytest.raises(bk.ParameterError, match="output.snapshot_every with run.t_end"):
+        parse_config(doc)
+
+
+def test_velocity_weakening_front_with_a_tiny_v_f_is_warned():
+    """velocity_weakening.front(v_f = 1e-9): steps of 5e-11, hours of work without a word
+    (campaign hang); warned in one line before any work."""
+    import warnings
+
+    from bkwaves.limits import LongRunWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LongRunWarning)
+        with pytest.raises(LongRunWarning, match="v_f = 1e-09"):
+            bk.velocity_weakening.front(0.6, 0.3, 0.1, 1e-9)
 
 
 def test_campaign_configs_that_ran_for_ever_or_overflowed_are_warned():

@@ -1121,6 +1121,10 @@ def _fmt(x: float) -> str:
     return f"{x:.3g}"
 
 
+#: The longest default chain of a front measurement
+MAX_FRONT_BLOCKS = 1e9
+
+
 def front_cost(u_plus, gamma, dx, blocks, step=DEFAULT_STEP, friction=None):
     """(work, wall seconds) estimated for one front measurement on ``blocks`` blocks
     (bkwaves._cost: the front's pulse slides, not the whole chain)."""
@@ -1221,6 +1225,9 @@ def front(
         from .limits import check_memory
 
         check_memory("blocks", "chain", blocks)
+    if not 40.0 / dx <= MAX_FRONT_BLOCKS:  # (the shortest default chain is 40 units)
+        V._fail("dx", dx, f"dx >= {40.0 / MAX_FRONT_BLOCKS:g} (a chain of 40 units in at most "
+                f"{MAX_FRONT_BLOCKS:g} blocks)")  # fmt: skip
     tw = _app_b(u_plus, gamma)
     theory = (tw.c, tw.w, tw.u_minus) if tw is not None and tw.regime == "pulse" else None
     creep_n = max(CREEP_BLOCKS, int(math.ceil(40.0 / dx)))

@@ -73,7 +73,7 @@ class Law:
 
     def __post_init__(self):
         V.choice("name", self.name, tuple(LAWS))
-        given = dict(self.params)
+        given = {k: V.number(k, x) for k, x in dict(self.params).items()}
         checked = _core.friction_resolve(self.name, given, partial=True)
         object.__setattr__(self, "params", tuple(checked.items()))
 

@@ -190,7 +190,7 @@ def chain_step(dx: float, step: float, law=None, threshold_max: float = 1.0, mas
     v_f = values.get("v_f")
     if v_f is not None and getattr(law, "name", "") == "velocity_weakening":
         h = min(h, step * mass_min * v_f / max(threshold_max, 1e-300))
-    return h
+    return max(h, 1e-300)  # (v_f = 5e-324: no division by zero, an enormous estimate)
 
 
 def _snapshot_wall(model: str, snapshots: int | None, nodes: int, output: bool) -> float:
@@ -246,6 +246,30 @@ def _initial_facts(cfg) -> tuple[float, float, bool]:
     return float(np.mean(u)), float(np.max(u)), bool(np.ptp(u) == 0)
 
 
+#: Chains up to this many blocks get their initial phi computed for the estimate
+EXACT_PHI_BLOCKS = 2 * 10**6
+
+
+def _chain_phi_max(cfg, thr) -> float:
+    """max(phi - threshold) + 1 of a chain config's initial state (phi = u - Lap u/dx^2,
+    the ends free or held at the end blocks' values, a ring wrapped; uniform bonds)."""
+    from .config import initial_state
+
+    try:
+        u = initial_state(cfg)
+    except ParameterError:  # (an unreadable file: the run says so; assume a slip now)
+        return 1.0
+    if cfg.boundary == "periodic":
+        lap = np.roll(u, 1) + np.roll(u, -1) - 2.0 * u
+    else:
+        ext = np.concatenate([[u[0]], u, [u[-1]]])
+        lap = ext[2:] + ext[:-2] - 2.0 * ext[1:-1]
+    with np.errstate(all="ignore"):
+        phi = u - lap / cfg.params.dx**2
+        top = float(np.max(phi - thr)) + 1.0
+    return top if math.isfinite(top) else math.inf
+
+
 def _chain_run(cfg, t_span, max_events):
     """The :class:`bkwaves._cost.ChainRun` of a chain config."""
     from ._cost import ChainRun
@@ -262,6 +286,8 @@ def _chain_run(cfg, t_span, max_events):
     steps = cfg.chain_integration()
     h = chain_step(p.dx, steps["step"], p.law, thr_max, m_min)
     phi_max = top - thr_min + 1.0
+    if cfg.blocks <= EXACT_PHI_BLOCKS:  # phi = u - Lap u/dx^2 itself (ends, curvature)
+        phi_max = _chain_phi_max(cfg, 1.0 if thr is None else np.asarray(thr))
     from .chain import default_max_event_duration
 
     duration = cfg.max_event_duration or default_max_event_duration(cfg.blocks, p.dx)
@@ -307,8 +333,11 @@ def estimate(cfg, output: bool = True) -> Estimate:
     else:
         work = _cost.fb_work(nodes, p.v, cfg.t_end, cfg.max_events, _fb_gap(cfg))
         count = work.crossings
+    # (snapshot_every with t_end: the runner schedules every one up to t_end, also when
+    # max_events may end the run sooner: t_end = 2**64 at every 50 allocated 2.6 EiB)
+    span = cfg.t_end if cfg.t_end is not None and cfg.snapshot_every else work.horizon
     snaps = snapshot_count(
-        cfg.snapshot_every, cfg.snapshot_events, work.horizon, work.events, cfg.t_end is None
+        cfg.snapshot_every, cfg.snapshot_events, span, work.events, cfg.t_end is None
     )
     if cfg.max_events is not None and cfg.snapshot_events is not None:
         snaps = cfg.max_events // cfg.snapshot_events + 1

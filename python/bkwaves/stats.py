@@ -370,7 +370,9 @@ def size_frequency(sizes):
 def recurrence_times(times, positions=None, *, window: float | None = None):
     """Intervals between successive events: all events, or (with positions and a window)
     between events whose positions lie within ``window`` of each other in turn."""
-    t = np.sort(V.array("times", times))
+    t = np.sort(V.array("times", times).ravel())
+    if np.ndim(times) != 1:
+        V._fail("times", f"an array of shape {np.shape(times)}", "a 1-d array of event times")
     if positions is None:
         return np.diff(t)
     x = V.array("positions", positions)

@@ -37,6 +37,8 @@ def min_friction(gamma: float, v_f: float) -> float:
     """The lowest friction a sliding block can feel, min over s >= 0 of
     R(s) = 1/(1 + s/v_f) + 2 gamma s: 2 sqrt(2 gamma v_f) - 2 gamma v_f at
     s* = sqrt(v_f/(2 gamma)) - v_f when 2 gamma v_f < 1, else R(0) = 1 (no weakening)."""
+    gamma = V.number("gamma", gamma, lo=0.0)
+    v_f = V.number("v_f", v_f, lo=0.0, lo_open=True)
     y = 2.0 * gamma * v_f
     return 2.0 * math.sqrt(y) - y if y < 1.0 else 1.0
 
@@ -159,6 +161,19 @@ def _changes(short: dict, long: dict) -> dict:
     return {"c": rel("c"), "zone": rel("zone"), "u_minus": um}
 
 
+def _check_cost(u_plus, gamma, dx, v_f, lengths, step) -> None:
+    """Warn (never refuse) when the first two chains are estimated to take over an hour:
+    the step is step x min(dx, v_f) (v_f = 1e-9: steps of 5e-11)."""
+    from .chain import front_cost
+    from .limits import check_wall
+
+    step = V.CHAIN["step"].check(step)
+    costs = [front_cost(u_plus, gamma, dx, math.ceil(x / dx), step, law("velocity_weakening",
+                        v_f=v_f)) for x in lengths]  # fmt: skip
+    work = costs[-1][0]
+    check_wall(f"v_f = {v_f:.6g}", sum(c[1] for c in costs), work.notes[0])
+
+
 def _measure(u_plus, gamma, dx, v_f, length, step, beta=math.inf):
     """One chain ``length`` long: the raw measurement on its third quarter."""
     import time
@@ -246,6 +261,7 @@ def front(
     else:
         start = max(START_LENGTH, 64 * dx)
         lengths = [start / 2.0, start]
+    _check_cost(u_plus, gamma, dx, v_f, lengths, step)
     t0 = time.perf_counter()
     runs = [_measure(u_plus, gamma, dx, v_f, x, step, beta) for x in lengths]
     conv = None
