@@ -139,8 +139,8 @@ CASES = {
     "config_front_4e5": lambda: config_case(
         _chain_doc(400_000, 0.0, t_end=400_000 * 0.05 / 1.25 + 5.0, dx=0.05)
     ),
-    "chain_1e6_uniform_20_events": lambda: config_case(
-        _chain_doc(1_000_000, 1e-3, max_events=20, value=0.5, kick=False)
+    "chain_1e4_uniform_20_events": lambda: config_case(
+        _chain_doc(10_000, 1e-3, max_events=20, value=0.5, kick=False)
     ),
     "front_1e7": lambda: _front(10_000_000),
     "chain_run_1e7": lambda: _chain_front(10_000_000),

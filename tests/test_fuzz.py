@@ -208,7 +208,9 @@ def fuzz_configs(n: int) -> list[dict]:
             if op == "path":
                 where = data.draw(st.sampled_from(["output", "initial"]))
                 if where == "output":
-                    doc.setdefault("output", {})["path"] = data.draw(
+                    if not isinstance(doc.get("output"), dict):  # (mutated to a non-table)
+                        doc["output"] = {}
+                    doc["output"]["path"] = data.draw(
                         st.sampled_from(["/proc/x/o.nc", "/etc/passwd/o.nc", "o.txt", "a\x00.nc"])
                     )
                     keys.append("path")

@@ -264,15 +264,18 @@ def test_the_work_estimate_uses_the_configured_step():
     tw = bk.traveling_wave(0.6, 0.3)
     reached = tw.c * 5.0 / 0.05
     assert 100 < reached < 200
-    assert w[0.05] == pytest.approx(reached * (tw.w / tw.c) / (0.05 * 0.05))
-    assert w[0.1] == pytest.approx(w[0.05] / 2, rel=1e-12)
+    # plus the event location: each of the 2 switches per block redoes a step over the
+    # pulse's c tau/dx = w/dx blocks (independent of the step)
+    redo = 2 * reached * (tw.w / 0.05)
+    assert w[0.05] == pytest.approx(reached * (tw.w / tw.c) / (0.05 * 0.05) + redo)
+    assert w[0.1] - redo == pytest.approx((w[0.05] - redo) / 2, rel=1e-12)
     assert estimate(parse_config(FRONT)).work == w[0.05]
     bound = estimate(parse_config(with_run(FRONT, step=0.1, step_tolerance=1e-12)))
     assert bound.work == w[0.1] and "at most" in bound.notes[0]
     with warnings.catch_warnings():
         warnings.simplefilter("error", bk.limits.LongRunWarning)
         big = estimate(parse_config(with_run(FRONT, t_end=3e9)))
-    assert big.work == pytest.approx(200 * (tw.w / tw.c) / (0.05 * 0.05))
+    assert big.work == pytest.approx(200 * (tw.w / tw.c) / (0.05 * 0.05) + 2 * 200 * tw.w / 0.05)
 
 
 # ------------------------------------------------------------------ resume keeps the settings

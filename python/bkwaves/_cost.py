@@ -100,18 +100,27 @@ def _wave(u_plus: float, gamma: float) -> tuple[float, float, bool]:
 
 def _rupture(r: ChainRun, u_plus: float, span: float, at_once: bool = False) -> tuple[float, float]:
     """(S, T_active) of one rupture over the chain at stress u_plus ahead, cut at span;
-    ``at_once``: every block starts together (a uniform chain loaded to its threshold)."""
-    n, dx = r.n, r.dx
+    ``at_once``: every block starts together (a uniform chain loaded to its threshold).
+
+    Both include the event location: each slip or stick of a block is located in time
+    and the step redone up to it over every block sliding then, one more step of them
+    (added as h x those blocks to S, h to T_active). A pulse of m = c tau/dx blocks: 2 m
+    per block; a uniform chain re-sticking block by block (round-off spreads the
+    instants): n^2/2; a creep front: the blocks behind it, reached^2/2."""
+    n, dx, h = r.n, r.dx, r.h
     if u_plus <= 0.0:  # the front dies at once: the triggered block alone
         return min(math.pi, span), min(math.pi, span)
     c, tau, pulse = _wave(u_plus, r.gamma)
     cross = 0.0 if at_once else n * dx / c  # the front crosses the chain
     reached = float(n) if span >= cross else max(1.0, c * span / dx)
     if pulse:
-        return reached * min(tau, span), min(span, cross + tau)
+        sliding = reached if at_once else min(reached, max(1.0, c * tau / dx))
+        redo = reached * sliding * (0.5 if at_once else 2.0)
+        return reached * min(tau, span) + redo * h, min(span, cross + tau) + 2 * reached * h
     # creep: every block reached slides to the end of the run or of the event
     end = min(span, r.event_duration)
-    return reached * max(end - min(cross, end) / 2.0, 0.0), end
+    redo = 0.5 * reached * reached
+    return reached * max(end - min(cross, end) / 2.0, 0.0) + redo * h, end + reached * h
 
 
 def chain_work(r: ChainRun) -> Work:
