@@ -6,7 +6,7 @@ alone: one estimated to take long (``warn_wall_s``), to hold much memory or to w
 large output gets one :class:`LongRunWarning` line. The limits are documented in
 docs/usage.md ("Limits") and can be changed in :data:`LIMITS`.
 
-The work is what the engines really do (:mod:`bkwaves._cost`: the chain steps only its
+The work is what the engines really do (``bkwaves._cost``: the chain steps only its
 sliding blocks, a front's pulse of width w, and jumps over quiet stretches; the friction
 law's own time scale shortens the step; a max_events-only run gets a time horizon), times
 the per-unit costs of :data:`LIMITS`, measured as CPU seconds on one core of the
@@ -124,7 +124,7 @@ class Estimate:
     (None: not known), which includes the noise's candidates (their number and their
     share of the wall time: ``noise_candidates``, ``noise_wall_s``). ``horizon``: the
     run's time span (estimated for a run bounded only by max_events); ``detail``: the
-    engine work behind it (:class:`bkwaves._cost.Work`)."""
+    engine work behind it (``bkwaves._cost.Work``)."""
 
     snapshots: int | None
     output_bytes: float
@@ -204,7 +204,7 @@ def _snapshot_wall(model: str, snapshots: int | None, nodes: int, output: bool) 
 
 
 def chain_wall(work, n: int, snapshots: int | None, output: bool) -> float:
-    """Wall seconds of a chain run's work (a :class:`bkwaves._cost.Work`)."""
+    """Wall seconds of a chain run's work (a ``bkwaves._cost.Work``)."""
     return (
         work.block_steps * LIMITS["chain_seconds_per_block_step"]
         + work.steps * LIMITS["chain_seconds_per_step"]
@@ -271,7 +271,7 @@ def _chain_phi_max(cfg, thr) -> float:
 
 
 def _chain_run(cfg, t_span, max_events):
-    """The :class:`bkwaves._cost.ChainRun` of a chain config."""
+    """The ``bkwaves._cost.ChainRun`` of a chain config."""
     from ._cost import ChainRun
     from .config import disorder_arrays
 
