@@ -110,6 +110,7 @@ def test_a_free_boundary_grid_spacing_has_a_range(length):
         (lambda: bk.disorder.draw([1], 10, spread=0.1, seed=1), "invalid distribution"),
         (lambda: bk.disorder.draw("uniform", 10, spread=0.1, seed=[-1]), "invalid seed"),
         (lambda: bk.stats.recurrence_times(3.0), "invalid times"),
+        (lambda: bk.theory.profile({}, 0.6, 0.3), "invalid z"),
         (lambda: bk.velocity_weakening.min_friction(0.3, "x"), "invalid v_f"),
         (lambda: bk.velocity_weakening.min_friction(-1.0, 0.01), "invalid gamma"),
         (lambda: bk.friction.law("velocity_weakening", gamma={}), "invalid gamma"),
@@ -223,3 +224,37 @@ def test_a_vanishing_correlation_length_is_estimated():
     doc = _disordered_random_chain(5.0)
     doc["initial"]["correlation_length"] = 5e-324
     parse_config(doc)
+
+
+def test_second_seed_findings_are_clean_errors_or_warnings(monkeypatch):
+    """Seed 5: snapshot_every = 1e-310 overflowed the estimate's count (OverflowError),
+    dx = 1e-310 divided by zero in the stability check, and a v = 0 chain of 10^5 blocks
+    with noise bounded by events ran unwarned (its first noise slip starts a rupture)."""
+    import warnings
+
+    from bkwaves.limits import LongRunWarning
+
+    doc = _disordered_random_chain(5.0)
+    doc["output"] = {"snapshot_every": 1e-310}
+    with pytest.raises(bk.ParameterError, match="output.snapshot_every with run.t_end"):
+        parse_config(doc)
+    doc = _disordered_random_chain(5.0)
+    doc["params"]["dx"] = 1e-310
+    doc["initial"] = {"kind": "uniform", "value": 0.5}
+    with pytest.raises(bk.ParameterError, match="params.dx.*overflows"):
+        parse_config(doc)
+    doc = {
+        "model": "chain",
+        "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+        "friction": {"law": "velocity_weakening", "v_f": 0.01},
+        "domain": {"blocks": 100000},
+        "initial": {"kind": "uniform", "value": 0.5},
+        "noise": {"law": "constant", "rate": 1e-3, "kick": 0.05},
+        "run": {"max_events": 2},
+        "seed": 1,
+    }
+    monkeypatch.setitem(bk.limits.LIMITS, "warn_wall_s", 2.0)  # (the campaign's bound)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LongRunWarning)
+        with pytest.raises(LongRunWarning, match="run.max_events = 2"):
+            parse_config(doc)

@@ -877,7 +877,12 @@ def _check_derived(cfg: RunConfig) -> None:
         # alike Coulomb blocks): h (sqrt(1 + 4/dx^2) + 2 gamma) <= 2.5
         step = cfg.chain_integration()["step"]
         h = step * p.dx
-        sound = math.sqrt(1.0 + 4.0 / (p.dx * p.dx))
+        sound = math.sqrt(1.0 + 4.0 / p.dx / p.dx)
+        if not math.isfinite(sound):  # (dx = 1e-310: the coupling 1/dx^2 overflows)
+            _err(
+                "params.dx" if not cfg.physical else "physical.k_c",
+                f"dx = {p.dx:.6g}: the coupling 1/dx^2 overflows; allowed dx >= 1e-150",
+            )
         rate = sound + 2.0 * p.gamma
         if h * rate > 2.5:
             g_max = 0.5 * (2.5 / h - sound)

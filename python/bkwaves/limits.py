@@ -175,8 +175,8 @@ def snapshot_count(snapshot_every, snapshot_events, t_span, events, open_ended=F
     if snapshot_every is not None:
         if t_span is None or not math.isfinite(t_span):
             return OPEN_SNAPSHOTS
-        count = math.floor(t_span / snapshot_every * (1 + 1e-12)) + 1
-        return int(min(count, OPEN_SNAPSHOTS) if open_ended else min(count, 2**62))
+        count = t_span / snapshot_every * (1 + 1e-12) + 1  # (inf for 1e-310: capped)
+        return int(min(count, OPEN_SNAPSHOTS if open_ended else 2**62))
     if snapshot_events is not None:
         return None if events is None else int(events // snapshot_events + 1)
     return 2
@@ -299,7 +299,10 @@ def _chain_run(cfg, t_span, max_events):
         gamma=p.gamma,
         u_ahead=mean,
         phi_max=phi_max,
-        started=phi_max >= 1.0 or abs(cfg.initial.velocity) > 0,
+        # (v = 0 with noise: its first slip starts a rupture at any time; counted now)
+        started=phi_max >= 1.0
+        or abs(cfg.initial.velocity) > 0
+        or (cfg.noise is not None and p.v == 0.0),
         trigger_times=tuple(t.time for t in cfg.triggers),
         uniform=uniform and not cfg.disorder and cfg.noise is None,
         t_span=t_span,

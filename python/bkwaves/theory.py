@@ -429,7 +429,7 @@ def profile(z, u_plus, gamma, c=None):
     array([0.28718902, 0.6       ])
     """
     u = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-    z = np.asarray(z, dtype=float)
+    z = V.array("z", z)  # (a dict or text: a one-line error, not numpy's TypeError)
     cc = None if c is None else V.number("c", c, lo=1.0, lo_open=True)
     return _out(_core.wave_profile(u, _gamma(gamma), z, cc))
 
