@@ -21,6 +21,7 @@ pub mod error;
 pub mod free_boundary;
 pub mod free_boundary_2d;
 pub mod friction;
+pub mod lattice;
 pub mod linalg;
 pub mod noise;
 pub mod params;

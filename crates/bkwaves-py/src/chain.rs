@@ -5,7 +5,7 @@
 
 use crate::errors::to_py;
 use bkwaves_core::boundary;
-use bkwaves_core::chain::dynamic::{build, ChainSpec, DynChain};
+use bkwaves_core::chain::dynamic::{build, ChainSpec, DynChain, Plane};
 use bkwaves_core::chain::front::{measure_front, FrontOptions};
 use bkwaves_core::chain::integrator::Method;
 use bkwaves_core::chain::medium::Properties;
@@ -290,10 +290,13 @@ impl ChainEngine {
     /// A chain of len(u0) blocks. law: a registered friction law, friction: its
     /// parameters (dict); threshold, mass, loader (one per block) and coupling (one per
     /// bond: n - 1 free, n + 1 fixed, n periodic): per-block properties (None: all 1).
+    /// shape=(nx, ny): the lattice instead (u0 and per-block arrays in block order, row
+    /// after row; `boundary` across x, `boundary_y` across y, spacing dy across).
     #[new]
     #[pyo3(signature = (u0, dx, v, step, law="coulomb", friction=None, boundary="free",
                         fixed=(0.0, 0.0), u_t0=None, threshold=None, mass=None, loader=None,
-                        coupling=None))]
+                        coupling=None, shape=None, dy=None, boundary_y="free",
+                        fixed_y=(0.0, 0.0)))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         u0: PyReadonlyArray1<'_, f64>,
@@ -309,8 +312,19 @@ impl ChainEngine {
         mass: Option<PyReadonlyArray1<'_, f64>>,
         loader: Option<PyReadonlyArray1<'_, f64>>,
         coupling: Option<PyReadonlyArray1<'_, f64>>,
+        shape: Option<(usize, usize)>,
+        dy: Option<f64>,
+        boundary_y: &str,
+        fixed_y: (f64, f64),
     ) -> PyResult<Self> {
         let b = boundary::by_name(boundary, fixed).map_err(to_py)?;
+        let by = boundary::by_name(boundary_y, fixed_y).map_err(to_py)?;
+        let plane = shape.map(|(nx, ny)| Plane {
+            nx,
+            ny,
+            dy: dy.unwrap_or(dx),
+            y: by.as_ref(),
+        });
         let spec = friction_spec(law, friction)?;
         let properties = Properties {
             threshold: opt_vec(threshold)?,
@@ -329,6 +343,7 @@ impl ChainEngine {
             u0,
             u_t0: w,
             properties: &properties,
+            plane,
         };
         let inner = build(&spec, chain).map_err(to_py)?;
         Ok(ChainEngine { inner })
@@ -497,6 +512,11 @@ impl ChainEngine {
     #[getter]
     fn n(&self) -> usize {
         self.inner.n()
+    }
+    /// (nx, ny): (n, 1) for a chain.
+    #[getter]
+    fn shape(&self) -> (usize, usize) {
+        self.inner.shape()
     }
     #[getter]
     fn n_sliding(&self) -> usize {

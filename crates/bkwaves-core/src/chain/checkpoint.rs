@@ -15,9 +15,10 @@
 
 use super::catalog::{EventRecord, SlipRecord};
 use super::events::SlipQueue;
+use super::geometry::Geometry;
 use super::medium::Medium;
 use super::sources::Cause;
-use super::Chain;
+use super::Engine;
 use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 use crate::friction::Friction;
@@ -197,14 +198,14 @@ macro_rules! chain_state {
     }};
 }
 
-impl<F: Friction, M: Medium> Chain<F, M> {
+impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
     fn fingerprint(&self, w: &mut W) {
         w.u(self.st.n as u64);
         w.f(self.cfg.dx);
         w.f(self.cfg.v);
         w.f(self.cfg.step);
         w.s(self.boundary_name);
-        w.s(&format!("{:?}", (self.st.left, self.st.right)));
+        w.s(&self.st.geo.describe());
         // the law by its table: name, then every parameter's name and value
         w.s(F::NAME);
         for (p, x) in F::PARAMS.iter().zip(self.blk.fr.values()) {
@@ -273,7 +274,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                  control and event sources",
             ));
         }
-        let (n, n2) = (self.st.n, self.st.n + 2);
+        let (n, n2) = (self.st.n, self.st.geo.cells());
         let mut next = self.clone();
         for f in chain_state!(next, &mut dyn Field, &mut) {
             f.get(&mut r)?;
@@ -301,7 +302,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         .iter()
         .any(|a| a.len() != n2)
         {
-            return Err(bad(r.i, "arrays of n + 2 values"));
+            return Err(bad(r.i, "arrays of the padded length"));
         }
         let cat = &next.catalog;
         if cat.open_slip.len() != n || cat.last_event.len() != n || cat.u_first.len() != n {
@@ -310,7 +311,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         next.queue = SlipQueue::new(n2);
         for _ in 0..r.len(16)? {
             let (t, p) = (r.f()?, r.z()?);
-            if p == 0 || p > n {
+            if p >= n2 || next.st.geo.is_ghost(p) {
                 return Err(bad(r.i, "queue entries of real blocks"));
             }
             next.queue.push(p, t);
@@ -326,7 +327,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
         next.st.runs.clear();
         next.st.n_active = 0;
-        for p in 1..=n {
+        let blocks: Vec<usize> = next.st.geo.blocks().collect();
+        for p in blocks {
             if next.st.dir[p] != 0.0 {
                 next.st.add_to_runs(p);
             }

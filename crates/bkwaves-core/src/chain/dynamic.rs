@@ -5,12 +5,14 @@
 
 use super::catalog::Catalog;
 use super::energy::Ledger;
+use super::geometry::{Geometry, Grid};
 use super::integrator::Method;
 use super::medium::{Ends, Medium, PerBlock, Properties, Uniform};
-use super::{Chain, ChainConfig, Counters, Snapshots, Stop, Trigger};
+use super::{Chain, ChainConfig, Counters, Engine, Snapshots, Stop, Trigger};
 use crate::boundary::{Boundary, Ghost};
 use crate::error::Result;
 use crate::friction::{Friction, FrictionSpec};
+use crate::lattice::LatticeSpec;
 use crate::noise::NoiseLaw;
 
 /// What a chain is built from, besides its friction law.
@@ -26,6 +28,22 @@ pub struct ChainSpec<'a> {
     pub u_t0: Option<&'a [f64]>,
     /// Per-block properties (all None: the uniform chain, bit for bit the paper's engine).
     pub properties: &'a Properties,
+    /// The plane: a lattice of nx x ny blocks (u0 in block order, row after row;
+    /// `boundary` closes it across x); None: a chain.
+    pub plane: Option<Plane<'a>>,
+}
+
+/// The lattice's shape, its spacing across and the boundary across y.
+#[derive(Debug, Clone, Copy)]
+pub struct Plane<'a> {
+    /// Blocks along x.
+    pub nx: usize,
+    /// Blocks along y.
+    pub ny: usize,
+    /// dy = sqrt(k_p / k_y).
+    pub dy: f64,
+    /// Boundary across y.
+    pub y: &'a dyn Boundary,
 }
 
 /// A chain with its law and medium behind a vtable: everything the binding uses.
@@ -64,6 +82,8 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
     fn time(&self) -> f64;
     /// Number of blocks.
     fn n(&self) -> usize;
+    /// (nx, ny): (n, 1) for a chain.
+    fn shape(&self) -> (usize, usize);
     /// Number of sliding blocks.
     fn n_sliding(&self) -> usize;
     /// Name of the boundary condition.
@@ -92,9 +112,9 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
     fn snapshots(&self) -> &Snapshots;
 }
 
-impl<F: Friction, M: Medium> DynChain for Chain<F, M> {
+impl<G: Geometry, F: Friction, M: Medium> DynChain for Engine<G, F, M> {
     fn set_run_limits(&mut self, event_slips: usize, event_duration: f64, chunk_work: u64) {
-        Chain::set_run_limits(self, event_slips, event_duration, chunk_work)
+        Engine::set_run_limits(self, event_slips, event_duration, chunk_work)
     }
     fn set_chunk_wall(&mut self, seconds: f64) {
         Chain::set_chunk_wall(self, seconds)
@@ -103,77 +123,82 @@ impl<F: Friction, M: Medium> DynChain for Chain<F, M> {
         Chain::take_snapshots(self)
     }
     fn open_event(&self) -> Option<(usize, f64)> {
-        Chain::open_event(self)
+        Engine::open_event(self)
     }
     fn set_integrator(&mut self, method: Method) -> Result<()> {
-        Chain::set_integrator(self, method)
+        Engine::set_integrator(self, method)
     }
     fn set_step_control(&mut self, tol: Option<f64>) -> Result<()> {
-        Chain::set_step_control(self, tol)
+        Engine::set_step_control(self, tol)
     }
     fn step_tolerance(&self) -> Option<f64> {
-        Chain::step_tolerance(self)
+        Engine::step_tolerance(self)
     }
     fn integrator(&self) -> &'static str {
-        Chain::integrator(self)
+        Engine::integrator(self)
     }
     fn checkpoint(&self) -> Vec<u8> {
-        Chain::checkpoint(self)
+        Engine::checkpoint(self)
     }
     fn restore(&mut self, bytes: &[u8]) -> Result<()> {
-        Chain::restore(self, bytes)
+        Engine::restore(self, bytes)
     }
     fn add_trigger(&mut self, tr: Trigger) -> Result<()> {
-        Chain::add_trigger(self, tr)
+        Engine::add_trigger(self, tr)
     }
     fn add_snapshots(&mut self, times: &[f64], every_events: usize) -> Result<()> {
-        Chain::add_snapshots(self, times, every_events)
+        Engine::add_snapshots(self, times, every_events)
     }
     fn set_noise(&mut self, law: NoiseLaw, kick: f64, seed: u64) -> Result<()> {
-        Chain::set_noise(self, law, kick, seed)
+        Engine::set_noise(self, law, kick, seed)
     }
     fn noise_counters(&self) -> Option<(u64, u64)> {
-        Chain::noise_counters(self)
+        Engine::noise_counters(self)
     }
     fn run(&mut self, t_end: f64, max_events: usize, max_steps: u64) -> Result<Stop> {
-        Chain::run(self, t_end, max_events, max_steps)
+        Engine::run(self, t_end, max_events, max_steps)
     }
     fn time(&self) -> f64 {
-        Chain::time(self)
+        Engine::time(self)
     }
     fn n(&self) -> usize {
-        Chain::n(self)
+        Engine::n(self)
+    }
+    fn shape(&self) -> (usize, usize) {
+        self.geometry().shape()
     }
     fn n_sliding(&self) -> usize {
-        Chain::n_sliding(self)
+        Engine::n_sliding(self)
     }
     fn boundary_name(&self) -> &'static str {
-        Chain::boundary_name(self)
+        Engine::boundary_name(self)
     }
     fn friction(&self) -> (&'static str, Vec<(&'static str, f64)>) {
-        let values = Chain::friction(self).values();
+        let values = Engine::friction(self).values();
         (
             F::NAME,
             F::PARAMS.iter().map(|p| p.name).zip(values).collect(),
         )
     }
     fn thresholds(&self) -> Vec<f64> {
-        (1..=self.n()).map(|p| self.medium().threshold(p)).collect()
+        (self.geometry().blocks())
+            .map(|p| self.medium().threshold(p))
+            .collect()
     }
     fn u(&self) -> Vec<f64> {
-        Chain::u(self)
+        Engine::u(self)
     }
     fn u_t(&self) -> Vec<f64> {
-        Chain::u_t(self)
+        Engine::u_t(self)
     }
     fn modes(&self) -> Vec<i8> {
-        Chain::modes(self)
+        Engine::modes(self)
     }
     fn phi(&self) -> Vec<f64> {
-        Chain::phi(self)
+        Engine::phi(self)
     }
     fn energy(&self) -> (f64, f64, f64) {
-        Chain::energy(self)
+        Engine::energy(self)
     }
     fn catalog(&self) -> &Catalog {
         &self.catalog
@@ -214,7 +239,30 @@ pub(crate) fn build_chain<F: Friction>(
         u0,
         u_t0,
         properties,
+        plane,
     } = spec;
+    if let Some(pl) = plane {
+        let ls = LatticeSpec {
+            nx: pl.nx,
+            ny: pl.ny,
+            dy: pl.dy,
+            x: boundary,
+            y: pl.y,
+        };
+        if properties.is_uniform() {
+            return Ok(Box::new(Engine::lattice(cfg, ls, fr, Uniform, u0, u_t0)?));
+        }
+        let grid = Grid::new(
+            pl.nx,
+            pl.ny,
+            cfg.dx,
+            pl.dy,
+            (boundary.left(), boundary.right()),
+            (pl.y.left(), pl.y.right()),
+        );
+        let med = PerBlock::for_lattice(properties, &grid)?;
+        return Ok(Box::new(Engine::lattice(cfg, ls, fr, med, u0, u_t0)?));
+    }
     if properties.is_uniform() {
         return Ok(Box::new(Chain::with_medium(
             cfg, fr, Uniform, boundary, u0, u_t0,

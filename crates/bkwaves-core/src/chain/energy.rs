@@ -33,8 +33,9 @@
 //! energy removed when a stick sets u_t = v exactly (`projection`, of the order of the
 //! integration error squared) and the energy of kicks (`injected`).
 
+use super::geometry::Geometry;
 use super::medium::Medium;
-use super::state::{Beyond, State};
+use super::state::State;
 
 /// Energy flows accumulated over a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -54,40 +55,24 @@ pub struct Ledger {
 /// Energy of the chain split as (kinetic, coupling springs, loader springs) at time t.
 /// With per-block properties (docs/chain.md) the terms are m_i s_i^2/2,
 /// k_c (u_j - u_i)^2/(2 dx^2) per bond and k_p,i (u_i + beta/k_p,i)^2/2.
-pub fn energy<M: Medium>(st: &State, med: &M, beta: f64, t: f64) -> (f64, f64, f64) {
-    let n = st.n;
+pub fn energy<G: Geometry, M: Medium>(
+    st: &State<G>,
+    med: &M,
+    beta: f64,
+    t: f64,
+) -> (f64, f64, f64) {
     let mut kin = 0.0;
     let mut load = 0.0;
-    let mut coup = 0.0;
     let val = |p: usize| st.value(p, t);
-    for p in 1..=n {
+    for p in st.geo.blocks() {
         let s = st.v - st.w[p];
         kin += 0.5 * med.mass(p) * s * s;
         let u = val(p);
         let kp = med.loader(p);
         let y = u + beta / kp;
         load += 0.5 * kp * y * y;
-        if p < n {
-            let d = val(p + 1) - u;
-            coup += 0.5 * med.bond(p + 1) * d * d * st.inv_dx2;
-        }
     }
-    // the bonds beyond the ends: to a wall (one at each end), or to another block (a
-    // ring's closing bond, counted once, from the right end); a free end has none
-    let end_bond = |q: usize, edge: usize| -> f64 {
-        let bond = med.bond(if q == 0 { 1 } else { n + 1 });
-        match st.beyond(q, edge) {
-            Beyond::Wall(g0) => {
-                let d = val(edge) - (g0 + st.v * t);
-                0.5 * bond * d * d * st.inv_dx2
-            }
-            Beyond::Block(r) if r != edge && q == n + 1 => {
-                let d = val(r) - val(edge);
-                0.5 * bond * d * d * st.inv_dx2
-            }
-            Beyond::Block(_) => 0.0,
-        }
-    };
-    coup += end_bond(0, 1) + end_bond(n + 1, n);
+    // the bonds, those beyond the ends included (to a wall, or a ring's closing bond)
+    let coup = st.geo.coupling_energy(med, val, |g0| g0 + st.v * t);
     (kin, coup, load)
 }

@@ -16,6 +16,7 @@
 //! operations that makes the [`Uniform`] medium (all values exactly 1, constants the
 //! compiler folds away) reproduce the uniform engine bit for bit and at its speed.
 
+use super::geometry::{Geometry, Grid};
 use super::state::State;
 use crate::error::{Error, Result};
 use crate::friction::Friction;
@@ -40,38 +41,23 @@ impl<F: Friction, M: Medium> Blocks<F, M> {
     pub fn lower(&self, p: usize) -> f64 {
         self.fr.lower(self.med.threshold(p))
     }
-    /// phi of block p from its displacement and its neighbours' (l, r).
+    /// phi of block p from its displacement and the coupling force f on it
+    /// ([`Geometry::force`], [`super::geometry::Stencil::force`]).
     #[inline(always)]
-    pub fn phi_of(&self, p: usize, l: f64, up: f64, r: f64, inv_dx2: f64) -> f64 {
-        let (cl, cr) = (self.med.bond(p), self.med.bond(p + 1));
-        self.med.loader(p) * up - (cl * l + cr * r - (cl + cr) * up) * inv_dx2
+    pub fn phi_of(&self, p: usize, up: f64, f: f64) -> f64 {
+        self.med.loader(p) * up - f
     }
-    /// phi = k_p u - (coupling forces)/dx^2 of real block p at time t (state current at t).
-    pub fn phi(&self, st: &State, p: usize, t: f64) -> f64 {
+    /// phi = k_p u - (coupling forces) of real block p at time t (state current at t).
+    pub fn phi<G: Geometry>(&self, st: &State<G>, p: usize, t: f64) -> f64 {
         let up = st.value(p, t);
-        let l = st.neighbour(p - 1, p, t);
-        let r = st.neighbour(p + 1, p, t);
-        self.phi_of(p, l, up, r, st.inv_dx2)
+        let f = st.geo.force(&self.med, p, up, |q| st.neighbour(q, p, t));
+        self.phi_of(p, up, f)
     }
     /// Acceleration of sliding block p (direction `dir`, speed s over the ground, threshold
-    /// `th` in R: `State::onset`) from its displacement and its neighbours'.
+    /// `th` in R: `State::onset`) from its displacement and the coupling force f on it.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    pub fn accel(
-        &self,
-        p: usize,
-        l: f64,
-        up: f64,
-        r: f64,
-        s: f64,
-        dir: f64,
-        th: f64,
-        k: f64,
-    ) -> f64 {
-        let (cl, cr) = (self.med.bond(p), self.med.bond(p + 1));
-        ((cl * l + cr * r - (cl + cr) * up) * k - self.med.loader(p) * up
-            + self.fr.excess(s, dir, th))
-            * self.med.inv_mass(p)
+    pub fn accel(&self, p: usize, up: f64, f: f64, s: f64, dir: f64, th: f64) -> f64 {
+        (f - self.med.loader(p) * up + self.fr.excess(s, dir, th)) * self.med.inv_mass(p)
     }
 }
 
@@ -88,6 +74,9 @@ pub trait Medium: Clone + Send + Sync + std::fmt::Debug + 'static {
     /// Coupling stiffness of the bond between padded p - 1 and p (p = 1..=n + 1; the
     /// bonds 1 and n + 1 join the ends to their ghosts).
     fn bond(&self, p: usize) -> f64;
+    /// Coupling stiffness across (k_y) of the bond between padded p - S and p in a
+    /// lattice of row stride S (the chain never asks).
+    fn bond_y(&self, p: usize) -> f64;
     /// Largest threshold.
     fn max_threshold(&self) -> f64;
     /// Everything that defines the medium, for checkpoint fingerprints.
@@ -117,6 +106,10 @@ impl Medium for Uniform {
     }
     #[inline(always)]
     fn bond(&self, _p: usize) -> f64 {
+        1.0
+    }
+    #[inline(always)]
+    fn bond_y(&self, _p: usize) -> f64 {
         1.0
     }
     fn max_threshold(&self) -> f64 {
@@ -161,6 +154,8 @@ pub struct PerBlock {
     mass: Vec<f64>,
     inv_mass: Vec<f64>,
     bond: Vec<f64>,
+    /// The lattice's bonds across (None: the chain, or all 1).
+    bond_y: Option<Vec<f64>>,
     max_threshold: f64,
 }
 
@@ -243,6 +238,44 @@ impl PerBlock {
             mass,
             inv_mass,
             bond,
+            bond_y: None,
+            max_threshold,
+        })
+    }
+
+    /// Validated per-block values of a lattice (threshold, mass, loader: one value per
+    /// block in block order, row after row; coupling springs uniform): a bad value names
+    /// the property and the block.
+    pub fn for_lattice(props: &Properties, grid: &Grid) -> Result<PerBlock> {
+        if props.coupling.is_some() {
+            return Err(Error::Invalid {
+                name: "coupling".to_string(),
+                value: "given".to_string(),
+                allowed: "uniform coupling springs in a lattice (per-bond values not \
+                          supported yet)"
+                    .to_string(),
+            });
+        }
+        let n = grid.n();
+        let spread = |a: Vec<f64>| {
+            let mut out = vec![1.0; grid.cells()];
+            for k in 0..n {
+                out[grid.padded(k)] = a[k + 1];
+            }
+            out
+        };
+        let threshold = spread(per_block("threshold", &props.threshold, n, false)?);
+        let loader = spread(per_block("loader", &props.loader, n, false)?);
+        let mass = spread(per_block("mass", &props.mass, n, false)?);
+        let inv_mass = mass.iter().map(|m| 1.0 / m).collect();
+        let max_threshold = grid.blocks().map(|p| threshold[p]).fold(0.0, f64::max);
+        Ok(PerBlock {
+            threshold,
+            loader,
+            mass,
+            inv_mass,
+            bond: vec![1.0; grid.cells()],
+            bond_y: Some(vec![1.0; grid.cells()]),
             max_threshold,
         })
     }
@@ -268,6 +301,10 @@ impl Medium for PerBlock {
     #[inline(always)]
     fn bond(&self, p: usize) -> f64 {
         self.bond[p]
+    }
+    #[inline(always)]
+    fn bond_y(&self, p: usize) -> f64 {
+        self.bond_y.as_ref().map_or(1.0, |b| b[p])
     }
     fn max_threshold(&self) -> f64 {
         self.max_threshold

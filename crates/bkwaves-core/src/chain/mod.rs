@@ -26,6 +26,7 @@ pub mod dynamic;
 pub mod energy;
 pub mod events;
 pub mod front;
+pub mod geometry;
 pub mod integrator;
 pub mod medium;
 pub mod sources;
@@ -39,6 +40,7 @@ use crate::noise::NoiseLaw;
 use catalog::Catalog;
 use energy::Ledger;
 use events::{Hermite, SlipQueue};
+use geometry::{Beyond, Geometry, Line};
 use integrator::{Method, Simd, Stepper};
 use medium::{Blocks, Medium, Uniform};
 use sources::{Cause, Source, View};
@@ -178,13 +180,14 @@ pub struct Counters {
     pub jumps: u64,
 }
 
-/// The chain simulator: friction law `F`, per-block properties `M` (uniform by default).
+/// The engine: blocks laid out by the geometry `G` ([`Line`]: the chain, [`geometry::Grid`]:
+/// the lattice), friction law `F`, per-block properties `M` (uniform by default).
 #[derive(Debug, Clone)]
-pub struct Chain<F: Friction, M: Medium = Uniform> {
+pub struct Engine<G: Geometry, F: Friction, M: Medium = Uniform> {
     cfg: ChainConfig,
     blk: Blocks<F, M>,
     boundary_name: &'static str,
-    st: State,
+    st: State<G>,
     rk: Stepper,
     /// The vector code of the event pre-test (the widest this CPU runs, detected once).
     simd: Simd,
@@ -250,7 +253,10 @@ struct Scratch {
     changed: Vec<usize>,
 }
 
-impl<F: Friction> Chain<F, Uniform> {
+/// The chain simulator: the engine on a line of blocks.
+pub type Chain<F, M = Uniform> = Engine<Line, F, M>;
+
+impl<F: Friction> Engine<Line, F, Uniform> {
     /// A chain of `u0.len()` alike blocks with displacements `u0` and velocities `u_t0`
     /// (default v: all stuck). Blocks with u_t != v start sliding; blocks over a
     /// static threshold slip at t = 0.
@@ -265,7 +271,7 @@ impl<F: Friction> Chain<F, Uniform> {
     }
 }
 
-impl<F: Friction, M: Medium> Chain<F, M> {
+impl<F: Friction, M: Medium> Engine<Line, F, M> {
     /// A chain of `u0.len()` blocks with the per-block properties `medium` (see
     /// [`Chain::new`]; the medium must have been built for this many blocks).
     pub fn with_medium(
@@ -276,8 +282,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         u0: &[f64],
         u_t0: Option<&[f64]>,
     ) -> Result<Self> {
-        let n = u0.len();
-        if n == 0 {
+        if u0.is_empty() {
             return Err(Error::InvalidParameter {
                 name: "n",
                 value: 0.0,
@@ -285,24 +290,43 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             });
         }
         check_open("dx", cfg.dx, 0.0, f64::INFINITY, "dx > 0")?;
+        let geo = Line::new(u0.len(), cfg.dx, boundary.left(), boundary.right());
+        Engine::build(geo, cfg, friction, medium, boundary.name(), u0, u_t0)
+    }
+}
+
+impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
+    /// The engine on the geometry `geo` (its blocks, spacings and ghosts checked by the
+    /// caller), blocks with displacements `u0` and velocities `u_t0` in block order.
+    pub(crate) fn build(
+        geo: G,
+        cfg: ChainConfig,
+        friction: F,
+        medium: M,
+        boundary_name: &'static str,
+        u0: &[f64],
+        u_t0: Option<&[f64]>,
+    ) -> Result<Self> {
+        let n = geo.n();
         check_at_least("v", cfg.v, 0.0, "v >= 0")?;
         check_open("step", cfg.step, 0.0, 1.0, "0 < step < 1 (time step / dx)")?;
         // the step: a fraction of dx, and of the law's own time scale if it has one
         // (m_min v_f/theta_max for velocity weakening; none for Coulomb: h = step dx)
-        let m_min = (1..=n)
+        let m_min = geo
+            .blocks()
             .map(|p| medium.mass(p))
             .fold(f64::INFINITY, f64::min);
         let h = cfg.step
-            * cfg
-                .dx
+            * geo
+                .spacing()
                 .min(friction.time_scale(medium.max_threshold()) * m_min);
         // RK4 stability: |h lambda| < 2.78 on the imaginary axis; the fastest mode of a
-        // sliding run has |lambda| <= max_i sqrt((k_p,i + 2 (k_c,l + k_c,r)/dx^2)/m_i)
-        // (Gershgorin; sqrt(1 + 4/dx^2) for alike blocks) plus max |dR/ds|/m (damping).
-        let k = 1.0 / (cfg.dx * cfg.dx);
+        // sliding run has |lambda| <= max_i sqrt((k_p,i + 2 sum_bonds k_c/d^2)/m_i)
+        // (Gershgorin; sqrt(1 + 4/dx^2) for alike blocks in a chain, sqrt(1 + 4/dx^2 +
+        // 4/dy^2) in a lattice) plus max |dR/ds|/m (damping).
         let (mut elastic, mut inv_m): (f64, f64) = (0.0, 0.0);
-        for p in 1..=n {
-            let stiff = medium.loader(p) + 2.0 * (medium.bond(p) + medium.bond(p + 1)) * k;
+        for p in geo.blocks() {
+            let stiff = medium.loader(p) + 2.0 * geo.stiffness(&medium, p);
             elastic = elastic.max((stiff * medium.inv_mass(p)).sqrt());
             inv_m = inv_m.max(medium.inv_mass(p));
         }
@@ -313,7 +337,15 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 name: "step",
                 value: cfg.step,
                 allowed: "step * dx * (fastest rate of a sliding block: sqrt(1 + 4/dx^2) + \
-                          2 gamma for alike Coulomb blocks) <= 2.5 (RK4 stability)",
+                          2 gamma for alike Coulomb blocks in a chain, sqrt(1 + 4/dx^2 + \
+                          4/dy^2) + 2 gamma in a lattice) <= 2.5 (RK4 stability)",
+            });
+        }
+        if u0.len() != n {
+            return Err(Error::InvalidParameter {
+                name: "u0",
+                value: u0.len() as f64,
+                allowed: "one displacement per block",
             });
         }
         for &x in u0 {
@@ -325,7 +357,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 });
             }
         }
-        let mut st = State::new(u0, cfg.v, cfg.dx, boundary.left(), boundary.right());
+        let len = geo.cells();
+        let mut st = State::with_geometry(geo, u0, cfg.v);
         if let Some(w) = u_t0 {
             if w.len() != n {
                 return Err(Error::InvalidParameter {
@@ -342,7 +375,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                         allowed: "finite values",
                     });
                 }
-                if x > cfg.v && friction.lower(medium.threshold(i + 1)) == f64::NEG_INFINITY {
+                let p = st.geo.padded(i);
+                if x > cfg.v && friction.lower(medium.threshold(p)) == f64::NEG_INFINITY {
                     return Err(Error::InvalidParameter {
                         name: "u_t0",
                         value: x,
@@ -350,30 +384,34 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                                   moves backward over the ground",
                     });
                 }
-                st.w[i + 1] = x;
+                st.w[p] = x;
             }
         }
-        let max_loader = (1..=n).map(|p| medium.loader(p)).fold(0.0, f64::max);
-        let mut ch = Chain {
+        let max_loader = st
+            .geo
+            .blocks()
+            .map(|p| medium.loader(p))
+            .fold(0.0, f64::max);
+        let mut ch = Engine {
             cfg,
             blk: Blocks {
                 fr: friction,
                 med: medium,
             },
-            boundary_name: boundary.name(),
-            rk: Stepper::new(Method::Rk4, n),
+            boundary_name,
+            rk: Stepper::new(Method::Rk4, len),
             simd: Simd::detect(),
-            queue: SlipQueue::new(n + 2),
+            queue: SlipQueue::new(len),
             t: 0.0,
             h,
             h_stable: 2.5 / lam,
             midpoint_contraction: 0.25 * h * h * elastic * elastic + 0.5 * h * damping,
             control: None,
-            a_start: vec![0.0; n + 2],
-            a_end: vec![0.0; n + 2],
+            a_start: vec![0.0; len],
+            a_end: vec![0.0; len],
             a_valid: false,
-            u0: vec![0.0; n + 2],
-            w0: vec![0.0; n + 2],
+            u0: vec![0.0; len],
+            w0: vec![0.0; len],
             stuck_sum: 0.0,
             n_stuck: n,
             stuck_loader: 0.0,
@@ -395,18 +433,19 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             scratch: Scratch::default(),
             st,
         };
-        for p in 1..=n {
-            ch.stuck_sum += ch.blk.med.loader(p) * u0[p - 1];
+        let blocks: Vec<usize> = ch.st.geo.blocks().collect();
+        for (k, &p) in blocks.iter().enumerate() {
+            ch.stuck_sum += ch.blk.med.loader(p) * u0[k];
             ch.stuck_loader += ch.blk.med.loader(p);
         }
-        for p in 1..=n {
+        for &p in &blocks {
             let w = ch.st.w[p];
             if w != ch.cfg.v {
                 let dir = if w < ch.cfg.v { 1 } else { -1 };
                 ch.start_sliding(p, dir, Cause::Initial);
             }
         }
-        for p in 1..=n {
+        for &p in &blocks {
             ch.refresh_queue(p);
         }
         Ok(ch)
@@ -444,7 +483,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                           fixed-point solve must contract; a smaller step, or rk4",
             });
         }
-        self.rk = Stepper::new(method, self.st.n);
+        self.rk = Stepper::new(method, self.st.geo.cells());
         self.a_valid = false;
         Ok(())
     }
@@ -512,24 +551,31 @@ impl<F: Friction, M: Medium> Chain<F, M> {
 
     /// Displacements u at the current time (0-based).
     pub fn u(&self) -> Vec<f64> {
-        (1..=self.st.n).map(|p| self.st.value(p, self.t)).collect()
+        self.st
+            .geo
+            .blocks()
+            .map(|p| self.st.value(p, self.t))
+            .collect()
     }
     /// Velocities u_t at the current time.
     pub fn u_t(&self) -> Vec<f64> {
-        self.st.w[1..=self.st.n].to_vec()
+        self.st.geo.blocks().map(|p| self.st.w[p]).collect()
     }
     /// Modes (0 stuck, +1 forward, -1 backward) at the current time.
     pub fn modes(&self) -> Vec<i8> {
-        self.st.dir[1..=self.st.n]
-            .iter()
-            .map(|&d| d as i8)
-            .collect()
+        self.st.geo.blocks().map(|p| self.st.dir[p] as i8).collect()
     }
     /// phi = u - Lap u/dx^2 at the current time.
     pub fn phi(&self) -> Vec<f64> {
-        (1..=self.st.n)
+        self.st
+            .geo
+            .blocks()
             .map(|p| self.blk.phi(&self.st, p, self.t))
             .collect()
+    }
+    /// The geometry.
+    pub fn geometry(&self) -> &G {
+        &self.st.geo
     }
 
     /// Energy (kinetic, coupling springs, loader springs) now.
@@ -560,7 +606,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 });
             }
         }
-        if self.blk.lower(tr.block + 1) == f64::NEG_INFINITY {
+        if self.blk.lower(self.st.geo.padded(tr.block)) == f64::NEG_INFINITY {
             let backward = match tr.kind {
                 TriggerKind::Kick { du_t } => du_t > 0.0,
                 TriggerKind::Release { dir } => dir < 0,
@@ -633,7 +679,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.st.dir[p] = dir as f64;
         self.st.onset[p] = self.blk.med.threshold(p);
         self.st.add_to_runs(p);
-        self.catalog.slip(p - 1, t, u, dir, cause);
+        self.catalog.slip(self.st.geo.index(p), t, u, dir, cause);
         self.counters.switches += 1;
         self.a_valid = false;
     }
@@ -661,7 +707,8 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         self.stuck_sum += kp * self.st.u[p];
         self.n_stuck += 1;
         self.stuck_loader += kp;
-        self.catalog.stick(p - 1, t, self.st.u[p], self.cfg.v);
+        self.catalog
+            .stick(self.st.geo.index(p), t, self.st.u[p], self.cfg.v);
         self.counters.switches += 1;
         self.a_valid = false;
     }
@@ -688,10 +735,9 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             self.st.w[p] = self.cfg.v;
             if dir != self.st.dir[p] {
                 // reversal: close the slip record and open one in the new direction
-                let u = self.st.u[p];
-                self.catalog.stick(p - 1, self.t, u, self.cfg.v);
-                self.catalog
-                    .slip(p - 1, self.t, u, dir as i8, Cause::Threshold);
+                let (u, k) = (self.st.u[p], self.st.geo.index(p));
+                self.catalog.stick(k, self.t, u, self.cfg.v);
+                self.catalog.slip(k, self.t, u, dir as i8, Cause::Threshold);
                 self.counters.switches += 1;
                 // a slip at the other threshold
                 self.st.onset[p] = self
@@ -708,8 +754,10 @@ impl<F: Friction, M: Medium> Chain<F, M> {
     /// Re-evaluate the queue entry of real block p and its neighbours.
     fn refresh_around(&mut self, p: usize) {
         self.refresh_queue(p);
-        for r in self.st.real_neighbours(p).into_iter().flatten() {
-            self.refresh_queue(r);
+        for q in self.st.geo.neighbours(p) {
+            if let Some(r) = self.st.resolve(q) {
+                self.refresh_queue(r);
+            }
         }
     }
 
@@ -746,16 +794,18 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             let mut cands = std::mem::take(&mut self.scratch.test);
             cands.clear();
             if self.full_check {
-                cands.extend((1..=self.st.n).filter(|&p| !self.st.sliding(p)));
+                let st = &self.st;
+                cands.extend(st.geo.blocks().filter(|&p| !st.sliding(p)));
             } else {
-                for &(a, b) in &self.st.runs {
-                    for q in [a - 1, b] {
-                        if let Some(r) = self.st.resolve(q) {
-                            if !self.st.sliding(r) {
+                let st = &self.st;
+                for &(a, b) in &st.runs {
+                    st.geo.around_run(a, b, |q, _, _| {
+                        if let Some(r) = st.resolve(q) {
+                            if !st.sliding(r) {
                                 cands.push(r);
                             }
                         }
-                    }
+                    });
                 }
             }
             for &p in &cands {
@@ -811,7 +861,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
         }
         let st = &self.st;
         let t = self.t;
-        self.catalog.quiet(t, |i| st.stuck_u(i + 1, t));
+        self.catalog.quiet(t, |i| st.stuck_u(st.geo.padded(i), t));
         let k = self.catalog.finished();
         if self.snap_every > 0 && k % self.snap_every == 0 {
             self.snapshot_now();
@@ -854,8 +904,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
 
     /// Hermite data of the neighbour at padded index q of stuck block p.
     fn herm_neighbour(&self, q: usize, p: usize, t0: f64, t1: f64) -> Hermite {
-        use state::Beyond;
-        if q == 0 || q == self.st.n + 1 {
+        if self.st.geo.is_ghost(q) {
             match self.st.beyond(q, p) {
                 Beyond::Block(r) => self.herm_u(r, t0, t1),
                 Beyond::Wall(g0) => {
@@ -926,20 +975,18 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                 }
                 consider(g.first_crossing(h), (p, 0), &mut best, who);
             }
-            for q in [a - 1, b] {
+            self.st.geo.around_run(a, b, |q, _, _| {
                 let Some(p) = self.st.resolve(q) else {
-                    continue;
+                    return;
                 };
                 if self.st.sliding(p) {
-                    continue;
+                    return;
                 }
-                let k = self.st.inv_dx2;
                 let up = self.herm_u(p, t0, t1);
-                let l = self.herm_neighbour(p - 1, p, t0, t1);
-                let r = self.herm_neighbour(p + 1, p, t0, t1);
-                let med = &self.blk.med;
-                let (cl, cr) = (med.bond(p), med.bond(p + 1));
-                let phi = up.combine(med.loader(p) + (cl + cr) * k, &l.combine(cl, &r, cr), -k);
+                let phi = self
+                    .st
+                    .geo
+                    .phi_hermite(&self.blk.med, p, up, |q| self.herm_neighbour(q, p, t0, t1));
                 let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
                 let fwd = Hermite {
                     g0: phi.g0 - hi,
@@ -955,7 +1002,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
                     m1: -phi.m1,
                 };
                 consider(bwd.first_crossing(h), (p, -1), &mut best, who);
-            }
+            });
         }
         if !best.is_finite() {
             who.clear();
@@ -979,7 +1026,7 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             let n = self.st.n;
             let mut u = Vec::with_capacity(n);
             let mut w = Vec::with_capacity(n);
-            for p in 1..=n {
+            for p in self.st.geo.blocks() {
                 if self.st.sliding(p) {
                     let hu = self.herm_u(p, t0, t1);
                     let hw = Hermite {
@@ -1018,16 +1065,20 @@ impl<F: Friction, M: Medium> Chain<F, M> {
             self.snap_times.pop();
             self.snap_work += self.st.n as u64;
             self.snapshots.t.push(ts);
-            self.snapshots
-                .u
-                .push((1..=self.st.n).map(|p| self.st.stuck_u(p, ts)).collect());
+            self.snapshots.u.push(
+                self.st
+                    .geo
+                    .blocks()
+                    .map(|p| self.st.stuck_u(p, ts))
+                    .collect(),
+            );
             self.snapshots.u_t.push(vec![self.cfg.v; self.st.n]);
         }
         true
     }
 
     fn apply_trigger(&mut self, tr: Trigger, cause: Cause) {
-        let p = tr.block + 1;
+        let p = self.st.geo.padded(tr.block);
         let v = self.cfg.v;
         match tr.kind {
             TriggerKind::Release { dir } => {
@@ -1398,7 +1449,7 @@ mod tests_noise;
 #[cfg(test)]
 mod tests_step_control;
 
-impl<F: Friction, M: Medium> View for Chain<F, M> {
+impl<G: Geometry, F: Friction, M: Medium> View for Engine<G, F, M> {
     fn time(&self) -> f64 {
         self.t
     }
@@ -1408,11 +1459,12 @@ impl<F: Friction, M: Medium> View for Chain<F, M> {
     fn n_sliding(&self) -> usize {
         self.st.n_active
     }
-    fn sliding(&self, p: usize) -> bool {
-        self.st.sliding(p)
+    fn sliding(&self, k: usize) -> bool {
+        self.st.sliding(self.st.geo.padded(k))
     }
-    fn stress(&self, p: usize) -> f64 {
+    fn stress(&self, k: usize) -> f64 {
         // phi + (1 - upper): phi itself, to the bit, for the threshold 1
+        let p = self.st.geo.padded(k);
         self.blk.phi(&self.st, p, self.t) + (1.0 - self.blk.upper(p))
     }
     fn max_loading_rate(&self) -> f64 {

@@ -1,33 +1,24 @@
-//! The state of the chain: positions, velocities and the stick/slide mode of each block,
+//! The state of the blocks: positions, velocities and the stick/slide mode of each block,
 //! plus the runs of consecutive sliding blocks the integrator works on.
 //!
-//! Arrays are padded with one ghost cell at each end: block i (0-based) lives at index
-//! p = i + 1, the ghosts at 0 and n + 1. A stuck block is never stepped: its `u` holds
-//! the value at time `tref` and it drifts exactly, u(t) = u + v (t - tref), u_t = v.
+//! Arrays are padded with ghost cells laid out by the geometry ([`Geometry`]): for the
+//! chain block i (0-based) lives at index p = i + 1, the ghosts at 0 and n + 1; for the
+//! lattice, rows of nx + 2 cells. A stuck block is never stepped: its `u` holds the value
+//! at time `tref` and it drifts exactly, u(t) = u + v (t - tref), u_t = v.
 
+pub use super::geometry::Beyond;
+use super::geometry::{Geometry, Line};
 use crate::boundary::Ghost;
 
-/// What stands beyond an end of the chain, resolved for the engine: a real block (padded
-/// index; the end block itself for a free end, the far end on a ring) or a wall fixed to
-/// the ground (its u at t = 0; it drifts as u0 + v t). The only place the engine looks at
-/// [`Ghost`] is [`State::beyond`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Beyond {
-    /// A real block (padded index).
-    Block(usize),
-    /// A wall with u = u0 + v t.
-    Wall(f64),
-}
-
-/// Chain state (padded indices, see the module docs).
+/// Block state (padded indices, see the module docs).
 #[derive(Debug, Clone)]
-pub struct State {
+pub struct State<G: Geometry = Line> {
+    /// Who neighbours whom.
+    pub geo: G,
     /// Number of blocks.
     pub n: usize,
     /// Loading rate v.
     pub v: f64,
-    /// 1 / dx^2.
-    pub inv_dx2: f64,
     /// Displacement u (sliding: at the current time; stuck: at `tref`).
     pub u: Vec<f64>,
     /// Velocity u_t (stuck: v).
@@ -41,32 +32,36 @@ pub struct State {
     pub onset: Vec<f64>,
     /// Maximal runs [a, b) of consecutive sliding blocks (padded indices), sorted.
     pub runs: Vec<(usize, usize)>,
-    /// Ghost beyond the left end.
-    pub left: Ghost,
-    /// Ghost beyond the right end.
-    pub right: Ghost,
     /// Number of sliding blocks.
     pub n_active: usize,
 }
 
-impl State {
-    /// All blocks stuck at time 0 with displacements `u0` (0-based, length n).
-    pub fn new(u0: &[f64], v: f64, dx: f64, left: Ghost, right: Ghost) -> State {
-        let n = u0.len();
-        let mut u = vec![0.0; n + 2];
-        u[1..=n].copy_from_slice(u0);
+impl State<Line> {
+    /// A chain: all blocks stuck at time 0 with displacements `u0` (0-based, length n).
+    pub fn new(u0: &[f64], v: f64, dx: f64, left: Ghost, right: Ghost) -> State<Line> {
+        State::with_geometry(Line::new(u0.len(), dx, left, right), u0, v)
+    }
+}
+
+impl<G: Geometry> State<G> {
+    /// All blocks stuck at time 0 with displacements `u0` (in block order, one per block
+    /// of the geometry).
+    pub fn with_geometry(geo: G, u0: &[f64], v: f64) -> State<G> {
+        let len = geo.cells();
+        let mut u = vec![0.0; len];
+        for (k, &x) in u0.iter().enumerate() {
+            u[geo.padded(k)] = x;
+        }
         State {
-            n,
+            n: geo.n(),
+            geo,
             v,
-            inv_dx2: 1.0 / (dx * dx),
             u,
-            w: vec![v; n + 2],
-            tref: vec![0.0; n + 2],
-            dir: vec![0.0; n + 2],
-            onset: vec![0.0; n + 2],
+            w: vec![v; len],
+            tref: vec![0.0; len],
+            dir: vec![0.0; len],
+            onset: vec![0.0; len],
             runs: Vec::new(),
-            left,
-            right,
             n_active: 0,
         }
     }
@@ -78,27 +73,17 @@ impl State {
     }
 
     /// The real block (padded index) that padded index q stands for, if any:
-    /// itself for 1..=n, the far end for a periodic ghost, None for other ghosts.
+    /// itself for a real block, the far side's block for a periodic ghost, None for
+    /// other ghosts.
     #[inline]
     pub fn resolve(&self, q: usize) -> Option<usize> {
-        if q == 0 {
-            matches!(self.left, Ghost::Wrap).then_some(self.n)
-        } else if q == self.n + 1 {
-            matches!(self.right, Ghost::Wrap).then_some(1)
-        } else {
-            Some(q)
-        }
+        self.geo.resolve(q)
     }
 
-    /// What the ghost at padded index q (0 or n + 1) beyond the end block p stands for.
+    /// What the ghost at padded index q next to real block p stands for.
     #[inline]
     pub fn beyond(&self, q: usize, p: usize) -> Beyond {
-        let g = if q == 0 { self.left } else { self.right };
-        match g {
-            Ghost::Mirror => Beyond::Block(p),
-            Ghost::Held(g0) => Beyond::Wall(g0),
-            Ghost::Wrap => Beyond::Block(if q == 0 { self.n } else { 1 }),
-        }
+        self.geo.beyond(q, p)
     }
 
     /// Exact displacement of stuck block p at time t.
@@ -120,7 +105,7 @@ impl State {
     /// Displacement of the neighbour at padded index q of real block p, at time t.
     #[inline]
     pub fn neighbour(&self, q: usize, p: usize, t: f64) -> f64 {
-        if q == 0 || q == self.n + 1 {
+        if self.geo.is_ghost(q) {
             match self.beyond(q, p) {
                 Beyond::Block(r) => self.value(r, t),
                 Beyond::Wall(g0) => g0 + self.v * t,
@@ -132,14 +117,18 @@ impl State {
 
     /// Does real block p have a sliding neighbour?
     pub fn has_sliding_neighbour(&self, p: usize) -> bool {
-        [p - 1, p + 1]
-            .iter()
-            .any(|&q| self.resolve(q).is_some_and(|r| self.sliding(r)))
+        self.geo
+            .neighbours(p)
+            .into_iter()
+            .any(|q| self.resolve(q).is_some_and(|r| self.sliding(r)))
     }
 
     /// Real neighbours of real block p (resolved through a periodic ghost).
-    pub fn real_neighbours(&self, p: usize) -> [Option<usize>; 2] {
-        [self.resolve(p - 1), self.resolve(p + 1)]
+    pub fn real_neighbours(&self, p: usize) -> impl Iterator<Item = usize> + '_ {
+        self.geo
+            .neighbours(p)
+            .into_iter()
+            .filter_map(|q| self.resolve(q))
     }
 
     /// Insert sliding block p into the runs (merging with neighbours).

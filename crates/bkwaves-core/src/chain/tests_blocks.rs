@@ -108,6 +108,7 @@ fn a_third_law_is_one_impl_and_one_registry_line() {
         u0: &u0,
         u_t0: None,
         properties: &props,
+        plane: None,
     };
     let bad = (DRAG.chain)(&[gamma, 1.5], spec).unwrap_err().to_string();
     assert_eq!(bad, "invalid drag = 1.5: allowed 0 <= drag < 1");

@@ -301,7 +301,7 @@ fn quiet_stretches_are_jumped_not_stepped() {
     );
 }
 
-/// A chain seen by the noise source: fixed stresses, block 1 sliding (the sliding
+/// A chain seen by the noise source: fixed stresses, block 0 sliding (the sliding
 /// bound: candidates at n rate G(1), kept with g(x_i)/G(1)).
 struct FixedView {
     t: f64,
@@ -318,11 +318,11 @@ impl super::sources::View for FixedView {
     fn n_sliding(&self) -> usize {
         1
     }
-    fn sliding(&self, p: usize) -> bool {
-        p == 1
+    fn sliding(&self, k: usize) -> bool {
+        k == 0
     }
-    fn stress(&self, p: usize) -> f64 {
-        self.x[p - 1]
+    fn stress(&self, k: usize) -> f64 {
+        self.x[k]
     }
     fn max_loading_rate(&self) -> f64 {
         0.0

@@ -12,6 +12,7 @@ use super::{
     accel_only_at_state, fill_neighbours, stage_accel, stage_sums, Integrator, StageSums,
     StepIntegrals,
 };
+use crate::chain::geometry::Geometry;
 use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
 use crate::friction::Friction;
@@ -53,9 +54,9 @@ impl Integrator for Midpoint {
         2
     }
 
-    fn accel_only<F: Friction, M: Medium>(
+    fn accel_only<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t: f64,
         acc: &mut [f64],
@@ -63,9 +64,9 @@ impl Integrator for Midpoint {
         accel_only_at_state(st, fr, &mut self.su, t, acc)
     }
 
-    fn step<F: Friction, M: Medium>(
+    fn step<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -99,7 +100,7 @@ impl Integrator for Midpoint {
                 }
             }
             fill_neighbours(st, su, tm);
-            stage_accel::<F, M, false>(st, fr, su, sw, acc);
+            stage_accel::<G, F, M, false>(st, fr, su, sw, acc);
             sums = stage_sums(st, fr, su, sw);
             let mut diff: f64 = 0.0;
             let mut scale: f64 = 1.0;
@@ -135,7 +136,7 @@ impl Integrator for Midpoint {
         accel_only_at_state(st, fr, su, t0 + h, a1);
     }
 
-    fn books(&mut self, _st: &State, _h: f64) -> StepIntegrals {
+    fn books<G: Geometry>(&mut self, _st: &State<G>, _h: f64) -> StepIntegrals {
         // exact for this method: h times the power at the midpoint (the module docs)
         self.last
     }

@@ -18,8 +18,9 @@ pub mod rk4;
 pub use midpoint::Midpoint;
 pub use rk4::Rk4;
 
+use super::geometry::{Beyond, Geometry, Stencil};
 use super::medium::{Blocks, Medium};
-use super::state::{Beyond, State};
+use super::state::State;
 use crate::friction::Friction;
 
 /// Sums over the sliding blocks at one stage: displacement (for the loader work), dry
@@ -53,9 +54,9 @@ pub trait Integrator: std::fmt::Debug + Send {
     /// Order of convergence.
     fn order(&self) -> u32;
     /// Acceleration of every sliding block at the state's current time t into `acc`.
-    fn accel_only<F: Friction, M: Medium>(
+    fn accel_only<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t: f64,
         acc: &mut [f64],
@@ -66,9 +67,9 @@ pub trait Integrator: std::fmt::Debug + Send {
     /// `u0`, `w0` for the dense output and for a redo; the accelerations at t0 + h of the
     /// new state go to `a1` (the same bits as [`Integrator::accel_only`] there).
     #[allow(clippy::too_many_arguments)]
-    fn step<F: Friction, M: Medium>(
+    fn step<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -80,14 +81,14 @@ pub trait Integrator: std::fmt::Debug + Send {
         Self: Sized;
     /// The energy flows of the last step taken (of length h): called once per step
     /// taken, after any redo.
-    fn books(&mut self, st: &State, h: f64) -> StepIntegrals;
+    fn books<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals;
 }
 
 /// Accelerations of the sliding blocks at the present state, time t, using `su` as the
 /// stage buffer.
 #[inline(always)]
-pub(crate) fn accel_only_at_state<F: Friction, M: Medium>(
-    st: &State,
+pub(crate) fn accel_only_at_state<G: Geometry, F: Friction, M: Medium>(
+    st: &State<G>,
     fr: &Blocks<F, M>,
     su: &mut [f64],
     t: f64,
@@ -97,29 +98,26 @@ pub(crate) fn accel_only_at_state<F: Friction, M: Medium>(
         su[a..b].copy_from_slice(&st.u[a..b]);
     }
     fill_neighbours(st, su, t);
-    stage_accel::<F, M, false>(st, fr, su, &st.w, acc);
+    stage_accel::<G, F, M, false>(st, fr, su, &st.w, acc);
 }
 
 /// Fill the stage displacement of the neighbours of every run (stuck blocks by their
 /// exact drift, ghosts by the boundary) at stage time ts. Sliding values in `su` must
 /// already be set.
 #[inline(always)]
-pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
-    let n = st.n;
+pub(crate) fn fill_neighbours<G: Geometry>(st: &State<G>, su: &mut [f64], ts: f64) {
     for &(a, b) in &st.runs {
-        for q in [a - 1, b] {
-            let val = if q == 0 || q == n + 1 {
-                let edge = if q == 0 { 1 } else { n };
-                match st.beyond(q, edge) {
+        st.geo.around_run(a, b, |q, p, ghost| {
+            if ghost {
+                su[q] = match st.geo.beyond(q, p) {
                     Beyond::Block(r) if st.sliding(r) => su[r],
                     Beyond::Block(r) => st.stuck_u(r, ts),
                     Beyond::Wall(g0) => g0 + st.v * ts,
-                }
-            } else {
-                st.stuck_u(q, ts)
-            };
-            su[q] = val;
-        }
+                };
+            } else if !st.sliding(q) {
+                su[q] = st.stuck_u(q, ts);
+            }
+        });
     }
 }
 
@@ -127,32 +125,34 @@ pub(crate) fn fill_neighbours(st: &State, su: &mut [f64], ts: f64) {
 /// no branch and no reduction, which the compiler vectorises. `FWD`: every sliding block
 /// slides forward (dir = 1, which is then not read: the same bits).
 #[inline(always)]
-pub(crate) fn stage_accel<F: Friction, M: Medium, const FWD: bool>(
-    st: &State,
+pub(crate) fn stage_accel<G: Geometry, F: Friction, M: Medium, const FWD: bool>(
+    st: &State<G>,
     fr: &Blocks<F, M>,
     su: &[f64],
     sw: &[f64],
     acc: &mut [f64],
 ) {
-    let (v, k) = (st.v, st.inv_dx2);
+    let v = st.v;
     for &(a, b) in &st.runs {
         let len = b - a;
-        let (ul, uc, ur) = (&su[a - 1..b - 1], &su[a..b], &su[a + 1..b + 1]);
+        let sten = st.geo.stencil(su, a, b);
         let (sw, dir, th) = (&sw[a..b], &st.dir[a..b], &st.onset[a..b]);
         let acc = &mut acc[a..b];
-        assert!(ul.len() == len && ur.len() == len && sw.len() == len && dir.len() == len);
+        assert!(sw.len() == len && dir.len() == len);
         assert!(th.len() == len && acc.len() == len);
         for i in 0..len {
             let d = if FWD { 1.0 } else { dir[i] };
-            acc[i] = fr.accel(a + i, ul[i], uc[i], ur[i], v - sw[i], d, th[i], k);
+            let p = a + i;
+            let f = sten.force(&fr.med, p, i);
+            acc[i] = fr.accel(p, sten.centre(i), f, v - sw[i], d, th[i]);
         }
     }
 }
 
 /// The stage sums (loader displacement, dry and viscous power) of the sliding blocks at
 /// stage values su, sw, summed block by block in order within each run.
-pub(crate) fn stage_sums<F: Friction, M: Medium>(
-    st: &State,
+pub(crate) fn stage_sums<G: Geometry, F: Friction, M: Medium>(
+    st: &State<G>,
     fr: &Blocks<F, M>,
     su: &[f64],
     sw: &[f64],
@@ -291,11 +291,11 @@ pub enum Stepper {
 }
 
 impl Stepper {
-    /// Buffers for n blocks.
-    pub fn new(method: Method, n: usize) -> Self {
+    /// Buffers for padded arrays of `len` cells (n + 2 for a chain of n blocks).
+    pub fn new(method: Method, len: usize) -> Self {
         match method {
-            Method::Rk4 => Stepper::Rk4(Rk4::new(n)),
-            Method::Midpoint => Stepper::Midpoint(Midpoint::new(n)),
+            Method::Rk4 => Stepper::Rk4(Rk4::new(len - 2)),
+            Method::Midpoint => Stepper::Midpoint(Midpoint::new(len - 2)),
         }
     }
     /// Name of the method.
@@ -306,9 +306,9 @@ impl Stepper {
         }
     }
     /// See [`Integrator::accel_only`].
-    pub fn accel_only<F: Friction, M: Medium>(
+    pub fn accel_only<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t: f64,
         acc: &mut [f64],
@@ -320,9 +320,9 @@ impl Stepper {
     }
     /// See [`Integrator::step`].
     #[allow(clippy::too_many_arguments)]
-    pub fn step<F: Friction, M: Medium>(
+    pub fn step<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -345,7 +345,7 @@ impl Stepper {
         }
     }
     /// See [`Integrator::books`].
-    pub fn books(&mut self, st: &State, h: f64) -> StepIntegrals {
+    pub fn books<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
         match self {
             Stepper::Rk4(m) => m.books(st, h),
             Stepper::Midpoint(m) => m.books(st, h),

@@ -16,6 +16,7 @@
 use super::{
     accel_only_at_state, fill_neighbours, lane_sum, stage_accel, Integrator, Simd, StepIntegrals,
 };
+use crate::chain::geometry::{Geometry, Stencil};
 use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
 use crate::friction::Friction;
@@ -69,6 +70,7 @@ impl Rk4 {
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn stage<
+    G: Geometry,
     F: Friction,
     M: Medium,
     const LOAD: bool,
@@ -76,7 +78,7 @@ fn stage<
     const FWD: bool,
     const FIRST: bool,
 >(
-    st: &State,
+    st: &State<G>,
     fr: &Blocks<F, M>,
     cu: &[f64],
     cw: &[f64],
@@ -92,23 +94,25 @@ fn stage<
     ch: f64,
 ) {
     let [bu, bd, bv] = books;
-    let (v, k) = (st.v, st.inv_dx2);
+    let v = st.v;
     for &(a, b) in &st.runs {
         // equal-length slices and an index: no bounds checks, one vectorised loop
         let len = b - a;
-        let (ul, uc, ur) = (&cu[a - 1..b - 1], &cu[a..b], &cu[a + 1..b + 1]);
+        let sten = st.geo.stencil(cu, a, b);
         let (cw, dir, th) = (&cw[a..b], &st.dir[a..b], &st.onset[a..b]);
         let (u0, w0, a0) = (&u0[a..b], &w0[a..b], &a0[a..b]);
         let (ku, kw) = (&mut ku[a..b], &mut kw[a..b]);
         let (nu, nw) = (&mut nu[a..b], &mut nw[a..b]);
         let (bu, bd, bv) = (&mut bu[a..b], &mut bd[a..b], &mut bv[a..b]);
-        assert!(ul.len() == len && ur.len() == len && cw.len() == len && dir.len() == len);
+        assert!(cw.len() == len && dir.len() == len);
         assert!(th.len() == len && u0.len() == len && w0.len() == len && ku.len() == len);
         assert!(kw.len() == len && nu.len() == len && nw.len() == len && bu.len() == len);
         assert!(bd.len() == len && bv.len() == len && a0.len() == len);
         for i in 0..len {
             let (w, d) = (cw[i], if FWD { 1.0 } else { dir[i] });
-            let acc = fr.accel(a + i, ul[i], uc[i], ur[i], v - w, d, th[i], k);
+            let uc = sten.centre(i);
+            let f = sten.force(&fr.med, a + i, i);
+            let acc = fr.accel(a + i, uc, f, v - w, d, th[i]);
             // stage 1's terms (weight 1) or the sums so far
             let (ku0, kw0, bu0, bd0, bv0) = if FIRST {
                 let (pd, pv) = fr.fr.power(v - w0[i], d, th[i]);
@@ -122,7 +126,7 @@ fn stage<
             nw[i] = w0[i] + ch * acc;
             let (pd, pv) = fr.fr.power(v - w, d, th[i]);
             if LOAD {
-                bu[i] = bu0 + wt * (fr.med.loader(a + i) * uc[i]);
+                bu[i] = bu0 + wt * (fr.med.loader(a + i) * uc);
             }
             if DRY {
                 bd[i] = bd0 + wt * pd;
@@ -139,8 +143,15 @@ fn stage<
 /// the same bits, without its copy of the state).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn last_stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool, const FWD: bool>(
-    st: &mut State,
+fn last_stage<
+    G: Geometry,
+    F: Friction,
+    M: Medium,
+    const LOAD: bool,
+    const DRY: bool,
+    const FWD: bool,
+>(
+    st: &mut State<G>,
     fr: &Blocks<F, M>,
     cu: &[f64],
     cw: &[f64],
@@ -155,8 +166,9 @@ fn last_stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool, const F
     a1: &mut [f64],
 ) {
     let [bu, bd, bv] = books;
-    let (v, k) = (st.v, st.inv_dx2);
+    let v = st.v;
     let State {
+        geo,
         u: su,
         w: sw,
         dir,
@@ -166,24 +178,26 @@ fn last_stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool, const F
     } = &mut *st;
     for &(a, b) in runs.iter() {
         let len = b - a;
-        let (ul, uc, ur) = (&cu[a - 1..b - 1], &cu[a..b], &cu[a + 1..b + 1]);
+        let sten = geo.stencil(cu, a, b);
         let (cw, dir, th) = (&cw[a..b], &dir[a..b], &onset[a..b]);
         let (u0, w0, ku, kw) = (&u0[a..b], &w0[a..b], &ku[a..b], &kw[a..b]);
         let (su, sw, nu) = (&mut su[a..b], &mut sw[a..b], &mut nu[a..b]);
         let (bu, bd, bv) = (&mut bu[a..b], &mut bd[a..b], &mut bv[a..b]);
-        assert!(ul.len() == len && ur.len() == len && cw.len() == len && dir.len() == len);
+        assert!(cw.len() == len && dir.len() == len);
         assert!(th.len() == len && u0.len() == len && w0.len() == len && ku.len() == len);
         assert!(kw.len() == len && su.len() == len && sw.len() == len && bu.len() == len);
         assert!(bd.len() == len && bv.len() == len && nu.len() == len);
         for i in 0..len {
             let (w, d) = (cw[i], if FWD { 1.0 } else { dir[i] });
-            let acc = fr.accel(a + i, ul[i], uc[i], ur[i], v - w, d, th[i], k);
+            let uc = sten.centre(i);
+            let f = sten.force(&fr.med, a + i, i);
+            let acc = fr.accel(a + i, uc, f, v - w, d, th[i]);
             su[i] = u0[i] + h6 * (ku[i] + w);
             nu[i] = su[i];
             sw[i] = w0[i] + h6 * (kw[i] + acc);
             let (pd, pv) = fr.fr.power(v - w, d, th[i]);
             if LOAD {
-                bu[i] += fr.med.loader(a + i) * uc[i];
+                bu[i] += fr.med.loader(a + i) * uc;
             }
             if DRY {
                 bd[i] += pd;
@@ -192,15 +206,15 @@ fn last_stage<F: Friction, M: Medium, const LOAD: bool, const DRY: bool, const F
         }
     }
     fill_neighbours(st, nu, t1);
-    stage_accel::<F, M, FWD>(st, fr, nu, &st.w, a1);
+    stage_accel::<G, F, M, FWD>(st, fr, nu, &st.w, a1);
 }
 
 impl Rk4 {
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn step_body<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
+    fn step_body<G: Geometry, F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -233,9 +247,9 @@ impl Rk4 {
         }
         // stages 2 to 4, with dir read only if some block slides backward
         if forward {
-            self.stages_2_to_4::<F, M, LOAD, DRY, true>(st, fr, t0, h, a0, u0, w0, a1)
+            self.stages_2_to_4::<G, F, M, LOAD, DRY, true>(st, fr, t0, h, a0, u0, w0, a1)
         } else {
-            self.stages_2_to_4::<F, M, LOAD, DRY, false>(st, fr, t0, h, a0, u0, w0, a1)
+            self.stages_2_to_4::<G, F, M, LOAD, DRY, false>(st, fr, t0, h, a0, u0, w0, a1)
         }
     }
 
@@ -243,9 +257,16 @@ impl Rk4 {
     /// accelerations, from stage 1's values and sums.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn stages_2_to_4<F: Friction, M: Medium, const LOAD: bool, const DRY: bool, const FWD: bool>(
+    fn stages_2_to_4<
+        G: Geometry,
+        F: Friction,
+        M: Medium,
+        const LOAD: bool,
+        const DRY: bool,
+        const FWD: bool,
+    >(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -269,7 +290,7 @@ impl Rk4 {
         let hh = 0.5 * h;
         let tm = t0 + 0.5 * h;
         fill_neighbours(st, su, tm);
-        stage::<F, M, LOAD, DRY, FWD, true>(
+        stage::<G, F, M, LOAD, DRY, FWD, true>(
             st,
             fr,
             su,
@@ -286,7 +307,7 @@ impl Rk4 {
             hh,
         );
         fill_neighbours(st, tu, tm);
-        stage::<F, M, LOAD, DRY, FWD, false>(
+        stage::<G, F, M, LOAD, DRY, FWD, false>(
             st,
             fr,
             tu,
@@ -304,7 +325,7 @@ impl Rk4 {
         );
         let t1 = t0 + h;
         fill_neighbours(st, su, t1);
-        last_stage::<F, M, LOAD, DRY, FWD>(
+        last_stage::<G, F, M, LOAD, DRY, FWD>(
             st,
             fr,
             su,
@@ -324,9 +345,9 @@ impl Rk4 {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[allow(clippy::too_many_arguments)]
-    unsafe fn step_avx2<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
+    unsafe fn step_avx2<G: Geometry, F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -335,15 +356,21 @@ impl Rk4 {
         w0: &mut [f64],
         a1: &mut [f64],
     ) {
-        self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+        self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
     #[allow(clippy::too_many_arguments)]
-    unsafe fn step_avx512<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
+    unsafe fn step_avx512<
+        G: Geometry,
+        F: Friction,
+        M: Medium,
+        const LOAD: bool,
+        const DRY: bool,
+    >(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -352,15 +379,15 @@ impl Rk4 {
         w0: &mut [f64],
         a1: &mut [f64],
     ) {
-        self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+        self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
     }
 
     /// The step with the books it needs: (loader term, dry power) kept or not.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn step_with<F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
+    fn step_with<G: Geometry, F: Friction, M: Medium, const LOAD: bool, const DRY: bool>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -374,21 +401,21 @@ impl Rk4 {
             // choice among Simd::available).
             #[cfg(target_arch = "x86_64")]
             Simd::Avx512 => unsafe {
-                self.step_avx512::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+                self.step_avx512::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
             },
             #[cfg(target_arch = "x86_64")]
             Simd::Avx2 => unsafe {
-                self.step_avx2::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+                self.step_avx2::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
             },
-            _ => self.step_body::<F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1),
+            _ => self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1),
         }
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn accel_avx2<F: Friction, M: Medium>(
+    unsafe fn accel_avx2<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &State,
+        st: &State<G>,
         fr: &Blocks<F, M>,
         t: f64,
         acc: &mut [f64],
@@ -398,9 +425,9 @@ impl Rk4 {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    unsafe fn accel_avx512<F: Friction, M: Medium>(
+    unsafe fn accel_avx512<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &State,
+        st: &State<G>,
         fr: &Blocks<F, M>,
         t: f64,
         acc: &mut [f64],
@@ -410,20 +437,20 @@ impl Rk4 {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn books_avx2(&mut self, st: &State, h: f64) -> StepIntegrals {
+    unsafe fn books_avx2<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
         self.books_body(st, h)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    unsafe fn books_avx512(&mut self, st: &State, h: f64) -> StepIntegrals {
+    unsafe fn books_avx512<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
         self.books_body(st, h)
     }
 
     /// The step's flows: h/6 times the per-block RK4-weighted stage sums, reduced here
     /// once per step (the same quadrature as an augmented RK4 system).
     #[inline(always)]
-    fn books_body(&mut self, st: &State, h: f64) -> StepIntegrals {
+    fn books_body<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
         let (mut u, mut dry, mut visc) = (0.0, 0.0, 0.0);
         let (load, dry_kept) = self.kept;
         for &(a, b) in &st.runs {
@@ -452,9 +479,9 @@ impl Integrator for Rk4 {
         4
     }
 
-    fn accel_only<F: Friction, M: Medium>(
+    fn accel_only<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t: f64,
         acc: &mut [f64],
@@ -469,9 +496,9 @@ impl Integrator for Rk4 {
         }
     }
 
-    fn step<F: Friction, M: Medium>(
+    fn step<G: Geometry, F: Friction, M: Medium>(
         &mut self,
-        st: &mut State,
+        st: &mut State<G>,
         fr: &Blocks<F, M>,
         t0: f64,
         h: f64,
@@ -482,14 +509,16 @@ impl Integrator for Rk4 {
     ) {
         // no loader work at v = 0; no dry power for beta-free Coulomb friction
         match (st.v != 0.0, !fr.fr.dry_power_is_zero()) {
-            (true, true) => self.step_with::<F, M, true, true>(st, fr, t0, h, a0, u0, w0, a1),
-            (true, false) => self.step_with::<F, M, true, false>(st, fr, t0, h, a0, u0, w0, a1),
-            (false, true) => self.step_with::<F, M, false, true>(st, fr, t0, h, a0, u0, w0, a1),
-            (false, false) => self.step_with::<F, M, false, false>(st, fr, t0, h, a0, u0, w0, a1),
+            (true, true) => self.step_with::<G, F, M, true, true>(st, fr, t0, h, a0, u0, w0, a1),
+            (true, false) => self.step_with::<G, F, M, true, false>(st, fr, t0, h, a0, u0, w0, a1),
+            (false, true) => self.step_with::<G, F, M, false, true>(st, fr, t0, h, a0, u0, w0, a1),
+            (false, false) => {
+                self.step_with::<G, F, M, false, false>(st, fr, t0, h, a0, u0, w0, a1)
+            }
         }
     }
 
-    fn books(&mut self, st: &State, h: f64) -> StepIntegrals {
+    fn books<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
         match self.simd {
             // SAFETY (both): `simd` is a code this CPU runs.
             #[cfg(target_arch = "x86_64")]

@@ -86,7 +86,7 @@ impl Cause {
     }
 }
 
-/// What a source sees of the chain (padded block indices 1..=n, as in the engine).
+/// What a source sees of the chain or lattice (blocks numbered 0..n as in outputs).
 pub trait View {
     /// Current time.
     fn time(&self) -> f64;
@@ -94,11 +94,11 @@ pub trait View {
     fn n(&self) -> usize;
     /// Number of sliding blocks.
     fn n_sliding(&self) -> usize;
-    /// Is block p sliding?
-    fn sliding(&self, p: usize) -> bool;
+    /// Is block k sliding?
+    fn sliding(&self, k: usize) -> bool;
     /// The block's stress relative to its slip threshold, x = 1 - (upper - phi): 1 at the
     /// threshold, phi itself for the paper's uniform threshold 1.
-    fn stress(&self, p: usize) -> f64;
+    fn stress(&self, k: usize) -> f64;
     /// The largest rate at which x of a stuck block rises while every block is stuck
     /// (max over blocks of k_p,i v).
     fn max_loading_rate(&self) -> f64;

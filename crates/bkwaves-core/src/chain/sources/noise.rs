@@ -144,8 +144,8 @@ impl Noise {
         self.t_mark = now;
         self.switches = ch.switches();
         self.bound = if ch.n_sliding() == 0 {
-            let x0 = (1..=ch.n())
-                .map(|p| ch.stress(p))
+            let x0 = (0..ch.n())
+                .map(|k| ch.stress(k))
                 .fold(f64::NEG_INFINITY, f64::max);
             Bound::Quiet {
                 x0: x0.min(1.0),
@@ -189,10 +189,10 @@ impl Source for Noise {
         self.t_mark = now;
         self.candidates += 1;
         // the draws, always in this order: block, acceptance, next variate
-        let p = 1 + ((self.rng.uniform() * n as f64) as usize).min(n - 1);
+        let k = ((self.rng.uniform() * n as f64) as usize).min(n - 1);
         let a = self.rng.uniform();
         self.e_left = self.rng.exponential();
-        if ch.sliding(p) || a * g_bound >= self.law.law.g(ch.stress(p)) {
+        if ch.sliding(k) || a * g_bound >= self.law.law.g(ch.stress(k)) {
             return None;
         }
         self.slips += 1;
@@ -203,7 +203,7 @@ impl Source for Noise {
         };
         Some(Trigger {
             t: now,
-            block: p - 1,
+            block: k,
             kind,
         })
     }
