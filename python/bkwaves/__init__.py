@@ -39,6 +39,8 @@ _LAZY = {
     "FreeBoundary2D": ("free_boundary_2d", "FreeBoundary2D"),
     "FreeBoundary2DResult": ("free_boundary_2d", "FreeBoundary2DResult"),
     "NoCreepWarning": ("free_boundary", "NoCreepWarning"),
+    "Lattice": ("lattice", "Lattice"),
+    "LatticeResult": ("lattice", "LatticeResult"),
     "load": ("io", "load"),
     "Params": ("params", "Params"),
     "PhysicalUnits": ("params", "PhysicalUnits"),
@@ -60,6 +62,8 @@ __all__ = [
     "FreeBoundaryResult",
     "FreeBoundary2D",
     "FreeBoundary2DResult",
+    "Lattice",
+    "LatticeResult",
     "NoCreepWarning",
     "ParameterError",
     "Params",
@@ -72,6 +76,7 @@ __all__ = [
     "friction",
     "front_speed",
     "io",
+    "lattice",
     "load",
     "noise",
     "plot",
@@ -113,6 +118,7 @@ if TYPE_CHECKING:  # what the names are, for type checkers and editors
         disorder,
         friction,
         io,
+        lattice,
         noise,
         plot,
         presets,
@@ -123,6 +129,7 @@ if TYPE_CHECKING:  # what the names are, for type checkers and editors
     from .chain import Chain, ChainResult
     from .free_boundary import FreeBoundary, FreeBoundaryResult, NoCreepWarning
     from .io import load
+    from .lattice import Lattice, LatticeResult
     from .params import Params, PhysicalUnits
     from .runner import RunResult
     from .runner import simulate as run

@@ -383,6 +383,7 @@ class Chain:
             fixed=fixed,
             u_t0=u_t0,
             **self.properties,
+            **self._geometry(),
         )
         self._engine.set_integrator(integrator)
         self.integrator = integrator
@@ -392,6 +393,10 @@ class Chain:
             params = {k: v for k, v in self.noise.items() if k not in ("law", "rate")}
             self._engine.set_noise(self.noise["law"], self.noise["rate"], self.seed, **params)
         self._e0 = sum(self._engine.energy())
+
+    def _geometry(self) -> dict:
+        """The engine's layout beyond a line of blocks (the lattice adds its shape)."""
+        return {}
 
     def integration_attrs(self) -> dict:
         """The integration settings as output attributes: step, integrator and

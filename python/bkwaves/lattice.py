@@ -1,0 +1,563 @@
+"""The plane: the Burridge-Knopoff lattice simulated exactly (docs/lattice.md).
+
+>>> import bkwaves as bk
+>>> p = bk.Params(gamma=0.45, v=0.0, dx=0.1)
+>>> la = bk.Lattice((40, 30), p, u0=0.7)
+>>> la = la.kick((20, 15), -2.0)        # a rupture from a block near the centre
+>>> res = la.run(t_end=1.0, progress=False)
+>>> res.first_slip_times().shape        # arrival times, shaped (ny, nx)
+(30, 40)
+
+Blocks (i, j) on a square lattice, one scalar displacement each, springs along x at
+spacing dx = sqrt(k_p/k_x) (``params.dx``) and across at dy = sqrt(k_p/k_y) (default dx):
+phi = u - (u_{i+1,j} + u_{i-1,j} - 2 u)/dx^2 - (u_{i,j+1} + u_{i,j-1} - 2 u)/dy^2, with
+stick, slip, sliding and loading as in the chain (``bkwaves.chain``): the same engine,
+on a geometry where a block has four neighbours. Arrays of the lattice are shaped
+(ny, nx): row j, column i; block number k = i + nx j in the slip records.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _validate as V
+from .chain import DEFAULT_STEP, INTEGRATORS, UNITS, Chain, ChainResult
+
+__all__ = ["Lattice", "LatticeResult"]
+
+
+@dataclass
+class LatticeResult(ChainResult):
+    """What ``Lattice.run`` returns: a ``bkwaves.chain.ChainResult`` whose
+    arrays are shaped like the lattice, (ny, nx), whose slips carry the block's column i,
+    row j and position (x, y) = (i dx, j dy), whose catalog has each event's hypocentre
+    (the block that slipped first: i, j, x, y), ``area`` (blocks slipped x dx dy),
+    ``moment`` (the integral of slip over the area: dx dy x the sum of the blocks' slips)
+    and ``duration``, and whose snapshots are
+    an xarray Dataset with dims (t, y, x)."""
+
+    shape: tuple[int, int] = (0, 0)
+    dy: float = math.nan
+
+    def first_slip_times(self, event: int | None = None) -> np.ndarray:
+        """First slip time of every block, shape (ny, nx) (NaN if it did not slip),
+        optionally within one event: the arrival times of a rupture."""
+        nx, ny = self.shape
+        out = np.full(nx * ny, np.nan)
+        s = self.slips if event is None else self.slips[self.slips["event"] == event]
+        first = s.groupby("block")["t_start"].min()
+        out[first.index.to_numpy()] = first.to_numpy()
+        return out.reshape(ny, nx)
+
+    def slip_map(self, event: int | None = None) -> np.ndarray:
+        """Total slip of every block (finished slips), shape (ny, nx), optionally within
+        one event."""
+        nx, ny = self.shape
+        s = self.slips if event is None else self.slips[self.slips["event"] == event]
+        total = s.groupby("block")["slip"].sum(min_count=1)
+        out = np.zeros(nx * ny)
+        out[total.index.to_numpy()] = np.nan_to_num(total.to_numpy())
+        return out.reshape(ny, nx)
+
+
+def _pair(name, value, allowed) -> tuple:
+    if isinstance(value, str):
+        return (value, value)
+    if isinstance(value, tuple | list) and len(value) == 2:
+        return tuple(value)
+    V._fail(name, value, allowed)
+
+
+class Lattice(Chain):
+    """A lattice of nx x ny blocks with the chain's friction, loading and sources.
+
+    shape: (nx, ny). params: ``bkwaves.Params`` (its dx is the spacing along x).
+    u0, u_t0: a scalar or an array shaped (ny, nx). dy: the spacing across (default dx).
+    boundary: one of ``BOUNDARIES`` for both axes, or a pair (across x, across y).
+    fixed: wall positions u_wall at t = 0 of fixed sides, ((x low, x high), (y low, y
+    high)) (default: the mean initial u of the blocks along that side). threshold, mass,
+    loader: per-block properties (a scalar or (ny, nx) values; coupling springs are
+    uniform). step, seed, integrator, step_tolerance, noise: as for
+    ``bkwaves.Chain``; the time step is ``step`` min(dx, dy). ``kick`` and
+    ``release`` take a block (i, j).
+    """
+
+    def __init__(
+        self,
+        shape,
+        params,
+        u0=0.0,
+        u_t0=None,
+        *,
+        dy: float | None = None,
+        boundary="free",
+        step: float = DEFAULT_STEP,
+        fixed=None,
+        seed: int | None = None,
+        integrator: str = INTEGRATORS[0],
+        step_tolerance: float | None = None,
+        noise: dict | None = None,
+        threshold=None,
+        mass=None,
+        loader=None,
+    ):
+        if not (isinstance(shape, tuple | list) and len(shape) == 2):
+            V._fail("shape", shape, "a pair (nx, ny) of block counts >= 1")
+        nx = V.integer("shape[0]", shape[0], lo=1)
+        ny = V.integer("shape[1]", shape[1], lo=1)
+        self.shape = (int(nx), int(ny))
+        dx = float(params.dx) if hasattr(params, "dx") else math.nan
+        self.dy = dx if dy is None else V.number("dy", dy, lo=0.0, lo_open=True, hi=1e6)
+        bx, by = _pair("boundary", boundary, "a boundary name or a pair (across x, across y)")
+        by = V.CHAIN["boundary"].check(by)
+        self.boundary_y = by
+        flat = [self._flat(k, x) for k, x in (("u0", u0), ("u_t0", u_t0))]
+        props = {
+            k: self._flat(k, x)
+            for k, x in (("threshold", threshold), ("mass", mass), ("loader", loader))
+        }
+        u = np.broadcast_to(np.asarray(flat[0], dtype=float), (nx * ny,)).reshape(ny, nx)
+        if fixed is None:
+            fx = (float(u[:, 0].mean()), float(u[:, -1].mean()))
+            fy = (float(u[0].mean()), float(u[-1].mean()))
+        else:
+            fx, fy = _pair("fixed", fixed, "((x low, x high), (y low, y high)) wall positions")
+            fx, fy = tuple(fx), tuple(fy)
+        self.fixed_y = (V.number("fixed[1][0]", fy[0]), V.number("fixed[1][1]", fy[1]))
+        super().__init__(
+            nx * ny,
+            params,
+            boundary=bx,
+            u0=flat[0],
+            u_t0=flat[1],
+            step=step,
+            fixed=fx,
+            seed=seed,
+            integrator=integrator,
+            step_tolerance=step_tolerance,
+            noise=noise,
+            **props,
+        )
+
+    def _flat(self, name, value):
+        """A scalar, or (ny, nx) values as the engine's block order (row after row)."""
+        if value is None:
+            return None
+        a = np.asarray(value, dtype=float) if not isinstance(value, str) else value
+        if isinstance(a, np.ndarray) and a.ndim == 2:
+            nx, ny = self.shape
+            if a.shape != (ny, nx):
+                want = f"a scalar or shape (ny, nx) = {(ny, nx)}"
+                V._fail(name, f"array of shape {a.shape}", want)
+            return a.ravel()
+        if isinstance(a, np.ndarray) and a.ndim == 0:
+            return float(a)
+        V._fail(name, value, f"a scalar or an array of shape (ny, nx) = {self.shape[::-1]}")
+
+    def _geometry(self) -> dict:
+        return {
+            "shape": self.shape,
+            "dy": self.dy,
+            "boundary_y": self.boundary_y,
+            "fixed_y": self.fixed_y,
+        }
+
+    # --- checkpoints -----------------------------------------------------------------
+    def _record(self) -> tuple[dict, dict]:
+        meta, arrays = super()._record()
+        meta.update(
+            shape=list(self.shape),
+            dy=self.dy,
+            boundary_y=self.boundary_y,
+            fixed_y=list(self.fixed_y),
+        )
+        return meta, arrays
+
+    def _restore(self, meta: dict, arrays: dict, source="the checkpoint") -> None:
+        from ._checkpoint import params_from_record, restore_engine
+
+        props = {
+            k: arrays[f"property_{k}"]
+            for k in ("threshold", "mass", "loader")
+            if f"property_{k}" in arrays
+        }
+        nx, ny = meta["shape"]
+        Lattice.__init__(
+            self,
+            (int(nx), int(ny)),
+            params_from_record(meta["params"]),
+            dy=meta["dy"],
+            boundary=(meta["boundary"], meta["boundary_y"]),
+            fixed=(tuple(meta["fixed"]), tuple(meta["fixed_y"])),
+            step=meta["step"],
+            integrator=meta["integrator"],
+            step_tolerance=meta.get("step_tolerance"),
+            seed=meta["seed"],
+            noise=meta.get("noise"),
+            **{k: np.asarray(x).reshape(int(ny), int(nx)) for k, x in props.items()},
+        )
+        restore_engine(self._engine, arrays, source)
+        self._e0 = meta["e0"]
+
+    def save(self, path) -> None:
+        """Write a checkpoint (as ``bkwaves.Chain.save``, of kind "lattice")."""
+        from . import _checkpoint
+
+        _checkpoint.write(path, "lattice", *self._record())
+
+    @staticmethod
+    def load(path) -> Lattice:
+        """Read a checkpoint written by ``save``."""
+        from . import _checkpoint
+
+        meta, arrays = _checkpoint.read(path, "lattice", "Lattice.save")
+        return Lattice._from_record(meta, arrays, path)
+
+    # --- blocks and state ------------------------------------------------------------
+    def _block(self, block) -> int:
+        nx, ny = self.shape
+        if (
+            isinstance(block, tuple | list)
+            and len(block) == 2
+            and all(V._is_int(b) for b in block)
+            and 0 <= int(block[0]) < nx
+            and 0 <= int(block[1]) < ny
+        ):
+            return int(block[0]) + nx * int(block[1])
+        V._fail("block", block, f"a pair (i, j) with 0 <= i < {nx}, 0 <= j < {ny}")
+
+    def _grid(self, a: np.ndarray) -> np.ndarray:
+        nx, ny = self.shape
+        return np.asarray(a).reshape(ny, nx)
+
+    @property
+    def u(self) -> np.ndarray:
+        return self._grid(self._engine.u())
+
+    @property
+    def u_t(self) -> np.ndarray:
+        return self._grid(self._engine.u_t())
+
+    @property
+    def phi(self) -> np.ndarray:
+        """u - (x and y Laplacians)/(dx^2, dy^2), shape (ny, nx)."""
+        return self._grid(self._engine.phi())
+
+    @property
+    def modes(self) -> np.ndarray:
+        """0 stuck, +1 sliding forward, -1 sliding backward, shape (ny, nx)."""
+        return self._grid(self._engine.modes())
+
+    # --- outputs ---------------------------------------------------------------------
+    def _result(self, stop, interrupted, wall) -> LatticeResult:
+        r = super()._result(stop, interrupted, wall)
+        nx, ny = self.shape
+        dx, dy = self.params.dx, self.dy
+        s = r.slips
+        i, j = s["block"] % nx, s["block"] // nx
+        s["x"] = i * dx
+        s.insert(3, "y", j * dy)
+        s.insert(2, "i", i)
+        s.insert(3, "j", j)
+        s.attrs["units"]["y"] = UNITS["x"]
+        c = r.catalog.drop(columns=["first_block", "last_block"])
+        c.attrs = {k: dict(v) for k, v in r.catalog.attrs.items()}
+        # the chain's moment is int slip dx; the plane's is int slip dA = dx dy sum slips
+        c["moment"] = c["moment"] * dy
+        c.attrs.setdefault("descriptions", {})["moment"] = (
+            "the event's moment: the integral of slip over the area, dx dy times the sum "
+            "of its blocks' slips"
+        )
+        hi, hj = c["nucleation"] % nx, c["nucleation"] // nx
+        c.insert(4, "hypocentre_i", hi)
+        c.insert(5, "hypocentre_j", hj)
+        c.insert(6, "hypocentre_x", hi * dx)
+        c.insert(7, "hypocentre_y", hj * dy)
+        c["area"] = c["n_blocks"] * dx * dy
+        c.attrs["units"] = c.attrs.get("units", {}) | {
+            "hypocentre_x": UNITS["x"],
+            "hypocentre_y": UNITS["x"],
+            "area": f"({UNITS['x']})^2 (blocks slipped x dx dy)",
+        }
+        fields = {f: getattr(r, f) for f in r.__dataclass_fields__}
+        fields.update(
+            catalog=c,
+            slips=s,
+            u=self._grid(r.u),
+            u_t=self._grid(r.u_t),
+            boundary=f"{self.boundary} x {self.boundary_y}",
+        )
+        return LatticeResult(**fields, shape=self.shape, dy=self.dy)
+
+    def _snapshots(self):
+        import xarray as xr
+
+        ds1 = super()._snapshots()
+        nx, ny = self.shape
+        nt = ds1.sizes["t"]
+        x = np.arange(nx) * self.params.dx
+        y = np.arange(ny) * self.dy
+        ds = xr.Dataset(
+            {
+                k: (("t", "y", "x"), ds1[k].values.reshape(nt, ny, nx), ds1[k].attrs)
+                for k in ("u", "u_t")
+            },
+            coords={
+                "t": ds1["t"],
+                "x": ("x", x, {"units": UNITS["x"]}),
+                "y": ("y", y, {"units": UNITS["x"]}),
+            },
+        )
+        ds.attrs.update(ds1.attrs)
+        ds.attrs.update(
+            boundary=f"{self.boundary} x {self.boundary_y}", dy=self.dy, shape=list(self.shape)
+        )
+        return ds
+
+
+# --- measurements ----------------------------------------------------------------------
+
+
+@dataclass
+class PlanarFront:
+    """A planar front measured on the lattice (``front``).
+
+    c: the normal speed (lattice units of length per unit time) from the first slip
+    times of a window of the normal coordinate; c_check: the same from a lattice twice as
+    long (the measurement's convergence: |c - c_check|); spacing: the spacing of the
+    chain the front reduces to exactly (dx along an axis, dx/sqrt(2) along the diagonal).
+    """
+
+    u_plus: float
+    gamma: float
+    dx: float
+    angle: int
+    blocks: int
+    c: float
+    c_check: float
+    spacing: float
+    window: tuple[float, float]
+
+    @property
+    def convergence(self) -> float:
+        """|c - c_check|: the change of c when the lattice is twice as long."""
+        return abs(self.c - self.c_check)
+
+
+def _planar_c(u_plus, gamma, dx, angle, blocks, step, beta, window):
+    p = _lattice_params(gamma, dx, beta)
+    a, b = (int(round(f * blocks)) for f in window)
+    if angle == 0:
+        # u depends on i only: two rows periodic in y (the chain at dx, measured here)
+        la = Lattice((blocks, 2), p, u0=u_plus, boundary=("free", "periodic"), step=step)
+        for j in range(2):
+            la.kick((0, j), -2.0)
+        t_end = 2.0 * blocks * dx
+        spacing = dx
+        res = la.run(t_end=t_end, progress=False)
+        t = res.first_slip_times()[0]
+        ta, tb = t[a], t[b]
+    else:
+        # u a function of n = (i + j) mod N on an N x N torus: fronts run both ways from
+        # the kicked anti-diagonal and meet at n = N/2; the window is in n in [0, N/2]
+        nn = blocks
+        la = Lattice((nn, nn), p, u0=u_plus, boundary="periodic", step=step)
+        for i in range(nn):
+            la.kick((i, (nn - i) % nn), -2.0)
+        spacing = dx / math.sqrt(2.0)
+        a, b = (int(round(f * nn / 2)) for f in window)
+        res = la.run(t_end=nn * spacing, progress=False)
+        t = res.first_slip_times()
+        ta, tb = t[0, a], t[0, b]
+    if not (np.isfinite(ta) and np.isfinite(tb) and tb > ta):
+        return math.nan, spacing
+    return spacing * (b - a) / (tb - ta), spacing
+
+
+def _lattice_params(gamma, dx, beta):
+    from .params import Params
+
+    return Params(gamma=gamma, v=0.0, dx=dx, beta=beta)
+
+
+def front(
+    u_plus: float,
+    gamma: float,
+    dx: float,
+    angle: int = 0,
+    blocks: int = 128,
+    *,
+    step: float = DEFAULT_STEP,
+    beta: float = math.inf,
+    window: tuple[float, float] = (0.5, 0.75),
+) -> PlanarFront:
+    """A planar front on the lattice (dx = dy) at uniform u_+, v = 0, and its normal speed.
+
+    angle=0: along x, on a lattice of ``blocks`` x 2 periodic in y, kicked on column 0;
+    angle=45: along the diagonal, on a ``blocks`` x ``blocks`` torus kicked on an
+    anti-diagonal (the normal coordinate n = i + j; the window is a fraction of the
+    blocks/2 rows of n a front crosses before it meets the other one). Both reduce
+    exactly to a chain (at dx, at dx/sqrt(2): docs/lattice.md), whose c they must give.
+    The measurement is repeated on a lattice twice as long (``c_check``).
+    """
+    u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    gamma = V.number("gamma", gamma, lo=0.0)
+    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    if angle not in (0, 45):
+        V._fail("angle", angle, "0 (along x) or 45 (along the diagonal)")
+    blocks = V.integer("blocks", blocks, lo=16, hi=4096)
+    c, spacing = _planar_c(u_plus, gamma, dx, angle, blocks, step, beta, window)
+    c2, _ = _planar_c(u_plus, gamma, dx, angle, 2 * blocks, step, beta, window)
+    return PlanarFront(u_plus, gamma, dx, angle, blocks, c, c2, spacing, tuple(window))
+
+
+@dataclass
+class Rupture:
+    """An expanding rupture from a point (``rupture``).
+
+    arrival: first slip times of the quadrant, shape (ny, nx) (the rupture's centre is the
+    corner (x, y) = (-dx/2, -dy/2): the free edges of the quadrant are mirror planes).
+    profiles: for each direction ("x", "y", "diagonal") a dict of the radius ``r`` (from
+    the centre, lattice units of length), the arrival time ``t`` and the local speed ``c``
+    (central differences of r against t). fits: for each direction (c0, D) of the
+    least-squares fit c(R) = c0 - D/R over ``fit_range`` of R (the excitable-media
+    eikonal law c_n = c - D kappa with kappa = 1/R). planar: the planar front speeds the
+    directions tend to (the chain at dx along x, at dy along y, at dx/sqrt(2) along the
+    diagonal when dx = dy: the exact reductions of docs/lattice.md). eikonal: for each
+    direction D = (c_planar - c(R)) R with c0 fixed at the planar speed, averaged over
+    the lower and the upper half of ``fit_range`` (equal halves: c = c0 - D/R holds).
+    check: the fits and eikonal D of the same rupture on a quadrant twice as large, over
+    the same fractions of it (the measurement's convergence).
+    """
+
+    u_plus: float
+    gamma: float
+    dx: float
+    dy: float
+    size: tuple[int, int]
+    arrival: np.ndarray
+    profiles: dict
+    fits: dict
+    planar: dict
+    fit_range: tuple[float, float]
+    check: dict | None = None
+    eikonal: dict | None = None
+
+    def aspect(self, t: float) -> float:
+        """The rupture's extent along x over its extent along y, in blocks, at time t
+        (dy/dx for a circle in (x, y) = (i dx, j dy))."""
+        a = self.arrival
+        ni = np.count_nonzero(np.isfinite(a[0]) & (a[0] <= t))
+        nj = np.count_nonzero(np.isfinite(a[:, 0]) & (a[:, 0] <= t))
+        return ni / nj if nj else math.nan
+
+
+def _profile(r: np.ndarray, t: np.ndarray) -> dict:
+    ok = np.isfinite(t)
+    r, t = r[ok], t[ok]
+    c = np.full(r.size, np.nan)
+    if r.size > 2:
+        c[1:-1] = (r[2:] - r[:-2]) / (t[2:] - t[:-2])
+    return {"r": r, "t": t, "c": c}
+
+
+def _eikonal(prof: dict, c_planar: float, lo: float, hi: float) -> tuple[float, float]:
+    """D = (c_planar - c(R)) R over [lo, hi] of R with c0 fixed at the planar speed: its
+    means over the lower and the upper half of the range (equal if c = c0 - D/R)."""
+    r, c = prof["r"], prof["c"]
+    mid = 0.5 * (lo + hi)
+    out = []
+    for a, b in ((lo, mid), (mid, hi)):
+        m = np.isfinite(c) & (r >= a) & (r <= b)
+        out.append(float(np.mean((c_planar - c[m]) * r[m])) if m.any() else math.nan)
+    return tuple(out)
+
+
+def _fit(prof: dict, lo: float, hi: float) -> tuple[float, float]:
+    r, c = prof["r"], prof["c"]
+    m = np.isfinite(c) & (r >= lo) & (r <= hi)
+    if m.sum() < 3:
+        return (math.nan, math.nan)
+    a = np.column_stack([np.ones(m.sum()), 1.0 / r[m]])
+    (c0, slope), *_ = np.linalg.lstsq(a, c[m], rcond=None)
+    return (float(c0), float(-slope))
+
+
+def _rupture_once(u_plus, gamma, dx, dy, nx, ny, step, beta, fit):
+    p = _lattice_params(gamma, dx, beta)
+    la = Lattice((nx, ny), p, u0=u_plus, dy=dy, step=step)
+    la.kick((0, 0), -2.0)
+    # long enough for the front to reach the far corner (sqrt(2) L at about c(u_+))
+    c_est = 1.0 / math.sqrt(1.0 - u_plus * u_plus)
+    t_end = 1.6 * max(nx * dx, ny * dy) / c_est
+    res = la.run(t_end=t_end, progress=False)
+    a = res.first_slip_times()
+    i = np.arange(nx)
+    j = np.arange(ny)
+    m = min(nx, ny)
+    d = np.arange(m)
+    # leave out the last blocks before the far (free) edges
+    cut = 4
+    profiles = {
+        "x": _profile((i[:-cut] + 0.5) * dx, a[0, :-cut]),
+        "y": _profile((j[:-cut] + 0.5) * dy, a[:-cut, 0]),
+        "diagonal": _profile((d[:-cut] + 0.5) * math.hypot(dx, dy), a[d[:-cut], d[:-cut]]),
+    }
+    lo, hi = fit
+    size = min(nx * dx, ny * dy)
+    rng = (lo * size, hi * size)
+    fits = {k: _fit(v, *rng) for k, v in profiles.items()}
+    return a, profiles, fits, rng
+
+
+def _eikonals(profiles, planar, rng) -> dict:
+    return {k: _eikonal(profiles[k], planar[k], *rng) for k in profiles}
+
+
+def rupture(
+    u_plus: float,
+    gamma: float,
+    dx: float,
+    size: int = 128,
+    *,
+    dy: float | None = None,
+    step: float = DEFAULT_STEP,
+    beta: float = math.inf,
+    fit: tuple[float, float] = (0.25, 0.95),
+    check: bool = True,
+) -> Rupture:
+    """An expanding rupture from a point in uniform u_+ (v = 0): its radius against time
+    along the axes and the diagonal, and the curvature correction to its speed.
+
+    The lattice is a quadrant of ``size`` blocks along x (and size dx/dy along y) with
+    free edges, kicked at its corner block: the free edges are mirror planes, so this is a
+    rupture from the four centre blocks of a lattice four times larger. The local speed
+    along each direction is fitted as c(R) = c0 - D/R for R in ``fit`` (fractions of the
+    quadrant's extent); c0 must tend to the planar speed of that direction (``planar``,
+    from ``front``'s exact reductions, measured on chains) and D is the eikonal
+    coefficient. With ``check`` the rupture is repeated on a quadrant twice as large.
+    """
+    u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    gamma = V.number("gamma", gamma, lo=0.0)
+    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    dy = dx if dy is None else V.number("dy", dy, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    size = V.integer("size", size, lo=16, hi=8192)
+    nx, ny = size, max(16, int(round(size * dx / dy)))
+    a, prof, fits, rng = _rupture_once(u_plus, gamma, dx, dy, nx, ny, step, beta, fit)
+    planar = {}
+    for k, h in (("x", dx), ("y", dy), ("diagonal", dx / math.sqrt(2.0))):
+        # (with dx != dy the diagonal of the lattice is not a direction of exact reduction)
+        ok = k != "diagonal" or dx == dy
+        c = _planar_c(u_plus, gamma, h, 0, 256, step, beta, (0.5, 0.75))[0] if ok else math.nan
+        planar[k] = c
+    out = Rupture(u_plus, gamma, dx, dy, (nx, ny), a, prof, fits, planar, rng)
+    out.eikonal = _eikonals(prof, planar, rng)
+    if check:
+        _, prof2, fits2, rng2 = _rupture_once(
+            u_plus, gamma, dx, dy, 2 * nx, 2 * ny, step, beta, fit
+        )
+        out.check = {"fits": fits2, "eikonal": _eikonals(prof2, planar, rng2), "range": rng2}
+    return out

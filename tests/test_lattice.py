@@ -1,0 +1,124 @@
+"""bk.Lattice: the plane (docs/lattice.md), against the chain it reduces to."""
+
+import numpy as np
+import pytest
+
+import bkwaves as bk
+
+
+def _params(dx=0.1):
+    return bk.Params(gamma=0.45, v=0.0, dx=dx)
+
+
+def test_a_front_along_x_on_a_lattice_periodic_in_y_is_the_chain():
+    n, ny = 80, 3
+    ch = bk.Chain(n, _params(), u0=0.6)
+    ch.kick(0, -2.0)
+    t_chain = ch.run(t_end=5.0, progress=False).first_slip_times()
+    la = bk.Lattice((n, ny), _params(), u0=0.6, boundary=("free", "periodic"))
+    for j in range(ny):
+        la.kick((0, j), -2.0)
+    res = la.run(t_end=5.0, progress=False)
+    t = res.first_slip_times()
+    assert t.shape == (ny, n)
+    slipped = np.isfinite(t_chain)
+    assert slipped.sum() > 40
+    for j in range(ny):
+        assert np.array_equal(np.isfinite(t[j]), slipped)
+        assert np.max(np.abs(t[j][slipped] - t_chain[slipped])) < 1e-12
+
+
+def test_a_point_rupture_gives_maps_a_catalog_and_snapshots_shaped_like_the_lattice():
+    nx, ny, dy = 24, 18, 0.15
+    la = bk.Lattice((nx, ny), _params(), u0=0.7, dy=dy)
+    la.kick((5, 7), -2.0)
+    res = la.run(t_end=30.0, snapshots=[0.5, 1.0], progress=False)
+    assert la.u.shape == (ny, nx) and la.phi.shape == (ny, nx)
+    t = res.first_slip_times()
+    assert t.shape == (ny, nx) and t[7, 5] == 0.0
+    # it spreads: the neighbours slip after the kicked block, farther blocks later
+    assert 0 < t[7, 6] < t[7, 9]
+    ev = res.catalog.iloc[0]
+    assert (ev["hypocentre_i"], ev["hypocentre_j"]) == (5, 7)
+    assert ev["hypocentre_x"] == pytest.approx(0.5) and ev["hypocentre_y"] == pytest.approx(1.05)
+    assert ev["area"] == pytest.approx(ev["n_blocks"] * 0.1 * dy)
+    # the moment is the integral of slip over the area
+    assert np.isfinite(ev["t_end"]) and ev["duration"] > 0
+    slips = res.slips[res.slips["event"] == 0]["slip"]
+    assert ev["moment"] == pytest.approx(slips.sum() * 0.1 * dy, rel=1e-12)
+    slip = res.slip_map()
+    assert slip.shape == (ny, nx) and slip[7, 5] > 0
+    ds = res.snapshots
+    assert ds["u"].dims == ("t", "y", "x") and ds["u"].shape == (2, ny, nx)
+    assert ds["y"].values[1] == pytest.approx(dy)
+    s = res.slips.iloc[0]
+    assert (s["i"], s["j"]) == (5, 7) and s["y"] == pytest.approx(7 * dy)
+    assert abs(res.energy["residual"]) < 1e-8 * res.energy["viscous_work"]
+
+
+def test_a_saved_lattice_continues_bit_for_bit(tmp_path):
+    p = bk.Params(gamma=0.45, v=1e-2, dx=0.25)
+    rng = np.random.default_rng(3)
+    u0 = 0.6 + 0.05 * rng.standard_normal((12, 16))
+    whole = bk.Lattice((16, 12), p, u0=u0, dy=0.3, boundary=("periodic", "fixed"))
+    whole.run(t_end=30.0, progress=False)
+    part = bk.Lattice((16, 12), p, u0=u0, dy=0.3, boundary=("periodic", "fixed"))
+    part.run(t_end=30.0, max_events=1, progress=False)
+    part.save(tmp_path / "la.npz")
+    back = bk.Lattice.load(tmp_path / "la.npz")
+    r = back.run(t_end=30.0, progress=False)
+    assert np.array_equal(back.u, whole.u) and np.array_equal(back.u_t, whole.u_t)
+    assert r.u.shape == (12, 16)
+
+
+def test_bad_input_names_the_parameter():
+    with pytest.raises(bk.ParameterError, match="shape"):
+        bk.Lattice((0, 3), _params())
+    with pytest.raises(bk.ParameterError, match="dy"):
+        bk.Lattice((3, 3), _params(), dy=-1.0)
+    with pytest.raises(bk.ParameterError, match="u0"):
+        bk.Lattice((3, 4), _params(), u0=np.zeros((3, 4)))
+    la = bk.Lattice((3, 4), _params())
+    with pytest.raises(bk.ParameterError, match="block"):
+        la.kick((3, 0), -1.0)
+    with pytest.raises(bk.ParameterError, match="boundary"):
+        bk.Lattice((3, 3), _params(), boundary=("free", "open"))
+
+
+def test_a_diagonal_front_has_the_speed_of_the_chain_at_dx_over_sqrt2():
+    # the measurement on an N x N torus kicked on an anti-diagonal against a ring of N
+    # blocks at spacing dx/sqrt(2) kicked at block 0, stepped with the same time step:
+    # the same window of the normal coordinate gives the same c (docs/lattice.md)
+    nn, dx = 32, 0.2
+    diag = bk.lattice.front(0.6, 0.45, dx, angle=45, blocks=nn)
+    h = dx / np.sqrt(2)
+    ring = bk.Chain(
+        nn,
+        bk.Params(gamma=0.45, v=0.0, dx=h),
+        "periodic",
+        u0=0.6,
+        step=bk.chain.DEFAULT_STEP * dx / h,
+    )
+    ring.kick(0, -2.0)
+    t = ring.run(t_end=nn * h, progress=False).first_slip_times()
+    a, b = (int(round(f * nn / 2)) for f in diag.window)
+    c_ring = h * (b - a) / (t[b] - t[a])
+    assert diag.spacing == pytest.approx(h)
+    assert np.isfinite(diag.c) and diag.c > 1.0
+    assert abs(diag.c - c_ring) < 1e-10 * c_ring, (diag, c_ring)
+    with pytest.raises(bk.ParameterError, match="angle"):
+        bk.lattice.front(0.6, 0.45, 0.2, angle=30)
+
+
+def test_a_point_rupture_tends_to_the_planar_speeds_from_below():
+    # c(R) along x and along the diagonal rises towards the planar speeds (the chain at dx,
+    # at dx/sqrt(2)); D = (c_planar - c) R > 0 is the eikonal coefficient
+    r = bk.lattice.rupture(0.6, 0.45, 0.2, 48, check=False)
+    assert r.arrival.shape == (48, 48)
+    np.testing.assert_allclose(r.arrival, r.arrival.T, atol=1e-11)
+    for k in ("x", "diagonal"):
+        c0, d = r.fits[k]
+        assert abs(c0 - r.planar[k]) < 0.01 * r.planar[k], (k, c0, r.planar)
+        assert d > 0 and all(e > 0 for e in r.eikonal[k]), (k, r.eikonal)
+        far = r.profiles[k]["c"][-3]
+        assert far < r.planar[k]
