@@ -48,9 +48,16 @@ impl<F: Friction, M: Medium> Blocks<F, M> {
         self.med.loader(p) * up - f
     }
     /// phi = k_p u - (coupling forces) of real block p at time t (state current at t).
+    #[inline(always)]
     pub fn phi<G: Geometry>(&self, st: &State<G>, p: usize, t: f64) -> f64 {
         let up = st.value(p, t);
-        let f = st.geo.force(&self.med, p, up, |q| st.neighbour(q, p, t));
+        let f = st.geo.force(
+            &self.med,
+            p,
+            up,
+            #[inline(always)]
+            |q| st.neighbour(q, p, t),
+        );
         self.phi_of(p, up, f)
     }
     /// Acceleration of sliding block p (direction `dir`, speed s over the ground, threshold

@@ -799,13 +799,13 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             } else {
                 let st = &self.st;
                 for &(a, b) in &st.runs {
-                    st.geo.around_run(a, b, |q, _, _| {
+                    for (q, _, _) in st.geo.around_run(a, b) {
                         if let Some(r) = st.resolve(q) {
                             if !st.sliding(r) {
                                 cands.push(r);
                             }
                         }
-                    });
+                    }
                 }
             }
             for &p in &cands {
@@ -883,6 +883,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
     }
 
     /// Hermite data of the displacement of real block r over the last step [t0, t1].
+    #[inline(always)]
     fn herm_u(&self, r: usize, t0: f64, t1: f64) -> Hermite {
         if self.st.sliding(r) {
             Hermite {
@@ -903,6 +904,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
     }
 
     /// Hermite data of the neighbour at padded index q of stuck block p.
+    #[inline(always)]
     fn herm_neighbour(&self, q: usize, p: usize, t0: f64, t1: f64) -> Hermite {
         if self.st.geo.is_ghost(q) {
             match self.st.beyond(q, p) {
@@ -929,18 +931,6 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         let t1 = t0 + h;
         let mut best = f64::INFINITY;
         who.clear();
-        let consider =
-            |s: Option<f64>, p: (usize, i8), best: &mut f64, who: &mut Vec<(usize, i8)>| {
-                if let Some(s) = s {
-                    if s < *best {
-                        *best = s;
-                        who.clear();
-                        who.push(p);
-                    } else if s == *best && !who.contains(&p) {
-                        who.push(p);
-                    }
-                }
-            };
         for &(a, b) in &self.st.runs {
             // the blocks that may come to rest in the step (a vectorised cheap test)
             cands.clear();
@@ -975,18 +965,21 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 }
                 consider(g.first_crossing(h), (p, 0), &mut best, who);
             }
-            self.st.geo.around_run(a, b, |q, _, _| {
+            for (q, _, _) in self.st.geo.around_run(a, b) {
                 let Some(p) = self.st.resolve(q) else {
-                    return;
+                    continue;
                 };
                 if self.st.sliding(p) {
-                    return;
+                    continue;
                 }
                 let up = self.herm_u(p, t0, t1);
-                let phi = self
-                    .st
-                    .geo
-                    .phi_hermite(&self.blk.med, p, up, |q| self.herm_neighbour(q, p, t0, t1));
+                let phi = self.st.geo.phi_hermite(
+                    &self.blk.med,
+                    p,
+                    up,
+                    #[inline(always)]
+                    |q| self.herm_neighbour(q, p, t0, t1),
+                );
                 let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
                 let fwd = Hermite {
                     g0: phi.g0 - hi,
@@ -1002,7 +995,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                     m1: -phi.m1,
                 };
                 consider(bwd.first_crossing(h), (p, -1), &mut best, who);
-            });
+            }
         }
         if !best.is_finite() {
             who.clear();
@@ -1435,6 +1428,21 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         );
         self.counters.steps += 1;
         self.counters.block_steps += self.st.n_active as u64;
+    }
+}
+
+/// An event at s (if any) of block p: the earliest so far replaces the list, one at the
+/// same s joins it.
+#[inline(always)]
+fn consider(s: Option<f64>, p: (usize, i8), best: &mut f64, who: &mut Vec<(usize, i8)>) {
+    if let Some(s) = s {
+        if s < *best {
+            *best = s;
+            who.clear();
+            who.push(p);
+        } else if s == *best && !who.contains(&p) {
+            who.push(p);
+        }
     }
 }
 

@@ -67,6 +67,43 @@ impl Grid {
     }
 }
 
+/// The cells around a run of the lattice: its two ends along the row, then below and
+/// above each block of the run.
+#[derive(Debug, Clone)]
+pub struct GridAround {
+    ends: [(usize, usize, bool); 2],
+    k: usize,
+    p: usize,
+    b: usize,
+    s: usize,
+    down: bool,
+    up: bool,
+}
+
+impl Iterator for GridAround {
+    type Item = (usize, usize, bool);
+    #[inline]
+    fn next(&mut self) -> Option<(usize, usize, bool)> {
+        if self.k < 2 {
+            self.k += 1;
+            return Some(self.ends[self.k - 1]);
+        }
+        if self.p >= self.b {
+            return None;
+        }
+        let p = self.p;
+        // k = 2: below p, k = 3: above p (then the next block)
+        if self.k == 2 {
+            self.k = 3;
+            Some((p - self.s, p, self.down))
+        } else {
+            self.k = 2;
+            self.p += 1;
+            Some((p + self.s, p, self.up))
+        }
+    }
+}
+
 /// The stage values left of, at, right of, below and above a run.
 #[derive(Debug, Clone, Copy)]
 pub struct GridStencil<'a> {
@@ -98,6 +135,7 @@ impl Stencil for GridStencil<'_> {
 impl Geometry for Grid {
     type Stencil<'a> = GridStencil<'a>;
     type Nbrs = [usize; 4];
+    type Around = GridAround;
 
     #[inline(always)]
     fn n(&self) -> usize {
@@ -162,14 +200,19 @@ impl Geometry for Grid {
         [p - 1, p + 1, p - self.s, p + self.s]
     }
     #[inline]
-    fn around_run(&self, a: usize, b: usize, mut f: impl FnMut(usize, usize, bool)) {
+    fn around_run(&self, a: usize, b: usize) -> GridAround {
         let (i, j) = self.cell(a);
-        f(a - 1, a, i == 1);
-        f(b, b - 1, b - j * self.s == self.nx + 1);
-        let (down, up) = (j == 1, j == self.ny);
-        for p in a..b {
-            f(p - self.s, p, down);
-            f(p + self.s, p, up);
+        GridAround {
+            ends: [
+                (a - 1, a, i == 1),
+                (b, b - 1, b - j * self.s == self.nx + 1),
+            ],
+            k: 0,
+            p: a,
+            b,
+            s: self.s,
+            down: j == 1,
+            up: j == self.ny,
         }
     }
     #[inline(always)]

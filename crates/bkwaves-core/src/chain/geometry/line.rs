@@ -59,6 +59,7 @@ impl Stencil for LineStencil<'_> {
 impl Geometry for Line {
     type Stencil<'a> = LineStencil<'a>;
     type Nbrs = [usize; 2];
+    type Around = std::array::IntoIter<(usize, usize, bool), 2>;
 
     #[inline(always)]
     fn n(&self) -> usize {
@@ -107,9 +108,8 @@ impl Geometry for Line {
         [p - 1, p + 1]
     }
     #[inline(always)]
-    fn around_run(&self, a: usize, b: usize, mut f: impl FnMut(usize, usize, bool)) {
-        f(a - 1, a, a == 1);
-        f(b, b - 1, b == self.n + 1);
+    fn around_run(&self, a: usize, b: usize) -> Self::Around {
+        [(a - 1, a, a == 1), (b, b - 1, b == self.n + 1)].into_iter()
     }
     #[inline(always)]
     fn stencil<'a>(&self, su: &'a [f64], a: usize, b: usize) -> LineStencil<'a> {
@@ -125,7 +125,7 @@ impl Geometry for Line {
         let (cl, cr) = (med.bond(p), med.bond(p + 1));
         (cl * value(p - 1) + cr * value(p + 1) - (cl + cr) * up) * self.k
     }
-    #[inline]
+    #[inline(always)]
     fn phi_hermite<M: Medium>(
         &self,
         med: &M,

@@ -107,7 +107,7 @@ pub(crate) fn accel_only_at_state<G: Geometry, F: Friction, M: Medium>(
 #[inline(always)]
 pub(crate) fn fill_neighbours<G: Geometry>(st: &State<G>, su: &mut [f64], ts: f64) {
     for &(a, b) in &st.runs {
-        st.geo.around_run(a, b, |q, p, ghost| {
+        for (q, p, ghost) in st.geo.around_run(a, b) {
             if ghost {
                 su[q] = match st.geo.beyond(q, p) {
                     Beyond::Block(r) if st.sliding(r) => su[r],
@@ -117,7 +117,7 @@ pub(crate) fn fill_neighbours<G: Geometry>(st: &State<G>, su: &mut [f64], ts: f6
             } else if !st.sliding(q) {
                 su[q] = st.stuck_u(q, ts);
             }
-        });
+        }
     }
 }
 
