@@ -256,66 +256,71 @@ class Lattice(Chain):
         r = super()._result(stop, interrupted, wall)
         nx, ny = self.shape
         dx, dy = self.params.dx, self.dy
-        s = r.slips
-        i, j = s["block"] % nx, s["block"] // nx
-        s["x"] = i * dx
-        s.insert(3, "y", j * dy)
-        s.insert(2, "i", i)
-        s.insert(3, "j", j)
-        s.attrs["units"]["y"] = UNITS["x"]
-        c = r.catalog.drop(columns=["first_block", "last_block"])
-        c.attrs = {k: dict(v) for k, v in r.catalog.attrs.items()}
-        # the chain's moment is int slip dx; the plane's is int slip dA = dx dy sum slips
-        c["moment"] = c["moment"] * dy
-        c.attrs.setdefault("descriptions", {})["moment"] = (
-            "the event's moment: the integral of slip over the area, dx dy times the sum "
-            "of its blocks' slips"
-        )
-        hi, hj = c["nucleation"] % nx, c["nucleation"] // nx
-        c.insert(4, "hypocentre_i", hi)
-        c.insert(5, "hypocentre_j", hj)
-        c.insert(6, "hypocentre_x", hi * dx)
-        c.insert(7, "hypocentre_y", hj * dy)
-        c["area"] = c["n_blocks"] * dx * dy
-        c.attrs["units"] = c.attrs.get("units", {}) | {
-            "hypocentre_x": UNITS["x"],
-            "hypocentre_y": UNITS["x"],
-            "area": f"({UNITS['x']})^2 (blocks slipped x dx dy)",
-        }
-        fields = {f: getattr(r, f) for f in r.__dataclass_fields__}
+        chain_catalog, chain_slips = r._build["catalog"], r._build["slips"]
+        chain_snapshots = r._build["snapshots"]
+        boundary = f"{self.boundary} x {self.boundary_y}"
+
+        def slips():
+            s = chain_slips()
+            i, j = s["block"] % nx, s["block"] // nx
+            s["x"] = i * dx
+            s.insert(3, "y", j * dy)
+            s.insert(2, "i", i)
+            s.insert(3, "j", j)
+            s.attrs["units"]["y"] = UNITS["x"]
+            return s
+
+        def catalog():
+            cat = chain_catalog()
+            c = cat.drop(columns=["first_block", "last_block"])
+            c.attrs = {k: dict(v) for k, v in cat.attrs.items()}
+            # the chain's moment is int slip dx; the plane's is int slip dA = dx dy sum
+            c["moment"] = c["moment"] * dy
+            c.attrs.setdefault("descriptions", {})["moment"] = (
+                "the event's moment: the integral of slip over the area, dx dy times the sum "
+                "of its blocks' slips"
+            )
+            hi, hj = c["nucleation"] % nx, c["nucleation"] // nx
+            c.insert(4, "hypocentre_i", hi)
+            c.insert(5, "hypocentre_j", hj)
+            c.insert(6, "hypocentre_x", hi * dx)
+            c.insert(7, "hypocentre_y", hj * dy)
+            c["area"] = c["n_blocks"] * dx * dy
+            c.attrs["units"] = c.attrs.get("units", {}) | {
+                "hypocentre_x": UNITS["x"],
+                "hypocentre_y": UNITS["x"],
+                "area": f"({UNITS['x']})^2 (blocks slipped x dx dy)",
+            }
+            return c
+
+        def snapshots():
+            import xarray as xr
+
+            ds1 = chain_snapshots()
+            nt = ds1.sizes["t"]
+            ds = xr.Dataset(
+                {
+                    k: (("t", "y", "x"), ds1[k].values.reshape(nt, ny, nx), ds1[k].attrs)
+                    for k in ("u", "u_t")
+                },
+                coords={
+                    "t": ds1["t"],
+                    "x": ("x", np.arange(nx) * dx, {"units": UNITS["x"]}),
+                    "y": ("y", np.arange(ny) * dy, {"units": UNITS["x"]}),
+                },
+            )
+            ds.attrs.update(ds1.attrs)
+            ds.attrs.update(boundary=boundary, dy=dy, shape=list(self.shape))
+            return ds
+
+        fields = {f: getattr(r, f) for f in r.__dataclass_fields__ if f not in ("_built",)}
         fields.update(
-            catalog=c,
-            slips=s,
             u=self._grid(r.u),
             u_t=self._grid(r.u_t),
-            boundary=f"{self.boundary} x {self.boundary_y}",
+            boundary=boundary,
+            _build={"catalog": catalog, "slips": slips, "snapshots": snapshots},
         )
         return LatticeResult(**fields, shape=self.shape, dy=self.dy)
-
-    def _snapshots(self):
-        import xarray as xr
-
-        ds1 = super()._snapshots()
-        nx, ny = self.shape
-        nt = ds1.sizes["t"]
-        x = np.arange(nx) * self.params.dx
-        y = np.arange(ny) * self.dy
-        ds = xr.Dataset(
-            {
-                k: (("t", "y", "x"), ds1[k].values.reshape(nt, ny, nx), ds1[k].attrs)
-                for k in ("u", "u_t")
-            },
-            coords={
-                "t": ds1["t"],
-                "x": ("x", x, {"units": UNITS["x"]}),
-                "y": ("y", y, {"units": UNITS["x"]}),
-            },
-        )
-        ds.attrs.update(ds1.attrs)
-        ds.attrs.update(
-            boundary=f"{self.boundary} x {self.boundary_y}", dy=self.dy, shape=list(self.shape)
-        )
-        return ds
 
 
 # --- measurements ----------------------------------------------------------------------
