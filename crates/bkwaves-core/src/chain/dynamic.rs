@@ -117,10 +117,10 @@ impl<G: Geometry, F: Friction, M: Medium> DynChain for Engine<G, F, M> {
         Engine::set_run_limits(self, event_slips, event_duration, chunk_work)
     }
     fn set_chunk_wall(&mut self, seconds: f64) {
-        Chain::set_chunk_wall(self, seconds)
+        Engine::set_chunk_wall(self, seconds)
     }
     fn take_snapshots(&mut self) -> Snapshots {
-        Chain::take_snapshots(self)
+        Engine::take_snapshots(self)
     }
     fn open_event(&self) -> Option<(usize, f64)> {
         Engine::open_event(self)
