@@ -26,7 +26,7 @@ import numpy as np
 from . import _validate as V
 from .chain import DEFAULT_STEP, INTEGRATORS, UNITS, Chain, ChainResult
 
-__all__ = ["Lattice", "LatticeResult"]
+__all__ = ["Lattice", "LatticeResult", "PlanarFront", "Rupture", "front", "rupture"]
 
 
 @dataclass
