@@ -34,7 +34,7 @@ pub mod births;
 pub mod catalog;
 pub mod checkpoint;
 pub mod field;
-mod nucleation;
+pub(crate) mod nucleation;
 mod schedule;
 pub mod shock;
 pub mod speed_law;

@@ -29,30 +29,48 @@ use crate::checkpoint_bytes::{Reader, Writer};
 use crate::error::Result;
 use crate::noise::{NoiseLaw, Rng};
 
-/// The noise of a run: its law and seed, the generator and the candidate clock.
+/// The noise of a run: its law and seed, the generator and the candidate clock. Shared by
+/// the 1D and the 2D free boundary engines (the clock is the same thinning of a bound
+/// rate; only what a candidate is differs).
 #[derive(Debug, Clone)]
-pub(super) struct NoiseRun {
-    pub(super) law: NoiseLaw,
-    pub(super) seed: u64,
-    rng: Rng,
+pub(crate) struct NoiseRun {
+    pub(crate) law: NoiseLaw,
+    pub(crate) seed: u64,
+    pub(crate) rng: Rng,
     /// Integrated bound rate left before the next candidate (a unit exponential at draw).
-    e_left: f64,
+    pub(crate) e_left: f64,
     /// Time from which `e_left` is counted.
-    t_mark: f64,
+    pub(crate) t_mark: f64,
     /// The bound U at `t_mark` (NaN: no eligible cell).
-    u_mark: f64,
+    pub(crate) u_mark: f64,
     /// Candidates drawn and pairs nucleated.
-    pub(super) candidates: u64,
-    pub(super) nucleations: u64,
+    pub(crate) candidates: u64,
+    pub(crate) nucleations: u64,
 }
 
 impl NoiseRun {
-    pub(super) fn write_config(&self, w: &mut Writer) {
+    /// A fresh noise state for `law` seeded by `seed`, its clock started at `now`.
+    pub(crate) fn new(law: NoiseLaw, seed: u64, now: f64) -> NoiseRun {
+        let mut rng = Rng::new(seed);
+        let e_left = rng.exponential();
+        NoiseRun {
+            law,
+            seed,
+            rng,
+            e_left,
+            t_mark: now,
+            u_mark: f64::NAN,
+            candidates: 0,
+            nucleations: 0,
+        }
+    }
+
+    pub(crate) fn write_config(&self, w: &mut Writer) {
         self.law.write(w);
         w.u(self.seed);
     }
 
-    pub(super) fn write_state(&self, w: &mut Writer) {
+    pub(crate) fn write_state(&self, w: &mut Writer) {
         self.rng.write(w);
         for x in [self.e_left, self.t_mark, self.u_mark] {
             w.f(x);
@@ -61,7 +79,7 @@ impl NoiseRun {
         w.u(self.nucleations);
     }
 
-    pub(super) fn read_state(&mut self, r: &mut Reader) -> Result<()> {
+    pub(crate) fn read_state(&mut self, r: &mut Reader) -> Result<()> {
         self.rng = Rng::read(r)?;
         self.e_left = r.f()?;
         self.t_mark = r.f()?;
@@ -89,18 +107,7 @@ impl FreeBoundary {
                           Lambda(u) is written for the uniform threshold 1)",
             });
         }
-        let mut rng = Rng::new(seed);
-        let e_left = rng.exponential();
-        self.noise = Some(NoiseRun {
-            law,
-            seed,
-            rng,
-            e_left,
-            t_mark: self.now,
-            u_mark: f64::NAN,
-            candidates: 0,
-            nucleations: 0,
-        });
+        self.noise = Some(NoiseRun::new(law, seed, self.now));
         self.noise_sync();
         Ok(())
     }

@@ -44,10 +44,10 @@ mod tests;
 
 use crate::error::{check_at_least, Error, Result};
 use crate::free_boundary::births::MaxTree;
+use crate::free_boundary::nucleation::NoiseRun;
 use crate::free_boundary::{CreepRule, SpeedLaw, Stop};
 use eikonal::Term;
 pub use grid::Grid;
-use noise2d::Noise2D;
 pub use rupture::{Origin, Rupture};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -137,7 +137,7 @@ pub struct FreeBoundary2D {
     live: usize,
     completed: usize,
     steps: u64,
-    noise: Option<Noise2D>,
+    noise: Option<NoiseRun>,
 }
 
 impl FreeBoundary2D {

@@ -15,48 +15,9 @@
 //! state and the candidate clock are in the checkpoint.
 
 use super::{FreeBoundary2D, Origin, NONE};
-use crate::checkpoint_bytes::{Reader, Writer};
 use crate::error::{Error, Result};
-use crate::noise::{NoiseLaw, Rng};
-
-/// The noise of a run: its law and seed, the generator and the candidate clock.
-#[derive(Debug, Clone)]
-pub(super) struct Noise2D {
-    pub(super) law: NoiseLaw,
-    pub(super) seed: u64,
-    rng: Rng,
-    e_left: f64,
-    t_mark: f64,
-    u_mark: f64,
-    pub(super) candidates: u64,
-    pub(super) nucleations: u64,
-}
-
-impl Noise2D {
-    pub(super) fn write_config(&self, w: &mut Writer) {
-        self.law.write(w);
-        w.u(self.seed);
-    }
-
-    pub(super) fn write_state(&self, w: &mut Writer) {
-        self.rng.write(w);
-        for x in [self.e_left, self.t_mark, self.u_mark] {
-            w.f(x);
-        }
-        w.u(self.candidates);
-        w.u(self.nucleations);
-    }
-
-    pub(super) fn read_state(&mut self, r: &mut Reader) -> Result<()> {
-        self.rng = Rng::read(r)?;
-        self.e_left = r.f()?;
-        self.t_mark = r.f()?;
-        self.u_mark = r.f()?;
-        self.candidates = r.u()?;
-        self.nucleations = r.u()?;
-        Ok(())
-    }
-}
+use crate::free_boundary::nucleation::NoiseRun;
+use crate::noise::NoiseLaw;
 
 impl FreeBoundary2D {
     /// Turn on nucleation by noise with `law` (rate per unit area and time at u = 1),
@@ -75,18 +36,7 @@ impl FreeBoundary2D {
                           Lambda(u) is written for the uniform threshold 1)",
             });
         }
-        let mut rng = Rng::new(seed);
-        let e_left = rng.exponential();
-        self.noise = Some(Noise2D {
-            law,
-            seed,
-            rng,
-            e_left,
-            t_mark: self.now,
-            u_mark: f64::NAN,
-            candidates: 0,
-            nucleations: 0,
-        });
+        self.noise = Some(NoiseRun::new(law, seed, self.now));
         self.noise_sync();
         Ok(())
     }
