@@ -356,8 +356,10 @@ def test_a_finished_point_is_written_while_the_others_compute(tmp_path, client):
     doc = {
         "task": "run",
         # the pulse costs ~45 blocks per step whatever the length: 20 and 21 blocks are
-        # done at once, 30000 take ~6e5 steps (seconds)
-        "base": {**SMALL, "run": {"t_end": 1500.0}, "output": {}},
+        # done at once; 30000 take ~6e6 steps at step 0.005 (h = 2.5e-4), seconds even on
+        # an idle machine (at the default step, 6e5 steps, it ended 0.12 s after the fast
+        # points on an idle machine and the test could not tell)
+        "base": {**SMALL, "run": {"t_end": 1500.0, "step": 0.005}, "output": {}},
         "axes": {"domain.blocks": {"values": [20, 21, 30000]}},
     }
     out = tmp_path / "two.zarr"

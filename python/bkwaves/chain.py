@@ -703,7 +703,8 @@ class Chain:
         mass = self.properties.get("mass")
         m_min = 1.0 if mass is None else float(np.min(mass))
         h = chain_step(self.params.dx, self.step, self.params.law, float(thr.max()), m_min)
-        phi, modes, u = self.phi, self.modes, self.u
+        # flat, block by block as the engine numbers them (a Lattice shapes them (ny, nx))
+        phi, modes, u = (np.ravel(a) for a in (self.phi, self.modes, self.u))
         stuck = modes == 0
         pending = [t - self.t for t in getattr(self, "_pending", []) if t >= self.t]
         run = ChainRun(
