@@ -158,6 +158,29 @@ def threshold_field(threshold, x) -> np.ndarray | None:
     return None if np.all(s == 1.0) else s
 
 
+def run_window(t0, t_end, max_events, snapshots, max_snapshots: int):
+    """The checked end of a free-boundary run from time ``t0`` (both engines): ``t_end``
+    (inf when only ``max_events`` bounds it), ``max_events`` (None or >= 1) and the
+    snapshot times (a count spread over [t0, t_end], at most ``max_snapshots``, or given
+    times at or after t0, those past t_end dropped)."""
+    if t_end is None and max_events is None:
+        V._fail("t_end", None, "a finite end time, or max_events")
+    t_end = math.inf if t_end is None else V.number("t_end", t_end, lo=t0)
+    max_events = V.optional_integer("max_events", max_events, lo=1)
+    if snapshots is None:
+        times = np.array([], dtype=float)
+    elif V._is_int(snapshots):
+        n = V.integer("snapshots", snapshots, lo=1, hi=max_snapshots)
+        if not math.isfinite(t_end):
+            V._fail("snapshots", snapshots, "an array of times when t_end is not given")
+        times = np.linspace(t0, t_end, n)
+    else:
+        times = np.sort(V.array("snapshots", snapshots, lo=t0).ravel())
+        if math.isfinite(t_end):
+            times = times[times <= t_end]
+    return t_end, max_events, times
+
+
 @dataclass
 class FreeBoundaryResult:
     """What :meth:`FreeBoundary.run` returns (everything since the engine was built).
@@ -594,23 +617,9 @@ class FreeBoundary:
         (3, 501)
         """
         spec = V.FREE_BOUNDARY
-        if t_end is None and max_events is None:
-            V._fail("t_end", None, "a finite end time, or max_events")
         t0 = self.time
-        t_end = math.inf if t_end is None else V.number("t_end", t_end, lo=t0)
-        max_events = V.optional_integer("max_events", max_events, lo=1)
+        t_end, max_events, times = run_window(t0, t_end, max_events, snapshots, 10**7)
         target_events = 2**62 if max_events is None else self._engine.completed_events + max_events
-        if snapshots is None:
-            times = np.array([], dtype=float)
-        elif V._is_int(snapshots):
-            n = V.integer("snapshots", snapshots, lo=1, hi=10**7)
-            if not math.isfinite(t_end):
-                V._fail("snapshots", snapshots, "an array of times when t_end is not given")
-            times = np.linspace(t0, t_end, n)
-        else:
-            times = np.sort(V.array("snapshots", snapshots, lo=t0).ravel())
-            if math.isfinite(t_end):
-                times = times[times <= t_end]
         chunk = spec["chunk"].check(chunk)
         progress = V.flag("progress", progress)
         self._check_cost(t_end, max_events, times)

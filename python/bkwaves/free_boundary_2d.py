@@ -280,23 +280,11 @@ class FreeBoundary2D:
         ``snapshots``: an int n (n evenly spaced times up to a finite t_end) or an array
         of times; the state is recorded at the start and the end too. Ctrl-C returns what
         was computed (``result.interrupted``); ``run`` again continues."""
-        if t_end is None and max_events is None:
-            V._fail("t_end", None, "a finite end time, or max_events")
+        from .free_boundary import run_window
+
         t0 = self.time
-        t_end = math.inf if t_end is None else V.number("t_end", t_end, lo=t0)
-        max_events = V.optional_integer("max_events", max_events, lo=1)
+        t_end, max_events, times = run_window(t0, t_end, max_events, snapshots, 10**6)
         target = 2**62 if max_events is None else self._engine.completed + max_events
-        if snapshots is None:
-            times = np.array([], dtype=float)
-        elif V._is_int(snapshots):
-            n = V.integer("snapshots", snapshots, lo=1, hi=10**6)
-            if not math.isfinite(t_end):
-                V._fail("snapshots", snapshots, "an array of times when t_end is not given")
-            times = np.linspace(t0, t_end, n)
-        else:
-            times = np.sort(V.array("snapshots", snapshots, lo=t0).ravel())
-            if math.isfinite(t_end):
-                times = times[times <= t_end]
         chunk = V.integer("chunk", chunk, lo=1)
         interrupted = False
         bar = RunProgress(
