@@ -427,26 +427,26 @@ class TipMarch:
     def speed(self, start: int, stop: int | None = None) -> float:
         """The mean front speed c = dx (stop - start)/(t_stop - t_start) between two blocks.
 
-    Parameters
-    ----------
-    start : int
-        The first block of the window.
-    stop : int, optional
-        Its last block (default: the last block of the chain).
+        Parameters
+        ----------
+        start : int
+            The first block of the window.
+        stop : int, optional
+            Its last block (default: the last block of the chain).
 
-    Returns
-    -------
-    float
-        The speed, in units of the sound speed a sqrt(k_c/m).
+        Returns
+        -------
+        float
+            The speed, in units of the sound speed a sqrt(k_c/m).
 
-    Examples
-    --------
-    >>> import numpy as np
-    >>> import bkwaves as bk
-    >>> m = bk.disorder.tip_march(0.6, np.ones(400), dx=0.1)
-    >>> round(m.speed(200), 9), round(float(bk.front_speed(0.6, dx=0.1)), 9)
-    (1.249072905, 1.249072905)
-    """
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> m = bk.disorder.tip_march(0.6, np.ones(400), dx=0.1)
+        >>> round(m.speed(200), 9), round(float(bk.front_speed(0.6, dx=0.1)), 9)
+        (1.249072905, 1.249072905)
+        """
         stop = len(self.slip_times) - 1 if stop is None else stop
         return float(self.dx * (stop - start) / (self.slip_times[stop] - self.slip_times[start]))
 
