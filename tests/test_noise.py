@@ -71,6 +71,21 @@ def test_measured_threshold_bisects_the_chain():
     assert kc == pytest.approx(bk.noise.kick_threshold(0.3, 0.1, 0.3), rel=2e-5)
 
 
+def test_measured_threshold_above_release_stress_is_zero():
+    # above u_r the released block's swing alone trips its neighbours: K_c = 0 in closed
+    # form, and the measurement agrees (it used to bisect towards kick = 0 and fail there)
+    dx, gamma = 0.1, 0.3
+    u_r = bk.noise.release_stress(dx, gamma)
+    assert bk.noise.kick_threshold(u_r + 0.01, dx, gamma) == 0.0
+    assert bk.noise.measured_kick_threshold(u_r + 0.01, dx, gamma, blocks=300) == 0.0
+    # just below u_r the threshold is small but positive, in both
+    kc = bk.noise.measured_kick_threshold(u_r - 0.01, dx, gamma, blocks=300, rtol=1e-4)
+    assert kc > 0
+    assert kc == pytest.approx(bk.noise.kick_threshold(u_r - 0.01, dx, gamma), rel=2e-4)
+    with pytest.raises(bk.ParameterError, match="kick_min"):
+        bk.noise.measured_kick_threshold(0.3, dx, gamma, kick_min=0.0)
+
+
 def test_nucleation_probability():
     u = np.array([0.1, 0.3, 0.6])
     kc = bk.noise.kick_threshold(u, 0.1, 0.3)

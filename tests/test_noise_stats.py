@@ -5,15 +5,21 @@ rupture length, not the ring; noise-dominated recurrence; common noise erases th
 from __future__ import annotations
 
 import math
+import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import bkwaves as bk
 from bkwaves import noise_stats as ns
 from bkwaves import theory
 from bkwaves.config import _smooth_random
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from bench_ruptures import rupture_ids_loop  # noqa: E402  (the loop it replaced)
 
 GAMMA, V = 0.3, 1e-2
 P = bk.Params(gamma=GAMMA, v=V, dx=1e-3)
@@ -549,3 +555,52 @@ def test_first_slip_closed_forms_and_limits():
         ns.first_slip([0.5], exp_law, -1.0)
     with pytest.raises(bk.ParameterError, match="noise.phi0"):
         ns.first_slip([0.5], {"law": "exponential", "rate": 1.0}, 1e-3)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 7, 40])
+@pytest.mark.parametrize("periodic", [False, True])
+def test_rupture_ids_vectorised_equal_the_slip_by_slip_rule(n, periodic):
+    """Random slip tables (ties in time, repeated slips of a block, noise slips, events):
+    the vectorised ruptures are the loop's, index for index."""
+    from bkwaves.noise_stats import _rupture_ids
+
+    rng = np.random.default_rng(27 + n)
+    for _ in range(20):
+        size = int(rng.integers(1, 300))
+        ev = np.sort(rng.integers(0, 4, size))
+        t0 = np.round(rng.uniform(0, 5, size), 1)  # coarse: many equal starts
+        blk = rng.integers(0, n, size)
+        order = np.lexsort((blk, t0, ev))
+        ev, t0, blk = ev[order], t0[order], blk[order]
+        spont = rng.random(size) < 0.1
+        rid, starts = _rupture_ids(ev, blk, t0, spont, n, periodic)
+        rid0, starts0 = rupture_ids_loop(ev, blk, t0, spont, n, periodic)
+        np.testing.assert_array_equal(starts, starts0)
+        np.testing.assert_array_equal(rid, rid0)
+
+
+def test_chain_ruptures_table_unchanged_by_vectorising():
+    """Two fronts meeting and a noisy ring: the ruptures table (every column) built from
+    the loop's rupture ids equals chain_ruptures' bit for bit."""
+    import bkwaves.noise_stats as ns
+
+    p = bk.Params(gamma=0.3, v=0.0, dx=0.1)
+    two = bk.Chain(200, p, u0=0.6).kick(20, -2.0).kick(150, -2.0).run(max_events=1)
+    ring = bk.Chain(
+        120,
+        bk.Params(gamma=0.5, v=0.01, dx=0.1),
+        "periodic",
+        np.linspace(0.2, 0.9, 120),
+        noise={"law": "exponential", "rate": 0.5, "phi0": 0.05},
+        seed=3,
+    ).run(t_end=300.0, progress=False)
+    for res, boundary in ((two, "free"), (ring, "periodic")):
+        new = ns.chain_ruptures(res, boundary)
+        saved = ns._rupture_ids
+        try:
+            ns._rupture_ids = rupture_ids_loop
+            old = ns.chain_ruptures(res, boundary)
+        finally:
+            ns._rupture_ids = saved
+        assert len(new) > 1
+        pd.testing.assert_frame_equal(new, old, check_exact=True)

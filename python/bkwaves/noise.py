@@ -285,17 +285,31 @@ def nucleates(u: float, kick: float, dx: float, gamma: float, *, blocks: int = 6
 
 
 def measured_kick_threshold(
-    u: float, dx: float, gamma: float, *, blocks: int = 600, rtol: float = 1e-6, kick_max=64.0
+    u: float,
+    dx: float,
+    gamma: float,
+    *,
+    blocks: int = 600,
+    rtol: float = 1e-6,
+    kick_max=64.0,
+    kick_min=1e-12,
 ) -> float:
     """The smallest kick for which :func:`nucleates` is true, by bisection to ``rtol``
-    (relative); inf if even ``kick_max`` does not start a propagating pair."""
+    (relative); inf if even ``kick_max`` does not start a propagating pair; 0 if a kick
+    of ``kick_min`` already does (above :func:`release_stress` the block's own swing
+    trips its neighbours: :func:`kick_threshold` is 0 there, and no positive kick is the
+    smallest)."""
     rtol = V.number("rtol", rtol, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-    hi = 1e-3
+    kick_max = V.number("kick_max", kick_max, lo=0.0, lo_open=True)
+    kick_min = V.number("kick_min", kick_min, lo=0.0, hi=kick_max, lo_open=True)
+    hi = min(1e-3, kick_max)
     while not nucleates(u, hi, dx, gamma, blocks=blocks):
         if hi >= kick_max:
             return math.inf
         hi = min(2.0 * hi, kick_max)
-    lo = 0.0
+    if nucleates(u, kick_min, dx, gamma, blocks=blocks):
+        return 0.0
+    lo = kick_min
     while hi - lo > rtol * hi:
         mid = 0.5 * (lo + hi)
         if nucleates(u, mid, dx, gamma, blocks=blocks):

@@ -346,33 +346,10 @@ def _chain_ruptures(slips, n: int, dx: float, boundary: str):
     blk = slips.block.to_numpy()[order].astype(np.int64)
     t0 = slips.t_start.to_numpy()[order]
     spont = slips.kind.to_numpy()[order] == "noise"
-    last_t = np.full(n, -np.inf)  # start of each block's latest slip in the current event
-    owner = np.full(n, -1, dtype=np.int64)
-    rid = np.empty(len(order), dtype=np.int64)
-    starts = []
-    current = None
-    for k in range(len(order)):
-        if ev[k] != current:
-            current = ev[k]
-            last_t[:] = -np.inf
-            owner[:] = -1
-        b = blk[k]
-        left, right = b - 1, b + 1
-        if boundary == "periodic":
-            left, right = left % n, right % n
-        best, best_t = -1, -np.inf
-        for j in (left, right):
-            if 0 <= j < n and owner[j] >= 0 and last_t[j] <= t0[k] and last_t[j] > best_t:
-                best, best_t = owner[j], last_t[j]
-        if spont[k] or best < 0:
-            best = len(starts)
-            starts.append(k)
-        rid[k] = best
-        owner[b] = best
-        last_t[b] = t0[k]
+    rid, starts = _rupture_ids(ev, blk, t0, spont, n, boundary == "periodic")
     s = slips.iloc[order]
     first = s.iloc[starts]
-    m = len(starts)
+    m = starts.size
     # a slip still running (a run stopped mid-event) has no slip yet: the finished ones
     # count, as in the catalog's moment of an open event; the moment is int slip dx
     moment = dx * np.bincount(rid, weights=np.nan_to_num(s.slip.to_numpy(), nan=0.0), minlength=m)
@@ -397,6 +374,61 @@ def _chain_ruptures(slips, n: int, dx: float, boundary: str):
             "kind": first.kind.to_numpy(),
         }
     )
+
+
+def _rupture_ids(ev, blk, t0, spont, n: int, periodic: bool):
+    """The rupture of each slip (:func:`chain_ruptures`' rule), for slips sorted by event,
+    start and block: ``rid`` (0, 1, ... in the order the ruptures start) and ``starts``
+    (the index of each rupture's first slip). Slip k's parent is the latest earlier slip
+    of the same event on a neighbour block, the one (left first on a tie) whose start is
+    latest and not after k's; a noise slip, or one without a parent, starts a rupture;
+    every other slip belongs to its parent's. Vectorised: the parents by a sorted search,
+    the ruptures by pointer jumping (as many passes as log2 of the longest chain)."""
+    size = blk.size
+    idx = np.arange(size, dtype=np.int64)
+    ev_rank = np.concatenate(([0], np.cumsum(ev[1:] != ev[:-1]))).astype(np.int64)
+    group = ev_rank * n + blk  # (event, block): one group per block and event
+    by_group = np.lexsort((idx, group))
+    g_sorted = group[by_group]
+    head = np.empty(size, dtype=bool)
+    head[0] = True
+    np.not_equal(g_sorted[1:], g_sorted[:-1], out=head[1:])
+    groups = g_sorted[head]  # sorted, distinct
+    key = (np.cumsum(head) - 1) * size + idx[by_group]  # (group rank, k): ascending
+
+    def latest_before(j, valid):
+        """Index of the latest slip before k on block j in k's event (-1: none)."""
+        gq = ev_rank * n + np.where(valid, j, 0)
+        r = np.searchsorted(groups, gq)
+        present = valid & (r < groups.size)
+        present[present] = groups[r[present]] == gq[present]
+        p = np.searchsorted(key, r * size + idx) - 1  # largest key below (group, k)
+        found = present & (p >= 0)
+        found[found] = key[p[found]] // size == r[found]
+        return np.where(found, idx[by_group][np.maximum(p, 0)], -1)
+
+    if periodic:
+        left, right = (blk - 1) % n, (blk + 1) % n
+        valid_l = valid_r = np.ones(size, dtype=bool)
+    else:
+        left, right = blk - 1, blk + 1
+        valid_l, valid_r = left >= 0, right < n
+    pl, pr = latest_before(left, valid_l), latest_before(right, valid_r)
+    tl = np.where(pl >= 0, t0[np.maximum(pl, 0)], -np.inf)
+    tr = np.where(pr >= 0, t0[np.maximum(pr, 0)], -np.inf)
+    ok_l = (pl >= 0) & (tl <= t0) & (tl > -np.inf)
+    best_t = np.where(ok_l, tl, -np.inf)
+    ok_r = (pr >= 0) & (tr <= t0) & (tr > best_t)
+    parent = np.where(ok_r, pr, np.where(ok_l, pl, -1))
+    new = spont | (parent < 0)
+    root = np.where(new, idx, parent)
+    while True:  # every slip's parent is earlier: the roots are rupture starts
+        nxt = root[root]
+        if np.array_equal(nxt, root):
+            break
+        root = nxt
+    starts = idx[new]
+    return np.searchsorted(starts, root), starts
 
 
 def point_recurrence(result, t_min: float = -math.inf):
