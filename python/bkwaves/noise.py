@@ -67,7 +67,42 @@ def check_noise(table, where: str = "noise", model: str = "free_boundary") -> di
     law's own parameters (required; another law's parameters are refused); for the
     chain (``model="chain"``) also ``kick`` >= 0 (forward speed of a spontaneous kick over
     the ground; default 0: the block is released). Errors name the key as written
-    (``noise.phi0``) and its allowed range."""
+    (``noise.phi0``) and its allowed range.
+
+    Parameters
+    ----------
+    table : dict
+        The ``[noise]`` table: ``law``, ``rate`` (>= 0; per unit length and unit time in
+        the free boundary problem, per block and unit time in the chain, dimensionless
+        in the paper's units) and the law's parameters (``phi0`` > 0 and ``exponent``
+        dimensionless; ``u`` and ``g`` lists: stress nodes, dimensionless, and relative
+        rates).
+    where : str, default "noise"
+        The table's name in error messages.
+    model : {"free_boundary", "chain"}, default "free_boundary"
+        The model it is for (the chain also takes ``kick``, dimensionless, in units of
+        (f_r - f_s)/sqrt(k_p m)).
+
+    Returns
+    -------
+    dict
+        The validated table, with ``kick`` filled in (0) for the chain.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        An unknown law or key, a missing parameter, or a value out of range.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.noise.check_noise({"law": "exponential", "rate": 2.0, "phi0": 0.1})
+    {'law': 'exponential', 'rate': 2.0, 'phi0': 0.1}
+    >>> bk.noise.check_noise({"law": "exponential", "rate": 2.0})
+    Traceback (most recent call last):
+    ...
+    bkwaves._core.ParameterError: invalid noise.phi0 = None: allowed a number phi0 > 0
+    """
     specs = V.CONFIG["noise"]
     if not isinstance(table, dict):
         V._fail(where, table, "a table with law, rate and the law's parameters")
@@ -126,8 +161,29 @@ def _check_table(out: dict, where: str) -> None:
 
 
 def noise_seed(seed, noise):
-    """The noise generator's seed: the user's (an integer 0 <= seed < 2**64), else one
-    drawn at random when there is noise (to be recorded), else None."""
+    """The noise generator's seed: the user's, else a random one when there is noise.
+
+    Parameters
+    ----------
+    seed : int or None
+        The user's seed, 0 <= seed < 2**64, or None.
+    noise : dict or None
+        The ``[noise]`` table, or None (no noise).
+
+    Returns
+    -------
+    int or None
+        ``seed``; without it a seed drawn at random (to be recorded) when there is noise,
+        else None.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.noise.noise_seed(5, None), bk.noise.noise_seed(None, None)
+    (5, None)
+    >>> isinstance(bk.noise.noise_seed(None, {"law": "constant", "rate": 1.0}), int)
+    True
+    """
     if seed is None:
         if noise is None:
             return None
@@ -140,7 +196,30 @@ def noise_seed(seed, noise):
 
 
 def rate_density(u, noise: dict):
-    """Lambda(u) of a ``[noise]`` table (numpy-vectorised in u)."""
+    """The nucleation rate density Lambda(u) = rate g(u) of a ``[noise]`` table.
+
+    Parameters
+    ----------
+    u : float or array_like
+        Stress (dimensionless: 0 is the kinetic, 1 the static friction level).
+    noise : dict
+        A ``[noise]`` table (:func:`check_noise`).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Lambda(u), in the unit of ``rate`` (per unit length and unit time of the paper's
+        dimensionless variables in the free boundary problem); a float for a scalar u.
+
+    Examples
+    --------
+    The exponential law is the rate at u = 1 and falls by e over phi0:
+
+    >>> import bkwaves as bk
+    >>> noise = {"law": "exponential", "rate": 2.0, "phi0": 0.1}
+    >>> bk.noise.rate_density([1.0, 0.9], noise)
+    array([2.        , 0.73575888])
+    """
     noise = check_noise(noise)
     u = V.array("u", u)
     if noise["law"] == "constant":
@@ -176,7 +255,28 @@ def _swing(dx, gamma):
 def release_stress(dx: float, gamma: float) -> float:
     """The stress u_r above which any forward slip of one block, however small (a release
     from rest), trips both neighbours: u_r = (2 + dx^2)/(3 + dx^2 + exp(-pi gamma/omega_d)),
-    omega_d = sqrt(1 + 2/dx^2 - gamma^2). u_r -> 1/2 undamped as dx -> 0."""
+    omega_d = sqrt(1 + 2/dx^2 - gamma^2). u_r -> 1/2 undamped as dx -> 0.
+
+    Parameters
+    ----------
+    dx : float
+        Lattice spacing sqrt(k_p/k_c), 1e-150 <= dx <= 1e6 (dimensionless).
+    gamma : float
+        Viscous damping, 0 <= gamma < 1 (dimensionless).
+
+    Returns
+    -------
+    float
+        u_r (dimensionless stress).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> round(bk.noise.release_stress(1e-6, 0.0), 9)          # the continuum limit
+    0.5
+    >>> round(bk.noise.release_stress(0.1, 0.3), 6)
+    0.509419
+    """
     dx, gamma = _check(dx, gamma)
     _, wd = _swing(dx, gamma)
     return (2.0 + dx**2) / (3.0 + dx**2 + math.exp(-math.pi * gamma / wd))
@@ -197,7 +297,34 @@ def deferred_stress(u, kick: float, dx: float, gamma: float):
     c = (1 + exp(-pi gamma/omega_d))/(2 + dx^2) (-> 1 - u as dx -> 0: the mirror stress).
     Returns u where the kick nucleates at once (kick >= K_c(u)); 1 where the block does
     not move (a release at u <= 0); for a kick at u <= 0 whose swing trips the neighbours
-    at once (no pair: nothing ahead is excitable), nan. Vectorised in u."""
+    at once (no pair: nothing ahead is excitable), nan. Vectorised in u.
+
+    Parameters
+    ----------
+    u : float or array_like
+        Stress of the uniform chain when the block is kicked (dimensionless).
+    kick : float
+        Forward speed of the kick over the ground, >= 0 (dimensionless, in units of
+        (f_r - f_s)/sqrt(k_p m); 0: a release).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) (dimensionless).
+    gamma : float
+        Viscous damping, 0 <= gamma < 1 (dimensionless).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        u_b, the background stress at which the pair starts (dimensionless).
+
+    Examples
+    --------
+    A release at u = 0.2 nucleates when the background reaches 1 - c u:
+
+    >>> import bkwaves as bk
+    >>> c = (1 + 1) / (2 + 0.1**2)                    # undamped: exp(-0) = 1
+    >>> bk.noise.deferred_stress(0.2, 0.0, 0.1, 0.0), 1 - c * 0.2
+    (0.8009950248756219, 0.8009950248756219)
+    """
     dx, gamma = _check(dx, gamma)
     kick = V.number("kick", kick, lo=0.0)
     om2, wd = _swing(dx, gamma)
@@ -260,7 +387,35 @@ def kick_threshold(u, dx: float, gamma: float):
     Omega^2 = 1 + 2/dx^2, Delta = (1 - u) dx^2, i.e. ~ dx sqrt(2 (1 - u)(1 - 2u)) as dx -> 0;
     0 above :func:`release_stress`; inf for u <= 0. Vectorised in u. The chain nucleates a
     propagating pair exactly at this kick (measured, docs/noise.md) for u above the
-    propagation-failure stress of the lattice (where fronts die however started)."""
+    propagation-failure stress of the lattice (where fronts die however started).
+
+    Parameters
+    ----------
+    u : float or array_like
+        Stress of the uniform chain (dimensionless).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) (dimensionless).
+    gamma : float
+        Viscous damping, 0 <= gamma < 1 (dimensionless).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        K_c(u), in units of (f_r - f_s)/sqrt(k_p m) (dimensionless speed).
+
+    Examples
+    --------
+    Undamped, the closed form above:
+
+    >>> import math
+    >>> import bkwaves as bk
+    >>> u, dx = 0.3, 0.1
+    >>> om2, delta = 1 + 2 / dx**2, (1 - u) * dx**2
+    >>> round(bk.noise.kick_threshold(u, dx, 0.0), 12)
+    0.075159829696
+    >>> round(math.sqrt(om2 * delta * (delta - 2 * u / om2)), 12)
+    0.075159829696
+    """
     dx, gamma = _check(dx, gamma)
     u = V.array("u", u)
     out = np.vectorize(lambda x: _threshold_one(float(x), dx, gamma), otypes=[float])(u)
@@ -270,7 +425,37 @@ def kick_threshold(u, dx: float, gamma: float):
 def nucleates(u: float, kick: float, dx: float, gamma: float, *, blocks: int = 600) -> bool:
     """Measure in the chain: does a forward kick of size ``kick`` at the centre block of a
     uniform chain of ``blocks`` blocks at stress u (v = 0, free ends) start a pair of
-    fronts that reach both ends? (Fronts are supersonic, so the run lasts blocks*dx.)"""
+    fronts that reach both ends? (Fronts are supersonic, so the run lasts blocks*dx.)
+
+    Parameters
+    ----------
+    u : float
+        Stress of the uniform chain, -1 <= u < 1 (dimensionless).
+    kick : float
+        Forward speed of the kick over the ground, > 0 (dimensionless, in units of
+        (f_r - f_s)/sqrt(k_p m)).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) (dimensionless).
+    gamma : float
+        Viscous damping, 0 <= gamma < 1 (dimensionless).
+    blocks : int, default 600
+        Blocks of the chain, >= 5.
+
+    Returns
+    -------
+    bool
+        Whether both ends slipped.
+
+    Examples
+    --------
+    Just above and just below the closed-form threshold K_c = 0.07878:
+
+    >>> import bkwaves as bk
+    >>> bk.noise.nucleates(0.3, 0.080, 0.1, 0.3, blocks=200)
+    True
+    >>> bk.noise.nucleates(0.3, 0.078, 0.1, 0.3, blocks=200)
+    False
+    """
     from .chain import Chain
 
     u = V.number("u", u, lo=-1.0, hi=1.0, hi_open=True)
@@ -294,11 +479,44 @@ def measured_kick_threshold(
     kick_max=64.0,
     kick_min=1e-12,
 ) -> float:
-    """The smallest kick for which :func:`nucleates` is true, by bisection to ``rtol``
-    (relative); inf if even ``kick_max`` does not start a propagating pair; 0 if a kick
-    of ``kick_min`` already does (above :func:`release_stress` the block's own swing
-    trips its neighbours: :func:`kick_threshold` is 0 there, and no positive kick is the
-    smallest)."""
+    """The smallest kick for which :func:`nucleates` is true, by bisection.
+
+    0 if a kick of ``kick_min`` already nucleates (above :func:`release_stress` the
+    block's own swing trips its neighbours: :func:`kick_threshold` is 0 there, and no
+    positive kick is the smallest).
+
+    Parameters
+    ----------
+    u : float
+        Stress of the uniform chain (dimensionless).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) (dimensionless).
+    gamma : float
+        Viscous damping, 0 <= gamma < 1 (dimensionless).
+    blocks : int, default 600
+        Blocks of the chain.
+    rtol : float, default 1e-6
+        Relative tolerance of the bisection, 0 < rtol < 1.
+    kick_max : float, default 64
+        The largest kick tried (dimensionless, units of (f_r - f_s)/sqrt(k_p m)).
+    kick_min : float, default 1e-12
+        The smallest kick tried, 0 < kick_min <= kick_max (same units).
+
+    Returns
+    -------
+    float
+        The threshold kick (dimensionless, units of (f_r - f_s)/sqrt(k_p m)); inf if even
+        ``kick_max`` does not start a propagating pair, 0 if ``kick_min`` does.
+
+    Examples
+    --------
+    The chain's threshold is the closed form :func:`kick_threshold`:
+
+    >>> import bkwaves as bk
+    >>> k = bk.noise.measured_kick_threshold(0.3, 0.1, 0.3, blocks=200, rtol=1e-3)
+    >>> abs(k / bk.noise.kick_threshold(0.3, 0.1, 0.3) - 1) < 1e-3
+    True
+    """
     rtol = V.number("rtol", rtol, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     kick_max = V.number("kick_max", kick_max, lo=0.0, lo_open=True)
     kick_min = V.number("kick_min", kick_min, lo=0.0, hi=kick_max, lo_open=True)
@@ -325,7 +543,37 @@ def nucleation_probability(u, kick: float, dx: float, gamma: float, *, distribut
     of size ``kick``, P = 1 if kick >= K_c(u) else 0 (a uniform chain answers
     deterministically); ``"exponential"``: kick sizes exponential with mean ``kick``,
     P = exp(-K_c(u)/kick). Vectorised in u. Valid above the lattice's propagation-failure
-    stress (docs/noise.md, measured there)."""
+    stress (docs/noise.md, measured there).
+
+    Parameters
+    ----------
+    u : float or array_like
+        Stress of the uniform chain (dimensionless).
+    kick : float
+        The kick (fixed) or its mean (exponential), > 0 (dimensionless, in units of
+        (f_r - f_s)/sqrt(k_p m)).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) (dimensionless).
+    gamma : float
+        Viscous damping, 0 <= gamma < 1 (dimensionless).
+    distribution : {"fixed", "exponential"}, default "fixed"
+        The law of the kick sizes.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The probability P(u), in [0, 1].
+
+    Examples
+    --------
+    >>> import math
+    >>> import bkwaves as bk
+    >>> bk.noise.nucleation_probability([0.2, 0.3, 0.6], 0.1, 0.1, 0.3)
+    array([0., 1., 1.])
+    >>> p = bk.noise.nucleation_probability(0.3, 0.1, 0.1, 0.3, distribution="exponential")
+    >>> p == math.exp(-bk.noise.kick_threshold(0.3, 0.1, 0.3) / 0.1)
+    True
+    """
     if distribution not in DISTRIBUTIONS:
         V._fail("distribution", distribution, "one of " + ", ".join(DISTRIBUTIONS))
     kick = V.number("kick", kick, lo=0.0, lo_open=True)
