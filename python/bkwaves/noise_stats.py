@@ -54,7 +54,31 @@ ORIGINS = ("initial", "birth", "nucleation")
 def noise_strength(noise: dict, length: float, v: float) -> float:
     """nu = length int_0^1 Lambda(u) du / v: the expected number of noise nucleations on
     ``length`` while a uniform stress loads at rate v from 0 to 1 (the engine nucleates
-    only where u > 0)."""
+    only where u > 0).
+
+    Parameters
+    ----------
+    noise : dict
+        A free boundary ``[noise]`` table (``bk.noise.check_noise``; rate per unit
+        length and unit time, dimensionless).
+    length : float
+        The length R, > 0 (dimensionless, the paper's x).
+    v : float
+        Loading rate, > 0 (dimensionless).
+
+    Returns
+    -------
+    float
+        nu (a count, dimensionless).
+
+    Examples
+    --------
+    A constant rate Lambda: nu = R Lambda / v.
+
+    >>> import bkwaves as bk
+    >>> round(bk.noise_stats.noise_strength({"law": "constant", "rate": 0.3}, 50.0, 0.02), 9)
+    750.0
+    """
     length = V.number("length", length, lo=0.0, lo_open=True)
     v = V.number("v", v, lo=0.0, lo_open=True)
     noise = _noise.check_noise(noise)
@@ -105,7 +129,38 @@ def first_slip(phi, noise: dict, v: float):
     these stresses), this is the recurrence law of the ruptures of a ring that the last
     one left at ``phi`` (docs/noise.md, "Long runs compared"): e.g. ``phi = chain.phi``
     after a noiseless rupture, or ``np.full(n, u_minus)`` for the free boundary's n cells
-    of length dx with the per-cell rate Lambda dx."""
+    of length dx with the per-cell rate Lambda dx.
+
+    Parameters
+    ----------
+    phi : array_like
+        The stuck blocks' stresses phi_i < = 1 (dimensionless), at least one.
+    noise : dict
+        A ``[noise]`` table (rate per block and unit time, dimensionless).
+    v : float
+        Loading rate, >= 0 (dimensionless).
+
+    Returns
+    -------
+    mean : float
+        The mean waiting time, in units of sqrt(m/k_p) (inf without noise at v = 0).
+    survival : callable
+        t -> P(no slip by t), t in units of sqrt(m/k_p) (vectorised).
+
+    Examples
+    --------
+    Ten blocks at rate 0.1 each: at v = 0 the wait is exponential with mean 1; loading at
+    v = 0.01 they reach the threshold only at t_1 = 50, long after:
+
+    >>> import numpy as np
+    >>> from bkwaves import noise_stats as ns
+    >>> mean, survival = ns.first_slip(np.full(10, 0.5), {"law": "constant", "rate": 0.1}, 0.0)
+    >>> mean, round(float(survival(1.0)), 6)
+    (1.0, 0.367879)
+    >>> mean, survival = ns.first_slip(np.full(10, 0.5), {"law": "constant", "rate": 0.1}, 0.01)
+    >>> round(mean, 9), survival(50.0)
+    (1.0, 0.0)
+    """
     noise = _noise.check_noise(noise, "noise", model="chain")
     noise.pop("kick")  # the rate law alone
     phi = V.array("phi", phi, hi=1.0)
@@ -205,7 +260,40 @@ def ruptures(result, h: float | None = None):
     shocks reset, times h), ``moment`` (sum of A h over them: int A dx, the catalogs'
     ``moment``, :mod:`bkwaves.catalog`) and ``mean_u_plus``. Sizes are on the grid: each
     reset node stands for the cell h around it. ``h``: the grid spacing (default: the
-    result's)."""
+    result's).
+
+    Parameters
+    ----------
+    result : bkwaves.FreeBoundaryResult
+        A run with ``record_path=True``.
+    h : float, optional
+        The grid spacing, > 0 (dimensionless, the paper's x); default the result's.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per rupture; times in units of sqrt(m/k_p), positions and ``swept`` in
+        the paper's dimensionless x, ``u_start`` and ``mean_u_plus`` dimensionless
+        stresses, ``moment`` the dimensionless int A dx.
+
+    Examples
+    --------
+    One maximum on a ring: one pair born at u = 1 sweeps the whole ring, with the moment
+    of the engine's own catalog:
+
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> from bkwaves import noise_stats as ns
+    >>> p = bk.Params(gamma=0.3, v=1e-2, dx=1e-3)
+    >>> x = np.arange(200) * 0.2                        # a ring of length 40
+    >>> u0 = 0.999 - 1e-4 * (x - 20) ** 2               # one maximum: a source
+    >>> r = bk.FreeBoundary(p, x, u0, "periodic").run(max_events=1)
+    >>> cat = ns.ruptures(r)
+    >>> cat[["shocks", "swept", "spontaneous", "u_start"]].values.tolist()
+    [[2, 40.0, False, 1.0]]
+    >>> round(float(cat.moment[0]), 6), round(float(r.events.moment[0]), 6)
+    (54.419218, 54.419218)
+    """
     meta = result.meta
     h = float(meta["grid_spacing"]) if h is None else V.number("h", h, lo=0.0, lo_open=True)
     if not meta.get("record_path", 1):
@@ -307,7 +395,36 @@ def chain_ruptures(result, boundary: str | None = None):
     boundary's ``moment``),
     ``event`` (the catalog event it belongs to). ``boundary``: the chain's (``periodic``
     wraps the neighbours); by default the one the result records, and refused if it
-    differs from it."""
+    differs from it.
+
+    Parameters
+    ----------
+    result : bkwaves.ChainResult
+        A chain run.
+    boundary : {"free", "fixed", "periodic"}, optional
+        The chain's boundary; default the one the result records.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per rupture; times in units of sqrt(m/k_p), ``x_start`` and ``swept`` in
+        the paper's dimensionless x, ``u_start`` a dimensionless stress, ``moment`` the
+        dimensionless int slip dx.
+
+    Examples
+    --------
+    Two pairs started 0.5 apart at opposite points of a ring make one catalog event; each
+    rupture gets the ground its fronts swept:
+
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> p = bk.Params(gamma=0.3, v=0.0, dx=0.05)
+    >>> ch = bk.Chain(400, p, "periodic", np.full(400, 0.93))
+    >>> res = ch.kick(0, -0.5, 0.0).kick(200, -0.5, 0.5).run(t_end=100.0)
+    >>> rup = bk.noise_stats.chain_ruptures(res)
+    >>> len(res.catalog), rup.block.tolist(), int(rup.n_blocks.sum())
+    (1, [0, 200], 400)
+    """
     kept = getattr(result, "boundary", None)
     if boundary is None:
         if kept is None:
@@ -432,8 +549,36 @@ def _rupture_ids(ev, blk, t0, spont, n: int, periodic: bool):
 
 
 def point_recurrence(result, t_min: float = -math.inf):
-    """Times between successive resets of the same grid node (ruptures passing a point),
-    pooled over the nodes, for resets after ``t_min`` (``record_path=True``)."""
+    """Times between successive resets of the same grid node (ruptures passing a point).
+
+    Parameters
+    ----------
+    result : bkwaves.FreeBoundaryResult
+        A run with ``record_path=True``.
+    t_min : float, default -inf
+        Only resets after this time (units of sqrt(m/k_p)).
+
+    Returns
+    -------
+    numpy.ndarray
+        The recurrence times, pooled over the nodes, in units of sqrt(m/k_p).
+
+    Examples
+    --------
+    A source's waves pass every point once per loading from u_-(1) to 1:
+
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> from bkwaves import noise_stats as ns
+    >>> p = bk.Params(gamma=0.3, v=1e-2, dx=1e-3)
+    >>> x = np.arange(200) * 0.2                        # a ring of length 40
+    >>> u0 = 0.999 - 1e-4 * (x - 20) ** 2               # one maximum: a source
+    >>> r = bk.FreeBoundary(p, x, u0, "periodic").run(max_events=3)
+    >>> rec = ns.point_recurrence(r)
+    >>> from bkwaves import theory
+    >>> round(float(rec.mean()), 1), round(float(1 - theory.u_minus_at_one(0.3)) / 1e-2, 1)
+    (136.9, 137.2)
+    """
     nodes = _resets(result)
     nodes = nodes[nodes.t >= t_min]
     if not len(nodes):
@@ -463,7 +608,47 @@ def ring_statistics(
     (:class:`bkwaves.stats.GutenbergRichter` of the ruptures' moments, the estimator of
     every bkwaves b: Mc by maximum curvature, a bootstrap interval, no b for a degenerate
     or small catalog), ``recurrence`` (point recurrence times), ``u_start`` mean,
-    ``swept`` mean."""
+    ``swept`` mean.
+
+    Parameters
+    ----------
+    params : bkwaves.Params
+        gamma, v (dimensionless) and dx.
+    x : array_like
+        The ring's grid (dimensionless, the paper's x).
+    u0 : float or array_like
+        The initial stress (dimensionless).
+    noise : dict or None
+        A free boundary ``[noise]`` table (rate per unit length and time,
+        dimensionless), or None.
+    t_end : float
+        End of the run, > 0 (units of sqrt(m/k_p)).
+    burn_in : float, default 0
+        Ruptures starting before it are left out, 0 <= burn_in < t_end (units of
+        sqrt(m/k_p)).
+    seed : int, default 1
+        Seed of the noise.
+
+    Returns
+    -------
+    dict
+        ``ruptures``, ``length`` and ``span`` (the ring's length and the time counted,
+        dimensionless), ``rate`` (per unit length and time), ``spontaneous``,
+        ``recurrence`` (units of sqrt(m/k_p)), ``u_start``, ``swept`` and ``b``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> from bkwaves import noise_stats as ns
+    >>> p = bk.Params(gamma=0.3, v=1e-2, dx=1e-3)
+    >>> x = np.arange(200) * 0.2                        # a ring of length 40
+    >>> u0 = 0.999 - 1e-4 * (x - 20) ** 2               # one maximum: a source
+    >>> T = float(bk.theory.source_period(1e-2, 0.3))
+    >>> out = ns.ring_statistics(p, x, u0, None, t_end=3.5 * T)
+    >>> len(out["ruptures"]), out["spontaneous"], round(out["span"] / T, 2)
+    (4, 0.0, 3.5)
+    """
     from .free_boundary import FreeBoundary, NoCreepWarning
 
     t_end = V.number("t_end", t_end, lo=0.0, lo_open=True)
@@ -515,7 +700,57 @@ def statistics_vs_strength(
     KS p-value of the Gutenberg-Richter law above m_c), mean u where
     ruptures start, mean swept length, mean and CV of the point recurrence time, v times
     the mean recurrence, and the balance rupture_rate * swept * recurrence, which is 1
-    in a steady state: every point is swept once per recurrence) and the runs' dicts."""
+    in a steady state: every point is swept once per recurrence) and the runs' dicts.
+
+    Parameters
+    ----------
+    params : bkwaves.Params
+        gamma, v (dimensionless) and dx.
+    x : array_like
+        The ring's grid (dimensionless, the paper's x).
+    u0 : float or array_like
+        The initial stress (dimensionless).
+    strengths : array_like
+        The noise strengths nu, >= 0 (dimensionless counts).
+    law : {"constant", "exponential", "power", "table"}, default "constant"
+        The rate law.
+    law_params : dict, optional
+        Its parameters (``phi0``, ``exponent``: dimensionless; ``u``, ``g``).
+    t_end : float
+        End of each run (units of sqrt(m/k_p)).
+    burn_in : float, default 0
+        Ruptures starting before it are left out (units of sqrt(m/k_p)).
+    seed : int, default 1
+        Seed of the noise (the same for every strength).
+    length : float, optional
+        The length R of nu (dimensionless x); default the ring's.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        One row per strength (rates per unit length and time, lengths in the paper's x,
+        times in units of sqrt(m/k_p), stresses dimensionless).
+    runs : list of dict
+        :func:`ring_statistics` of each strength.
+
+    Examples
+    --------
+    The rate is set so that nu is the expected count of pairs on the ring over one
+    loading:
+
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> from bkwaves import noise_stats as ns
+    >>> p = bk.Params(gamma=0.3, v=1e-2, dx=1e-3)
+    >>> x = np.arange(200) * 0.2                        # a ring of length 40
+    >>> u0 = 0.999 - 1e-4 * (x - 20) ** 2               # one maximum: a source
+    >>> T = float(bk.theory.source_period(1e-2, 0.3))
+    >>> tab, runs = ns.statistics_vs_strength(p, x, u0, [0, 5], t_end=3 * T)
+    >>> [round(r, 9) for r in tab.rate], float(tab.spontaneous.iloc[0])
+    ([0.0, 0.00125], 0.0)
+    >>> round(ns.noise_strength({"law": "constant", "rate": 0.00125}, 40.0, 1e-2), 9)
+    5.0
+    """
     import pandas as pd
 
     if not isinstance(params, Params):
@@ -619,7 +854,39 @@ def calibrated_noise(
     rule ``"zero"``), while the deferred pairs are not pre-empted. For the exponential and
     power laws this rate falls just above u_r (lambda((1 - u)/c) falls as u rises faster
     than lambda(u) rises there); the engines thin under its running maximum, so any law
-    is fine."""
+    is fine.
+
+    Parameters
+    ----------
+    chain_noise : dict
+        The chain's ``[noise]`` table (rate per block and unit time at phi = 1, and
+        ``kick``, dimensionless, in units of (f_r - f_s)/sqrt(k_p m)).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) (dimensionless).
+    gamma : float
+        Viscous damping, 0 <= gamma < 1 (dimensionless).
+    distribution : {"fixed", "exponential"}, default "fixed"
+        The law of the kick sizes.
+    grid : int, default 2001
+        Points of the table on 0 <= u <= 1, >= 3.
+    deferred : bool, default False
+        Count the pairs that failed releases start later (kick = 0 only).
+
+    Returns
+    -------
+    dict
+        A ``[noise]`` table for :class:`bkwaves.FreeBoundary` (rate per unit length and
+        unit time, dimensionless).
+
+    Examples
+    --------
+    A kick above K_c(u) everywhere nucleates every time: the chain's rate per block over
+    dx blocks per unit length:
+
+    >>> from bkwaves import noise_stats as ns
+    >>> ns.calibrated_noise({"law": "constant", "rate": 0.01, "kick": 2.0}, 0.05, 0.3)
+    {'law': 'constant', 'rate': 0.19999999999999998}
+    """
     from .noise import kick_threshold, nucleation_probability
 
     chain_noise = _noise.check_noise(chain_noise, "chain_noise", model="chain")
