@@ -46,7 +46,34 @@ LOG10_E = np.log10(np.e)
 
 @dataclass(frozen=True)
 class BValue:
-    """Maximum-likelihood b-value (Aki 1965) above the completeness magnitude m_c."""
+    """Maximum-likelihood b-value (Aki 1965) above the completeness magnitude m_c.
+
+    What :func:`b_value` returns; every field is dimensionless (magnitudes and b).
+
+    Parameters
+    ----------
+    b : float
+        The b-value.
+    sigma_aki : float
+        Aki's standard error b / sqrt(n).
+    sigma_shi_bolt : float
+        Shi & Bolt's (1982) standard error.
+    n : int
+        Events with M >= m_c.
+    m_c : float
+        The magnitude of completeness used.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> rng = np.random.default_rng(0)
+    >>> mags = rng.exponential(math.log10(math.e), 2000)   # a Gutenberg-Richter law, b = 1
+    >>> bv = bk.stats.b_value(mags, 0.0)
+    >>> abs(bv.b - 1) < 3 * bv.sigma_aki, bv.n
+    (True, 2000)
+    """
 
     b: float
     sigma_aki: float  # b / sqrt(n)
@@ -57,7 +84,27 @@ class BValue:
 
 def magnitudes(sizes, kind: str = "amplitude"):
     """Magnitudes of event sizes: ``"amplitude"`` M = log10(size) (the paper's b = 1 argument
-    uses the slip amplitude A); ``"moment"`` M = (2/3) log10(size) for seismic moments."""
+    uses the slip amplitude A); ``"moment"`` M = (2/3) log10(size) for seismic moments.
+
+    Parameters
+    ----------
+    sizes : array_like
+        Event sizes, > 0 (slip amplitudes or moments, in the paper's dimensionless units;
+        a change of unit shifts every M by one constant, which leaves b unchanged).
+    kind : {"amplitude", "moment"}, default "amplitude"
+        Which magnitude.
+
+    Returns
+    -------
+    numpy.ndarray
+        The magnitudes (dimensionless).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.stats.magnitudes([10.0, 100.0]), bk.stats.magnitudes([1e3], "moment")
+    (array([1., 2.]), array([2.]))
+    """
     s = V.array("sizes", sizes, lo=0.0, lo_open=True)
     if kind == "amplitude":
         return np.log10(s)
@@ -71,7 +118,38 @@ def b_value(mags, m_c: float | None = None, dm: float = 0.0) -> BValue:
 
     ``dm`` is the binning width of catalog magnitudes (0 for continuous values, as from a
     simulation). The uncertainty is given both as Aki's b/sqrt(n) and Shi & Bolt's
-    2.3 b^2 sqrt(sum (M - mean)^2 / (n (n - 1))).
+    2.3 b^2 sqrt(sum (M - mean)^2 / (n (n - 1))). :func:`gutenberg_richter` is the
+    estimator bkwaves reports (with Mc chosen and a bootstrap interval).
+
+    Parameters
+    ----------
+    mags : array_like
+        Magnitudes (dimensionless).
+    m_c : float, optional
+        Magnitude of completeness; default the smallest magnitude.
+    dm : float, default 0
+        Binning width of the magnitudes, >= 0 (0: continuous).
+
+    Returns
+    -------
+    BValue
+        b with its two standard errors, n and m_c.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        Fewer than 2 events above m_c, or a mean not above m_c - dm/2.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> rng = np.random.default_rng(0)
+    >>> mags = rng.exponential(math.log10(math.e), 2000)   # a Gutenberg-Richter law, b = 1
+    >>> bv = bk.stats.b_value(mags, 0.0)
+    >>> round(bv.b, 3), round(bv.sigma_aki, 3), bv.n
+    (0.988, 0.022, 2000)
     """
     m = V.array("mags", mags)
     if m_c is None:
@@ -118,8 +196,26 @@ MIN_SPREAD = 0.01
 
 
 def moment_magnitude(moment):
-    """M = (2/3) log10(moment) (NaN where moment <= 0 or is not finite): the magnitude
-    of every bkwaves statistic, :data:`MAGNITUDE_DEFINITION`."""
+    """M = (2/3) log10(moment): the magnitude of every bkwaves statistic.
+
+    :data:`MAGNITUDE_DEFINITION` says the same in words for the outputs' attributes.
+
+    Parameters
+    ----------
+    moment : float or array_like
+        Moments int slip dx (dimensionless, the catalogs' ``moment``).
+
+    Returns
+    -------
+    numpy.ndarray
+        M (dimensionless), NaN where the moment is <= 0 or not finite.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.stats.moment_magnitude([1e3, 0.0, -1.0])
+    array([ 2., nan, nan])
+    """
     m = np.asarray(moment, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(np.isfinite(m) & (m > 0), (2.0 / 3.0) * np.log10(np.abs(m)), np.nan)
@@ -138,7 +234,32 @@ def completeness_magnitude(mags, dm: float = 0.0) -> float:
     """Magnitude of completeness by maximum curvature plus :data:`MC_CORRECTION`: the
     magnitude of the fullest bin of the non-cumulative histogram (bins of ``dm``, or of
     :data:`MC_BIN` = 0.1 for continuous magnitudes: its lower edge), plus 0.2 (Wiemer &
-    Wyss 2000, Woessner & Wiemer 2005). The events with M >= Mc enter the b-value."""
+    Wyss 2000, Woessner & Wiemer 2005). The events with M >= Mc enter the b-value.
+
+    Parameters
+    ----------
+    mags : array_like
+        Magnitudes (dimensionless); non-finite ones are ignored.
+    dm : float, default 0
+        Binning width of the magnitudes, >= 0 (0: continuous).
+
+    Returns
+    -------
+    float
+        Mc (dimensionless).
+
+    Examples
+    --------
+    An exponential law is fullest in its first bin, [0, 0.1): Mc = 0 + 0.2.
+
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> rng = np.random.default_rng(0)
+    >>> mags = rng.exponential(math.log10(math.e), 2000)   # a Gutenberg-Richter law, b = 1
+    >>> bk.stats.completeness_magnitude(mags)
+    0.2
+    """
     m = V.array("mags", mags)
     m = m[np.isfinite(m)]
     if not m.size:
@@ -152,7 +273,50 @@ def completeness_magnitude(mags, dm: float = 0.0) -> float:
 @dataclass(frozen=True)
 class GutenbergRichter:
     """The b-value of a catalog (:func:`gutenberg_richter`). ``b`` is NaN when the
-    catalog has none, and ``reason`` says why (too few events, events of one size)."""
+    catalog has none, and ``reason`` says why (too few events, events of one size).
+
+    Every number is dimensionless (magnitudes, b and its interval).
+
+    Parameters
+    ----------
+    b : float
+        The b-value (NaN: none).
+    lo, hi : float
+        Its confidence interval (bootstrap percentiles).
+    confidence : float
+        The interval's confidence level.
+    sigma_shi_bolt : float
+        Shi & Bolt's (1982) standard error, for comparison.
+    m_c : float
+        The magnitude of completeness.
+    n : int
+        Events with M >= m_c.
+    n_total : int
+        Events with a finite magnitude (moment > 0).
+    m_min, m_max : float
+        The range of the magnitudes.
+    dm : float, default 0
+        Their binning width.
+    reason : str or None, default None
+        Why there is no b.
+    fit_p : float, default nan
+        Kolmogorov-Smirnov p-value of the Gutenberg-Richter law above m_c.
+    magnitude : str
+        What a magnitude is (:data:`MAGNITUDE_DEFINITION`).
+    method : str
+        The estimator, in words.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> rng = np.random.default_rng(0)
+    >>> mags = rng.exponential(math.log10(math.e), 2000)   # a Gutenberg-Richter law, b = 1
+    >>> gr = bk.stats.gutenberg_richter(magnitudes=mags, n_boot=200)
+    >>> gr.ok, gr.fits, bool(gr.lo < 1 < gr.hi)
+    (True, True, True)
+    """
 
     b: float
     lo: float  # the confidence interval (bootstrap percentiles)
@@ -177,6 +341,7 @@ class GutenbergRichter:
 
     @property
     def ok(self) -> bool:
+        """Whether there is a b (no ``reason``)."""
         return self.reason is None
 
     @property
@@ -186,7 +351,20 @@ class GutenbergRichter:
         return not self.fit_p < FIT_P_MIN
 
     def text(self) -> str:
-        """One line: the b with its interval and Mc, or why there is none."""
+        """One line: the b with its interval and Mc, or why there is none.
+
+        Returns
+        -------
+        str
+            The line ``bkwaves stats`` prints.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> bk.stats.gutenberg_richter(np.full(100, 2.0)).text()[:38]
+        'no b-value: degenerate catalog: all 10'
+        """
         if not self.ok:
             return f"no b-value: {self.reason}"
         pct = round(100 * self.confidence)
@@ -199,6 +377,21 @@ class GutenbergRichter:
         return out
 
     def to_dict(self) -> dict:
+        """The fields as a dict for JSON (NaN and inf as None).
+
+        Returns
+        -------
+        dict
+            Field name -> value.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> d = bk.stats.gutenberg_richter(np.full(100, 2.0)).to_dict()
+        >>> d["b"], d["n_total"]
+        (None, 100)
+        """
         from dataclasses import asdict
 
         return {k: (None if isinstance(v, float) and not np.isfinite(v) else v)
@@ -271,7 +464,44 @@ def gutenberg_richter(
 
     No b (NaN, with ``reason``) for fewer than :data:`MIN_EVENTS` events above Mc, or
     magnitudes above Mc spread by less than :data:`MIN_SPREAD` (events of one size, e.g.
-    a noiseless ring's ring-wide ruptures)."""
+    a noiseless ring's ring-wide ruptures).
+
+    Parameters
+    ----------
+    moment : array_like, optional
+        The events' moments int slip dx (dimensionless, a catalog's ``moment``); give
+        exactly one of moment and magnitudes.
+    magnitudes : array_like, optional
+        Magnitudes given directly (dimensionless).
+    dm : float, default 0
+        Binning width of the magnitudes, >= 0 (0: continuous).
+    confidence : float, default 0.95
+        Level of the interval, 0 < confidence < 1.
+    n_boot : int, default 1000
+        Bootstrap resamples, >= 0 (0: no interval).
+    seed : int, default 0
+        Seed of the bootstrap, >= 0.
+
+    Returns
+    -------
+    GutenbergRichter
+        b with its interval, Mc, counts and the fit's p-value, or the reason for no b.
+
+    Examples
+    --------
+    Moments drawn from a Gutenberg-Richter law with b = 1 (M = (2/3) log10(moment)):
+
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> rng = np.random.default_rng(0)
+    >>> mags = rng.exponential(math.log10(math.e), 2000)   # a Gutenberg-Richter law, b = 1
+    >>> gr = bk.stats.gutenberg_richter(10 ** (1.5 * mags), n_boot=200)
+    >>> gr.m_c, bool(gr.lo < 1 < gr.hi), gr.fits
+    (0.2, True, True)
+    >>> bk.stats.gutenberg_richter(np.full(100, 2.0)).ok   # events of one size: no b
+    False
+    """
     if (moment is None) == (magnitudes is None):
         V._fail("moment", "both or neither of moment and magnitudes", "exactly one of them")
     if magnitudes is None:
@@ -350,8 +580,35 @@ def gutenberg_richter(
 
 
 def power_law_exponent(sizes, s_min: float | None = None) -> tuple[float, float]:
-    """Hill estimator of beta in P(size >= s) ~ s^-beta for s >= s_min, with its standard
-    error beta / sqrt(n). For amplitude magnitudes b = beta; for moments b = 1.5 beta."""
+    """Hill estimator of beta in P(size >= s) ~ s^-beta for s >= s_min.
+
+    For amplitude magnitudes b = beta; for moments b = 1.5 beta.
+
+    Parameters
+    ----------
+    sizes : array_like
+        Event sizes, > 0 (any unit: beta does not depend on it).
+    s_min : float, optional
+        The smallest size counted, > 0 (the unit of ``sizes``); default the smallest.
+
+    Returns
+    -------
+    beta : float
+        The exponent (dimensionless).
+    error : float
+        Its standard error beta / sqrt(n).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> rng = np.random.default_rng(0)
+    >>> mags = rng.exponential(math.log10(math.e), 2000)   # a Gutenberg-Richter law, b = 1
+    >>> beta, err = bk.stats.power_law_exponent(10**mags, 1.0)
+    >>> bool(abs(beta - 1) < 3 * err)
+    True
+    """
     s = V.array("sizes", sizes, lo=0.0, lo_open=True)
     s_min = float(s.min()) if s_min is None else V.number("s_min", s_min, lo=0.0, lo_open=True)
     sel = s[s >= s_min]
@@ -362,14 +619,56 @@ def power_law_exponent(sizes, s_min: float | None = None) -> tuple[float, float]
 
 
 def size_frequency(sizes):
-    """Complementary cumulative distribution: sorted sizes s and N(>= s) / n."""
+    """Complementary cumulative distribution of event sizes.
+
+    Parameters
+    ----------
+    sizes : array_like
+        Event sizes, > 0 (any unit).
+
+    Returns
+    -------
+    s : numpy.ndarray
+        The sizes, largest first (the unit of ``sizes``).
+    fraction : numpy.ndarray
+        N(>= s) / n.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.stats.size_frequency([3.0, 1.0, 2.0])
+    (array([3., 2., 1.]), array([0.33333333, 0.66666667, 1.        ]))
+    """
     s = np.sort(V.array("sizes", sizes, lo=0.0, lo_open=True))[::-1]
     return s, np.arange(1, s.size + 1) / s.size
 
 
 def recurrence_times(times, positions=None, *, window: float | None = None):
-    """Intervals between successive events: all events, or (with positions and a window)
-    between events whose positions lie within ``window`` of each other in turn."""
+    """Intervals between successive events, anywhere or near the same place.
+
+    Parameters
+    ----------
+    times : array_like
+        Event times (1-d; units of sqrt(m/k_p), or any unit).
+    positions : array_like, optional
+        Event positions, the shape of ``times`` (dimensionless x, or any unit); with it,
+        each event's interval is to the next event within ``window`` of it.
+    window : float, optional
+        The distance, > 0 (the unit of ``positions``); required with positions.
+
+    Returns
+    -------
+    numpy.ndarray
+        The intervals, in the unit of ``times``.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.stats.recurrence_times([0, 1, 3, 6])
+    array([1., 2., 3.])
+    >>> bk.stats.recurrence_times([0, 1, 3, 6], [0, 10, 0.5, 10], window=1.0)
+    array([3., 5.])
+    """
     t = np.sort(V.array("times", times).ravel())
     if np.ndim(times) != 1:
         V._fail("times", f"an array of shape {np.shape(times)}", "a 1-d array of event times")
