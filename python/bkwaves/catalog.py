@@ -83,8 +83,30 @@ RUPTURE_COLUMNS = (
 
 
 def describe(df, units: dict | None = None, scales: dict | None = None):
-    """Set ``df.attrs``: the definitions of its columns (``descriptions``) and, when given,
-    their ``units`` and ``scales``. Returns ``df``."""
+    """Set ``df.attrs``: the definitions of its columns, and their units and scales.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        A catalog table; its columns found in ``DESCRIPTIONS`` get their definition.
+    units : dict, optional
+        Column -> unit (e.g. ``"1"`` for the paper's dimensionless units, ``"s"``).
+    scales : dict, optional
+        Column -> factor from the dimensionless value to the unit.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``df`` itself, its ``attrs`` set.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> import bkwaves as bk
+    >>> df = bk.catalog.describe(pd.DataFrame({"t_start": [0.0]}), units={"t_start": "1"})
+    >>> df.attrs["descriptions"]["t_start"], df.attrs["units"]
+    ('nucleation time: start of the first slip', {'t_start': '1'})
+    """
     df.attrs["descriptions"] = {c: DESCRIPTIONS[c] for c in df.columns if c in DESCRIPTIONS}
     if units is not None:
         df.attrs["units"] = dict(units)
@@ -103,7 +125,42 @@ def run_ruptures(engine: str, table, *, n: int, dx: float, boundary: str, x0: fl
     ``x``; ``n`` blocks dx apart) or the free boundary's shock paths (``table``, every node
     crossing recorded; ``n`` grid nodes ``dx`` apart from ``x0``: here ``dx`` is the grid
     spacing h). Built by :func:`bkwaves.noise_stats.chain_ruptures` /
-    :func:`bkwaves.noise_stats.ruptures`, which define the rupture."""
+    :func:`bkwaves.noise_stats.ruptures`, which define the rupture.
+
+    Parameters
+    ----------
+    engine : {"chain", "free_boundary"}
+        Which engine's record ``table`` is.
+    table : pandas.DataFrame
+        The chain's slips (with ``x``) or the free boundary's shock paths.
+    n : int
+        Blocks of the chain, or grid nodes.
+    dx : float
+        The chain's lattice spacing, or the grid spacing h (dimensionless).
+    boundary : {"free", "fixed", "periodic"}
+        The run's boundary.
+    x0 : float, default 0
+        Position of the first grid node (dimensionless x).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per rupture, the columns of :data:`RUPTURE_COLUMNS` in the paper's
+        dimensionless units (times in sqrt(m/k_p), positions in x, moment int slip dx).
+
+    Examples
+    --------
+    Two pairs in one catalog event are two ruptures; their moments add up to the event's:
+
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> p = bk.Params(gamma=0.3, v=0.0, dx=0.05)
+    >>> ring = bk.Chain(400, p, "periodic", np.full(400, 0.93))
+    >>> res = ring.kick(0, -0.5, 0.0).kick(200, -0.5, 0.5).run(t_end=100.0)  # two pairs
+    >>> rup = bk.catalog.run_ruptures("chain", res.slips, n=400, dx=0.05, boundary="periodic")
+    >>> len(res.catalog), len(rup), bool(np.isclose(rup.moment.sum(), res.catalog.moment.sum()))
+    (1, 2, True)
+    """
     import pandas as pd
 
     from . import noise_stats as ns
@@ -165,7 +222,33 @@ def statistics(events, ruptures=None) -> dict:
     catalog used, complete), ``max_moment``, ``magnitude_min`` / ``magnitude_max``,
     ``largest`` (the row of the largest moment, as a dict), ``mean_interval`` and
     ``interval_cv`` (times between successive starts), and ``b`` (the
-    :class:`bkwaves.stats.GutenbergRichter` of the moments)."""
+    :class:`bkwaves.stats.GutenbergRichter` of the moments).
+
+    Parameters
+    ----------
+    events : pandas.DataFrame or None
+        The events catalog (columns ``t_start``, ``moment``, ...; dimensionless).
+    ruptures : pandas.DataFrame, optional
+        The ruptures table (:func:`run_ruptures`).
+
+    Returns
+    -------
+    dict
+        The keys above; ``max_moment`` dimensionless (int slip dx), magnitudes
+        dimensionless, ``mean_interval`` in units of sqrt(m/k_p).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> p = bk.Params(gamma=0.3, v=0.0, dx=0.05)
+    >>> ring = bk.Chain(400, p, "periodic", np.full(400, 0.93))
+    >>> res = ring.kick(0, -0.5, 0.0).kick(200, -0.5, 0.5).run(t_end=100.0)  # two pairs
+    >>> rup = bk.catalog.run_ruptures("chain", res.slips, n=400, dx=0.05, boundary="periodic")
+    >>> st = bk.catalog.statistics(res.catalog, rup)
+    >>> st["catalog"], st["n_events"], st["n_ruptures"], st["mean_interval"], st["b"].ok
+    ('ruptures', 1, 2, 0.5, False)
+    """
     import math
 
     from .stats import gutenberg_richter
@@ -215,7 +298,30 @@ def statistics(events, ruptures=None) -> dict:
 def summary_scalars(stats: dict) -> dict:
     """The scalars of :func:`statistics` that a run summary holds (``bk.run``'s
     ``summary``, sweep outputs): counts, the largest moment, magnitudes, recurrence and
-    the b-value with its interval and Mc, or ``b_value_note`` saying why there is none."""
+    the b-value with its interval and Mc, or ``b_value_note`` saying why there is none.
+
+    Parameters
+    ----------
+    stats : dict
+        What :func:`statistics` returns.
+
+    Returns
+    -------
+    dict
+        Name -> number (NaN where undefined; units as in :func:`statistics`), and the
+        strings ``statistics_catalog`` and ``b_value_note``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> p = bk.Params(gamma=0.3, v=0.0, dx=0.05)
+    >>> ring = bk.Chain(400, p, "periodic", np.full(400, 0.93))
+    >>> res = ring.kick(0, -0.5, 0.0).kick(200, -0.5, 0.5).run(t_end=100.0)  # two pairs
+    >>> s = bk.catalog.summary_scalars(bk.catalog.statistics(res.catalog))
+    >>> s["n_events"], s["b_value_note"][:20]                 # one event: one size
+    (1.0, 'degenerate catalog: ')
+    """
     import math
 
     b = stats["b"]
