@@ -26,7 +26,30 @@ __all__ = ["DEFAULT", "LAWS", "Law", "LawInfo", "ParamInfo", "law", "markdown"]
 
 @dataclass(frozen=True)
 class ParamInfo:
-    """One row of a law's parameter table."""
+    """One row of a law's parameter table (the core's, ``_core.friction_laws()``).
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name.
+    lo, hi : float
+        Its allowed range (dimensionless, in the paper's units, as the parameter).
+    lo_closed, hi_closed : bool
+        Whether the range includes lo, hi.
+    default : float or None
+        Its default (dimensionless); None: required.
+    doc : str
+        What it is, with its unit.
+    allowed : str
+        The range in words, as error messages say it.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> beta = bk.friction.LAWS["coulomb"].param("beta")
+    >>> beta.allowed, beta.default, beta.required
+    ('0 <= beta <= inf', inf, False)
+    """
 
     name: str
     lo: float
@@ -39,18 +62,53 @@ class ParamInfo:
 
     @property
     def required(self) -> bool:
+        """Whether the parameter has no default."""
         return self.default is None
 
 
 @dataclass(frozen=True)
 class LawInfo:
-    """A registered friction law: name, one line of doc and its parameter table."""
+    """A registered friction law: name, one line of doc and its parameter table.
+
+    Parameters
+    ----------
+    name : str
+        The law's name (``LAWS``).
+    doc : str
+        One line on the law.
+    params : tuple of ParamInfo
+        Its parameter table, in order.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> [p.name for p in bk.friction.LAWS["velocity_weakening"].params]
+    ['gamma', 'v_f', 'beta']
+    """
 
     name: str
     doc: str
     params: tuple[ParamInfo, ...]
 
     def param(self, name: str) -> ParamInfo | None:
+        """The row of parameter ``name``, or None if the law has none of that name.
+
+        Parameters
+        ----------
+        name : str
+            The parameter's name.
+
+        Returns
+        -------
+        ParamInfo or None
+            Its row.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> bk.friction.LAWS["coulomb"].param("v_f") is None
+        True
+        """
         return next((p for p in self.params if p.name == name), None)
 
 
@@ -66,7 +124,26 @@ DEFAULT: str = _core.defaults()["law"]
 @dataclass(frozen=True)
 class Law:
     """A friction law chosen by name with some of its parameters (checked against its
-    table when built; the rest come from :class:`bkwaves.Params` or their defaults)."""
+    table when built; the rest come from :class:`bkwaves.Params` or their defaults).
+
+    Parameters
+    ----------
+    name : str, default "coulomb"
+        The law's name (``LAWS``).
+    params : tuple of (str, float)
+        Some of its parameters by name (dimensionless, in the paper's units: ``v_f`` is
+        V_f sqrt(k_p m)/(f_r - f_s)).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.friction.Law("velocity_weakening", (("v_f", 0.5),)).params
+    (('v_f', 0.5),)
+    >>> bk.friction.Law("velocity_weakening", (("v_f", -1.0),))
+    Traceback (most recent call last):
+    ...
+    bkwaves._core.ParameterError: invalid v_f = -1: allowed 0 < v_f < inf
+    """
 
     name: str = DEFAULT
     params: tuple[tuple[str, float], ...] = ()
@@ -79,8 +156,28 @@ class Law:
         object.__setattr__(self, "params", tuple(checked.items()))
 
     def values(self, fallback=None) -> dict[str, float]:
-        """Every parameter of the law (table order): the given ones, else the attribute
-        of ``fallback`` (a Params) of that name, else the default; validated by the core."""
+        """Every parameter of the law (table order), validated by the core.
+
+        Each is the given one, else the attribute of ``fallback`` of that name, else the
+        default.
+
+        Parameters
+        ----------
+        fallback : bkwaves.Params, optional
+            Where the parameters not given come from (``gamma``, ``beta``).
+
+        Returns
+        -------
+        dict
+            Name -> value (dimensionless).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> vw = bk.friction.law("velocity_weakening", v_f=0.5)
+        >>> vw.values(bk.Params(gamma=0.3, v=0.0, dx=0.1))
+        {'gamma': 0.3, 'v_f': 0.5, 'beta': inf}
+        """
         given = dict(self.params)
         for p in LAWS[self.name].params:
             if p.name not in given and fallback is not None and hasattr(fallback, p.name):
@@ -89,8 +186,32 @@ class Law:
 
 
 def law(name: str = DEFAULT, **params: float) -> Law:
-    """The friction law ``name`` with the given parameters; an unknown law or parameter
-    raises :class:`bkwaves.ParameterError` naming the known ones."""
+    """The friction law ``name`` with the given parameters.
+
+    Parameters
+    ----------
+    name : str, default "coulomb"
+        The law's name (``LAWS``).
+    **params : float
+        Some of its parameters (dimensionless, in the paper's units).
+
+    Returns
+    -------
+    Law
+        The law, its parameters checked against its table.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        An unknown law or parameter (the message names the known ones), or a value out of
+        range.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.friction.law("velocity_weakening", v_f=0.5)
+    Law(name='velocity_weakening', params=(('v_f', 0.5),))
+    """
     return Law(name, tuple(params.items()))
 
 
@@ -103,8 +224,21 @@ def _num(x) -> str:
 
 
 def markdown() -> str:
-    """The laws and their parameter tables as Markdown (docs/chain.md embeds this text;
-    a test keeps the two equal)."""
+    """The laws and their parameter tables as Markdown.
+
+    docs/chain.md embeds this text; a test keeps the two equal.
+
+    Returns
+    -------
+    str
+        One section per law with its table.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> print(bk.friction.markdown().splitlines()[0])
+    ### `coulomb`
+    """
     out = []
     for info in LAWS.values():
         out.append(f"### `{info.name}`\n\n{info.doc}.\n")
