@@ -300,13 +300,6 @@ KNOWN_GAPS: dict[str, str] = {
     "bkwaves.theory.width": "U",
     "bkwaves.tip_solve": "U",
     "bkwaves.traveling_wave": "U",
-    "bkwaves.velocity_weakening.VWFront": "EP",
-    "bkwaves.velocity_weakening.VWFront.to_dict": "D",
-    "bkwaves.velocity_weakening.coulomb_gap_bound": "EPR",
-    "bkwaves.velocity_weakening.crossover": "EPR",
-    "bkwaves.velocity_weakening.front": "EPR",
-    "bkwaves.velocity_weakening.min_friction": "EPR",
-    "bkwaves.velocity_weakening.v_f_existence": "EPR",
 }
 
 # A parameter or return of one of these names is a physical quantity: its description

@@ -36,7 +36,29 @@ __all__ = [
 def min_friction(gamma: float, v_f: float) -> float:
     """The lowest friction a sliding block can feel, min over s >= 0 of
     R(s) = 1/(1 + s/v_f) + 2 gamma s: 2 sqrt(2 gamma v_f) - 2 gamma v_f at
-    s* = sqrt(v_f/(2 gamma)) - v_f when 2 gamma v_f < 1, else R(0) = 1 (no weakening)."""
+    s* = sqrt(v_f/(2 gamma)) - v_f when 2 gamma v_f < 1, else R(0) = 1 (no weakening).
+
+    Parameters
+    ----------
+    gamma : float
+        Viscous damping, >= 0 (dimensionless).
+    v_f : float
+        Characteristic velocity of the law, > 0 (dimensionless, in units of
+        (f_r - f_s)/sqrt(k_p m)).
+
+    Returns
+    -------
+    float
+        min R (dimensionless, in units of f_r - f_s).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> round(bk.velocity_weakening.min_friction(0.3, 0.5), 6)   # 2 sqrt(0.3) - 0.3
+    0.795445
+    >>> bk.velocity_weakening.min_friction(2.0, 1.0)               # 2 gamma v_f >= 1
+    1.0
+    """
     gamma = V.number("gamma", gamma, lo=0.0)
     v_f = V.number("v_f", v_f, lo=0.0, lo_open=True)
     y = 2.0 * gamma * v_f
@@ -47,7 +69,30 @@ def v_f_existence(u_plus: float, gamma: float) -> float:
     """The largest v_f at which a block behind the front can slide against less friction
     than the stress u_+ ahead, min R < u_+ (:func:`min_friction`): v_f* =
     (1 - sqrt(1 - u_+))^2/(2 gamma), independent of dx (inf at gamma = 0). Above it no
-    front can run (docs/velocity_weakening.md compares it with the chain)."""
+    front can run (docs/velocity_weakening.md compares it with the chain).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
+    gamma : float
+        Viscous damping, >= 0 (dimensionless).
+
+    Returns
+    -------
+    float
+        v_f* (dimensionless, in units of (f_r - f_s)/sqrt(k_p m)).
+
+    Examples
+    --------
+    At v_f* the lowest friction is u_+ itself:
+
+    >>> import bkwaves as bk
+    >>> vw = bk.velocity_weakening
+    >>> v_star = vw.v_f_existence(0.6, 0.3)
+    >>> round(v_star, 6), round(vw.min_friction(0.3, v_star), 12)
+    (0.225148, 0.6)
+    """
     if gamma == 0.0:
         return math.inf
     return (1.0 - math.sqrt(1.0 - u_plus)) ** 2 / (2.0 * gamma)
@@ -64,7 +109,31 @@ def coulomb_gap_bound(c_coulomb: float, ratio: float) -> float:
     v_f ln(s/v_f), worth at most a further delay v_f ln(1/(c r)) by the time the next
     block slips (s ~ dx/c; phase 2). Each slip interval dx/c grows by the delay, so
     c_C/c - 1 = c_C delay/dx <= 2 c_C r ln(1/r) + O(r) (phase 1 alone: c_C r ln(1/r)).
-    docs/velocity_weakening.md compares it with the chain."""
+    docs/velocity_weakening.md compares it with the chain.
+
+    Parameters
+    ----------
+    c_coulomb : float
+        The Coulomb front's speed c_C (units of the sound speed a sqrt(k_c/m)).
+    ratio : float
+        r = v_f/dx, 0 < r << 1 (dimensionless).
+
+    Returns
+    -------
+    float
+        The bound on c_C/c - 1 (dimensionless).
+
+    Examples
+    --------
+    A chain at v_f/dx = 0.01 (80 blocks, a quick look) stays within the bound:
+
+    >>> import bkwaves as bk
+    >>> c_c = float(bk.front_speed(0.6, dx=0.1, gamma=0.3))
+    >>> f = bk.velocity_weakening.front(0.6, 0.3, 0.1, 0.001, length=8.0, weakening=False)
+    >>> bound = bk.velocity_weakening.coulomb_gap_bound(c_c, 0.01)
+    >>> round(bound, 4), bool(0 < c_c / f.c - 1 < bound)
+    (0.1136, True)
+    """
     return 2.0 * c_coulomb * ratio * math.log(1.0 / ratio)
 
 
@@ -101,6 +170,55 @@ class VWFront:
     times the time a block takes from its slip to s = v_f (friction halfway down; the
     first window block, from a second run with dense snapshots). peak: its largest speed
     in the WEAKENING_SPAN slip intervals after its slip, in units of v_f.
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front (dimensionless).
+    gamma : float
+        Viscous damping (dimensionless).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) (dimensionless).
+    v_f : float
+        Characteristic velocity of the law (dimensionless, units of
+        (f_r - f_s)/sqrt(k_p m)).
+    blocks : int
+        Blocks of the longest chain.
+    status : {"steady", "dies", "undecided"}
+        What the front did.
+    c : float
+        Its speed (units of the sound speed a sqrt(k_c/m); NaN if it died).
+    unsteadiness, trend : float or None
+        As above (dimensionless).
+    zone : float or None
+        The slipping zone (lattice spacings).
+    u_minus : float or None
+        The stress behind the pulse (dimensionless).
+    weakening : float or None
+        The weakening zone (lattice spacings).
+    peak : float or None
+        The largest speed after the slip (units of v_f).
+    reached : float
+        How far the front got (dimensionless x).
+    wall_s : float
+        Wall time of the measurement (seconds).
+    convergence : dict or None
+        The changes on doubling (c and zone relative, u_minus absolute).
+    lengths : tuple of float
+        The chain lengths run (dimensionless x).
+    reason : str
+        Why the status is "undecided".
+    tolerance : dict
+        The stated tolerances (``TOLERANCE``).
+    slips, backward_slips : int
+        Slips of the longest chain, and how many were backward.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> f = bk.velocity_weakening.front(0.6, 0.3, 0.1, 0.001, length=8.0, weakening=False)
+    >>> f.ratio, f.blocks, f.lengths
+    (0.01, 80, (4.0, 8.0))
     """
 
     u_plus: float
@@ -136,6 +254,21 @@ class VWFront:
         return _within(self.convergence, self.tolerance)
 
     def to_dict(self) -> dict:
+        """The fields with ``ratio`` and ``converged``, as a dict (for JSON).
+
+        Returns
+        -------
+        dict
+            Field name -> value.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> f = bk.velocity_weakening.front(0.6, 0.3, 0.1, 0.001, length=8.0, weakening=False)
+        >>> d = f.to_dict()
+        >>> d["ratio"], d["status"] == f.status
+        (0.01, True)
+        """
         return asdict(self) | {"ratio": self.ratio, "converged": self.converged}
 
 
@@ -239,7 +372,48 @@ def front(
     reason). A given ``length`` is run once, with the chain half as long for the
     convergence report (status "steady" only if that is within the tolerance).
     weakening=False skips the second run that measures the weakening zone.
-    docs/velocity_weakening.md."""
+    docs/velocity_weakening.md.
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
+    gamma : float
+        Viscous damping, >= 0 (dimensionless).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c), 0 < dx < 1 (dimensionless).
+    v_f : float
+        Characteristic velocity of the law, > 0 (dimensionless, in units of
+        (f_r - f_s)/sqrt(k_p m)).
+    length : float, optional
+        Run one chain this long, 32 dx <= length <= 1e5 (dimensionless x); default the
+        doubling described above.
+    step : float, default DEFAULT_STEP
+        Time step of the chain in units of dx (so of dx sqrt(m/k_p)).
+    weakening : bool, default True
+        Also measure the weakening zone.
+    tolerance : dict, optional
+        Tolerances by key (``c``, ``zone``, ``u_minus``); default ``TOLERANCE``.
+    max_seconds : float, default MAX_SECONDS
+        CPU seconds the next doubled chain may take.
+    beta : float, default inf
+        f_s/(f_r - f_s), >= 0 (dimensionless; inf: no backward slip).
+
+    Returns
+    -------
+    VWFront
+        The front's status, speed, zones and convergence.
+
+    Examples
+    --------
+    At v_f/dx = 1 the front runs near the sound speed, well below the Coulomb front's
+    c = 1.234 (one chain of 80 blocks, a quick look):
+
+    >>> import bkwaves as bk
+    >>> f = bk.velocity_weakening.front(0.6, 0.3, 0.1, 0.1, length=8.0, weakening=False)
+    >>> round(f.c, 2), f.ratio
+    (0.97, 1.0)
+    """
     import time
 
     u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
@@ -385,5 +559,33 @@ def _weakening(u_plus, n, p, step, k, t_k, c, v_f):
 
 
 def crossover(u_plus, gamma, dx, ratios, *, length: float | None = None) -> list[VWFront]:
-    """:func:`front` at v_f = ratio dx for each ratio (v_f/dx)."""
+    """:func:`front` at v_f = ratio dx for each ratio (v_f/dx).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front (dimensionless).
+    gamma : float
+        Viscous damping (dimensionless).
+    dx : float
+        Lattice spacing (dimensionless).
+    ratios : iterable of float
+        The values of v_f/dx (dimensionless).
+    length : float, optional
+        As in :func:`front` (dimensionless x).
+
+    Returns
+    -------
+    list of VWFront
+        One front per ratio.
+
+    Examples
+    --------
+    The speed falls from near the Coulomb value towards the sound speed as v_f/dx grows:
+
+    >>> import bkwaves as bk
+    >>> fronts = bk.velocity_weakening.crossover(0.6, 0.3, 0.1, [0.01, 1.0], length=8.0)
+    >>> [round(f.c, 2) for f in fronts]
+    [1.18, 0.97]
+    """
     return [front(u_plus, gamma, dx, r * dx, length=length) for r in ratios]
