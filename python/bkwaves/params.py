@@ -184,7 +184,7 @@ class Params:
     Parameters
     ----------
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     v : float
         Loading rate V sqrt(k_p m)/(f_r - f_s), >= 0.
     dx : float

@@ -233,7 +233,7 @@ def c_formal_continuum(u_plus):
     Parameters
     ----------
     u_plus : float or array_like
-        Stress ahead of the front, 0 < u_plus < 1.
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
 
     Returns
     -------
@@ -258,7 +258,7 @@ def critical_stress(gamma, speed=None):
     Parameters
     ----------
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     speed : callable, optional
         Another front-speed law c(u_+) (default: the exact one).
 
@@ -299,9 +299,9 @@ def gamma_tilde(c, gamma):
     Parameters
     ----------
     c : float or array_like
-        Front speed, > 1.
+        Front speed, > 1, in units of the sound speed a sqrt(k_c/m).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 
     Returns
     -------
@@ -326,7 +326,7 @@ def width(c, gamma):
         Front speed, > 1, in units of the sound speed a sqrt(k_c/m) (exact, interpolated or
         measured).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 
     Returns
     -------
@@ -357,7 +357,7 @@ def u_minus(u_plus, c, gamma):
         Front speed, > 1, in units of the sound speed a sqrt(k_c/m) (exact, interpolated or
         measured).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 
     Returns
     -------
@@ -386,7 +386,7 @@ def amplitude(u_plus, c, gamma):
         Front speed, > 1, in units of the sound speed a sqrt(k_c/m) (exact, interpolated or
         measured).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 
     Returns
     -------
@@ -409,13 +409,13 @@ def profile(z, u_plus, gamma, c=None):
     Parameters
     ----------
     z : float or array_like
-        Comoving positions z = x - c t (front at 0, u_+ ahead).
+        Comoving positions z = x - c t (dimensionless, the paper's x; front at 0, u_+ ahead).
     u_plus : float
-        Stress ahead of the front, 0 < u_plus < 1.
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     c : float, optional
-        The front speed (default: the exact c(u_+)).
+        The front speed in units of the sound speed (default: the exact c(u_+)).
 
     Returns
     -------
@@ -506,11 +506,11 @@ def restick_velocity(u_plus, gamma, c=None):
     Parameters
     ----------
     u_plus : float or array_like
-        Stress ahead of the front, 0 < u_plus < 1.
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     c : float, optional
-        The front speed (default: the exact c(u_+); pass the chain's,
+        The front speed in units of the sound speed (default: the exact c(u_+); pass the chain's,
         ``bk.front_speed(u_plus, dx=dx, gamma=gamma)``, for a lattice).
 
     Returns
@@ -548,11 +548,11 @@ def restick_velocity_closed_form(u_plus, gamma, c=None):
     Parameters
     ----------
     u_plus : float or array_like
-        Stress ahead of the front, 0 < u_plus < 1.
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     c : float, optional
-        The front speed (default: the exact c(u_+); pass the chain's,
+        The front speed in units of the sound speed (default: the exact c(u_+); pass the chain's,
         ``bk.front_speed(u_plus, dx=dx, gamma=gamma)``, for a lattice).
 
     Returns
@@ -590,13 +590,13 @@ def restick_time(u_plus, gamma, v, c=None):
     Parameters
     ----------
     u_plus : float or array_like
-        Stress ahead of the front, 0 < u_plus < 1.
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     v : float
-        Loading rate, >= 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), >= 0 (dimensionless).
     c : float, optional
-        The front speed (default: the exact c(u_+); pass the chain's,
+        The front speed in units of the sound speed (default: the exact c(u_+); pass the chain's,
         ``bk.front_speed(u_plus, dx=dx, gamma=gamma)``, for a lattice).
 
     Returns
@@ -654,9 +654,9 @@ def critical_stress_under_load(gamma, v, speed=None):
     Parameters
     ----------
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     speed : callable, optional
         Another front-speed law c(u_+) (default: the exact one).
 
@@ -715,11 +715,11 @@ def wavelength(u_plus, gamma, v, c=None):
     u_plus : float or array_like
         Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     c : float, optional
-        The front speed (default: the exact c(u_+)).
+        The front speed in units of the sound speed (default: the exact c(u_+)).
 
     Returns
     -------
@@ -744,11 +744,11 @@ def train_period(u_plus, gamma, v, c=None):
     u_plus : float or array_like
         Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     c : float, optional
-        The front speed (default: the exact c(u_+)).
+        The front speed in units of the sound speed (default: the exact c(u_+)).
 
     Returns
     -------
@@ -772,9 +772,9 @@ def min_wavelength(gamma, v, speed=None):
     Parameters
     ----------
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     speed : callable, optional
         Another front-speed law c(u_+) (default: the exact one).
 
@@ -807,17 +807,17 @@ def sawtooth(x, t, u_plus, gamma, v, x0=0.0):
     Parameters
     ----------
     x : float or array_like
-        Positions.
+        Positions (dimensionless, the paper's x = (X/a) dx).
     t : float
-        Time.
+        Time, in units of sqrt(m/k_p).
     u_plus : float
         Stress ahead of the front, 0 < u_plus < 1 (dimensionless, eq. dimless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     x0 : float, default 0
-        Position of a front at t = 0.
+        Position of a front at t = 0 (dimensionless x).
 
     Returns
     -------
@@ -852,7 +852,7 @@ def source_b(a, v):
     a : float
         Curvature of the maximum, > 0.
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
 
     Returns
     -------
@@ -883,7 +883,7 @@ def kappa(gamma):
     Parameters
     ----------
     gamma : float
-        Viscous damping, 0 <= gamma < 1.
+        Viscous damping alpha/(2 sqrt(k_p m)), 0 <= gamma < 1 (dimensionless).
 
     Returns
     -------
@@ -906,7 +906,7 @@ def u_minus_at_one(gamma):
     Parameters
     ----------
     gamma : float
-        Viscous damping, 0 <= gamma < 1.
+        Viscous damping alpha/(2 sqrt(k_p m)), 0 <= gamma < 1 (dimensionless).
 
     Returns
     -------
@@ -933,9 +933,9 @@ def a_prime(a, v, gamma):
     a : float
         Curvature before, > 0.
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     gamma : float
-        Viscous damping, 0 <= gamma < 1.
+        Viscous damping alpha/(2 sqrt(k_p m)), 0 <= gamma < 1 (dimensionless).
 
     Returns
     -------
@@ -965,9 +965,9 @@ def a_max(v, gamma):
     Parameters
     ----------
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     gamma : float
-        Viscous damping, 0 <= gamma < 1.
+        Viscous damping alpha/(2 sqrt(k_p m)), 0 <= gamma < 1 (dimensionless).
 
     Returns
     -------
@@ -998,9 +998,9 @@ def iterate_map(a0, v, gamma, n: int):
     a0 : float
         Initial curvature, > 0.
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     gamma : float
-        Viscous damping, 0 <= gamma < 1.
+        Viscous damping alpha/(2 sqrt(k_p m)), 0 <= gamma < 1 (dimensionless).
     n : int
         Iterations, 0 <= n <= 10**7.
 
@@ -1035,9 +1035,9 @@ def a_n_asymptote(n, v, gamma):
     n : int or array_like
         Iteration number(s), >= 1.
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     gamma : float
-        Viscous damping, 0 <= gamma < 1.
+        Viscous damping alpha/(2 sqrt(k_p m)), 0 <= gamma < 1 (dimensionless).
 
     Returns
     -------
@@ -1062,9 +1062,9 @@ def source_period(v, gamma):
     Parameters
     ----------
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), > 0 (dimensionless).
     gamma : float
-        Viscous damping, 0 <= gamma < 1.
+        Viscous damping alpha/(2 sqrt(k_p m)), 0 <= gamma < 1 (dimensionless).
 
     Returns
     -------

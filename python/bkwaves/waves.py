@@ -37,9 +37,9 @@ def front_speed(u_plus, *, dx: float = 0.0, gamma: float = 0.0, method: str = "e
         Stress ahead of the front, 0 < u_plus < 1 (dimensionless: u = 0 is the kinetic,
         u = 1 the static friction level).
     dx : float, default 0
-        Lattice spacing sqrt(k_p/k_c); 0 is the continuum limit.
+        Lattice spacing sqrt(k_p/k_c) (dimensionless); 0 is the continuum limit.
     gamma : float, default 0
-        Viscous damping alpha/(2 sqrt(k_p m)); matters only at dx > 0.
+        Viscous damping alpha/(2 sqrt(k_p m)) (dimensionless); matters only at dx > 0.
     method : {"exact", "tip"}
         ``"exact"``: the closed forms above (the tip solver where there is none);
         ``"tip"``: always the numerical tip solver (about a millisecond per value; it
@@ -135,7 +135,8 @@ def tip_solve(
     Parameters
     ----------
     u_plus : float, optional
-        Stress ahead of the front, 0 < u_plus < 1. Give exactly one of u_plus and c.
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless). Give exactly one of
+        u_plus and c.
     c : float, optional
         Front speed (> 1, units of the sound speed a sqrt(k_c/m)); the solver finds u_+.
     degree : int, default 16
@@ -144,9 +145,9 @@ def tip_solve(
         e-folds of the slowest transient kept behind the tip (> 0). A solve whose system
         would exceed ``bkwaves.limits.LIMITS["max_solver_bytes"]`` is refused.
     dx : float, default 0
-        Lattice spacing sqrt(k_p/k_c); 0 is the continuum limit.
+        Lattice spacing sqrt(k_p/k_c) (dimensionless); 0 is the continuum limit.
     gamma : float, default 0
-        Viscous damping alpha/(2 sqrt(k_p m)).
+        Viscous damping alpha/(2 sqrt(k_p m)) (dimensionless).
     chain_domain : bool, default True
         False solves the linear tip problem as stated also where it is not the chain's
         front (for studies of the tip problem itself).
@@ -210,23 +211,33 @@ class TravelingWave:
     Attributes
     ----------
     u_plus : float
-        Stress ahead of the front.
+        Stress ahead of the front (dimensionless).
     gamma : float
-        Viscous damping.
+        Viscous damping (dimensionless).
     c : float
-        Front speed 1/sqrt(1 - u_+^2).
+        Front speed 1/sqrt(1 - u_+^2), in units of the sound speed.
     regime : {"pulse", "creep"}
         ``"pulse"`` for u_+ > u_c (the blocks re-stick: a self-healing pulse), else
         ``"creep"`` (they never do; u -> 0 behind).
     u_c : float or None
         Critical stress of eq. (gammac) (None for gamma >= 1).
     w : float or None
-        Pulse width (eq. w); None in creep.
+        Pulse width (eq. w), in units of a sqrt(k_c/k_p) (dimensionless x); None in
+        creep.
     u_minus : float or None
-        Stress left behind (eq. um); None in creep.
+        Stress left behind (eq. um), dimensionless; None in creep.
     A : float or None
         Total slip u_+ - u_- (eq. A), in units of the stress u (times
         (f_r - f_s)/k_p for metres); None in creep.
+
+    Examples
+    --------
+    The slip balances the stress drop: A = u_+ - u_- (eq. A).
+
+    >>> import bkwaves as bk
+    >>> tw = bk.traveling_wave(0.6, 0.3)
+    >>> tw.regime, tw.c, round(tw.A, 12) == round(tw.u_plus - tw.u_minus, 12)
+    ('pulse', 1.25, True)
     """
 
     u_plus: float
@@ -244,7 +255,8 @@ class TravelingWave:
         Parameters
         ----------
         z : float or array_like
-            Comoving positions z = x - c t: the front at 0, u_+ ahead (z > 0).
+            Comoving positions z = x - c t (dimensionless, the paper's x): the front at
+            0, u_+ ahead (z > 0).
 
         Returns
         -------
@@ -261,7 +273,20 @@ class TravelingWave:
         return _scalar_or_array(_core.wave_profile(self.u_plus, self.gamma, z))
 
     def to_dict(self) -> dict:
-        """The fields as a dict (what ``bkwaves wave --json`` prints)."""
+        """The fields as a dict (what ``bkwaves wave --json`` prints).
+
+        Returns
+        -------
+        dict
+            Field name -> value (units as in the class).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> d = bk.traveling_wave(0.6, 0.3).to_dict()
+        >>> d["regime"], d["c"]
+        ('pulse', 1.25)
+        """
         return asdict(self)
 
 
@@ -271,9 +296,9 @@ def traveling_wave(u_plus: float, gamma: float) -> TravelingWave:
     Parameters
     ----------
     u_plus : float
-        Stress ahead of the front, 0 < u_plus < 1.
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 
     Returns
     -------
