@@ -26,13 +26,54 @@ NO_BACKWARD_SLIP = math.inf
 
 
 def check_beta(value, name: str = "beta") -> float:
-    """beta = f_s/(f_r - f_s): a number >= 0 (backward slip at phi <= -(1 + 2 beta)) or
-    inf (no backward slip, the paper's model); never a string, bytes or bool."""
+    """Check beta = f_s/(f_r - f_s): a number >= 0 or inf, never a string, bytes or bool.
+
+    Parameters
+    ----------
+    value : float
+        beta (dimensionless): >= 0, a block slips backward at phi <= -(1 + 2 beta); inf,
+        no backward slip (the paper's model).
+    name : str, default "beta"
+        The name error messages give it.
+
+    Returns
+    -------
+    float
+        beta.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        A value that is not a number >= 0.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.params.check_beta(2), bk.params.check_beta(float("inf"))
+    (2.0, inf)
+    """
     return V.PARAMS["beta"].check(value, name)
 
 
 def friction_note(beta: float) -> str:
-    """One line saying which friction model a beta gives (written into outputs)."""
+    """One line saying which friction model a beta gives (written into outputs).
+
+    Parameters
+    ----------
+    beta : float
+        f_s/(f_r - f_s), >= 0 or inf (dimensionless).
+
+    Returns
+    -------
+    str
+        The line.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.params.friction_note(2.0)
+    'beta = 2: backward slip when u - Lap u/dx^2 <= -(1 + 2 beta) = -5'
+    """
     if math.isinf(beta):
         return (
             "beta = inf: no backward slip (the paper's model; a block slides until its speed "
@@ -60,6 +101,35 @@ class PhysicalUnits:
     block velocity ``dX/dt = -velocity_scale * du/dt'``;
     force ``F = f_kinetic + force_scale * phi`` with ``phi = u - Lap u / dx^2``
     (slip at phi = 1, i.e. F = f_static).
+
+    Parameters
+    ----------
+    mass : float
+        Block mass m [kg].
+    k_c : float
+        Coupling spring constant between neighbours [N/m].
+    k_p : float
+        Loader spring constant [N/m].
+    f_static : float
+        Static friction force per block f_r [N].
+    f_kinetic : float
+        Kinetic friction force per block, 0 <= f_kinetic < f_static [N].
+    alpha : float
+        Viscous coefficient [kg/s].
+    V : float
+        Loader speed [m/s].
+    spacing : float
+        Block spacing a [m].
+
+    Examples
+    --------
+    The paper's Bristol board (Sec. VI): a sliding speed of 1.6 cm/s and a slip of
+    1e-8 m per wave (A = 2):
+
+    >>> import bkwaves as bk
+    >>> units = bk.presets.bristol_board().units
+    >>> round(units.velocity_scale, 4), float(f"{units.slip(2.0):.2g}")
+    (0.016, 1e-08)
     """
 
     mass: float
@@ -135,42 +205,245 @@ class PhysicalUnits:
 
     # --- conversions ------------------------------------------------------------
     def length(self, x):
-        """Dimensionless position x' -> metres."""
+        """Dimensionless position x' -> metres.
+
+        Parameters
+        ----------
+        x : float or array_like
+            Position x' (dimensionless).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Position [m].
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> round(float(units.length(1.0)) / units.length_scale, 12)
+        1.0
+        """
         return x * self.length_scale
 
     def length_to_dimless(self, x_m):
+        """Position in metres -> dimensionless x'.
+
+        Parameters
+        ----------
+        x_m : float or array_like
+            Position [m].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Position x' (dimensionless).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> round(float(units.length_to_dimless(units.length(2.5))), 12)
+        2.5
+        """
         return x_m / self.length_scale
 
     def time(self, t):
-        """Dimensionless time t' -> seconds."""
+        """Dimensionless time t' -> seconds.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Time t' (dimensionless, units of sqrt(m/k_p)).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Time [s].
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> float(f"{units.time(1.0):.3g}")                     # sqrt(m/k_p)
+        3.2e-07
+        """
         return t * self.time_scale
 
     def time_to_dimless(self, t_s):
+        """Time in seconds -> dimensionless t'.
+
+        Parameters
+        ----------
+        t_s : float or array_like
+            Time [s].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Time t' (dimensionless, units of sqrt(m/k_p)).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> round(float(units.time_to_dimless(units.time(2.5))), 12)
+        2.5
+        """
         return t_s / self.time_scale
 
     def displacement(self, u):
-        """Dimensionless u -> block displacement X [m] relative to its loader spring."""
+        """Dimensionless u -> block displacement X [m] relative to its loader spring.
+
+        Parameters
+        ----------
+        u : float or array_like
+            Stress u (dimensionless).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Displacement X [m].
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> bool(units.displacement(0.0) == -units.f_kinetic / units.k_p)  # u = 0: f_s
+        True
+        """
         return -(self.f_kinetic + self.force_scale * u) / self.k_p
 
     def displacement_to_dimless(self, X):
+        """Block displacement X [m] -> dimensionless u.
+
+        Parameters
+        ----------
+        X : float or array_like
+            Displacement [m] relative to the loader spring.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Stress u (dimensionless).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> round(float(units.displacement_to_dimless(units.displacement(0.6))), 12)
+        0.6
+        """
         return -(self.k_p * X + self.f_kinetic) / self.force_scale
 
     def slip(self, du):
-        """A change of u (e.g. a total slip A = u_+ - u_-) -> forward block motion [m]."""
+        """A change of u (e.g. a total slip A = u_+ - u_-) -> forward block motion [m].
+
+        Parameters
+        ----------
+        du : float or array_like
+            Change of u (dimensionless).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Forward motion [m].
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> float(f"{units.slip(2.0):.2g}")                     # the paper: 1e-8 m per wave
+        1e-08
+        """
         return du * self.displacement_scale
 
     def velocity(self, u_t):
-        """du/dt' -> block velocity dX/dt [m/s] in the loader frame."""
+        """du/dt' -> block velocity dX/dt [m/s] in the loader frame.
+
+        Parameters
+        ----------
+        u_t : float or array_like
+            du/dt' (dimensionless).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Velocity [m/s].
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> round(float(units.velocity(-1.0)), 4)               # the paper: 1.6 cm/s
+        0.016
+        """
         return -u_t * self.velocity_scale
 
     def velocity_to_dimless(self, Xdot):
+        """Block velocity dX/dt [m/s] -> dimensionless du/dt'.
+
+        Parameters
+        ----------
+        Xdot : float or array_like
+            Velocity [m/s] in the loader frame.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            du/dt' (dimensionless).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> round(float(units.velocity_to_dimless(units.velocity(0.25))), 12)
+        0.25
+        """
         return -Xdot / self.velocity_scale
 
     def force(self, phi):
-        """Dimensionless phi = u - Lap u/dx^2 -> elastic force on a block [N]."""
+        """Dimensionless phi = u - Lap u/dx^2 -> elastic force on a block [N].
+
+        Parameters
+        ----------
+        phi : float or array_like
+            phi (dimensionless; the slip threshold is 1).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Force [N].
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> bool(units.force(1.0) == units.f_static)            # phi = 1: static friction
+        True
+        """
         return self.f_kinetic + self.force_scale * phi
 
     def force_to_dimless(self, F):
+        """Elastic force on a block [N] -> dimensionless phi.
+
+        Parameters
+        ----------
+        F : float or array_like
+            Force [N].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            phi (dimensionless).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> units = bk.presets.bristol_board().units          # the paper's Sec. VI
+        >>> round(float(units.force_to_dimless(units.f_kinetic)), 12)
+        0.0
+        """
         return (F - self.f_kinetic) / self.force_scale
 
 
@@ -186,7 +459,7 @@ class Params:
     gamma : float
         Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     v : float
-        Loading rate V sqrt(k_p m)/(f_r - f_s), >= 0.
+        Loading rate V sqrt(k_p m)/(f_r - f_s), >= 0 (dimensionless).
     dx : float
         Lattice spacing sqrt(k_p/k_c) in units of x', > 0.
     beta : float, default inf
@@ -251,7 +524,19 @@ class Params:
         return self.friction_law if self.friction_law is not None else Law()
 
     def law_values(self) -> dict:
-        """Every parameter of the friction law, validated by its table (table order)."""
+        """Every parameter of the friction law, validated by its table (table order).
+
+        Returns
+        -------
+        dict
+            Name -> value (dimensionless); ``gamma`` and ``beta`` from these Params.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> bk.Params(gamma=0.3, v=0.0, dx=0.1).law_values()
+        {'gamma': 0.3, 'beta': inf}
+        """
         return self.law.values(self)
 
     @classmethod
@@ -345,6 +630,20 @@ class Params:
         return friction_note(self.beta)
 
     def to_dict(self) -> dict:
+        """The parameters as a dict (the TOML ``[params]`` table, with ``units`` if any).
+
+        Returns
+        -------
+        dict
+            gamma, v, dx, beta (dimensionless), ``units`` (SI inputs) and ``friction``
+            where set.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> bk.Params(gamma=0.3, v=0.01, dx=0.1).to_dict()
+        {'gamma': 0.3, 'v': 0.01, 'dx': 0.1, 'beta': inf}
+        """
         d = asdict(self)
         if self.units is None:
             d.pop("units")

@@ -31,7 +31,31 @@ BRISTOL_BOARD = {
 
 
 def bristol_board(V: float = 1e-6, *, paper_rounding: bool = True) -> Params:
-    """Params of the paper's Bristol-board example at loader speed V [m/s]."""
+    """Params of the paper's Bristol-board example at loader speed V [m/s].
+
+    Parameters
+    ----------
+    V : float, default 1e-6
+        Loader speed [m/s].
+    paper_rounding : bool, default True
+        Round m and k_c as the paper does (k_c = 3.8e7 N/m); False keeps every digit.
+
+    Returns
+    -------
+    bkwaves.Params
+        gamma, v, dx and beta (dimensionless) with ``units``, the SI description.
+
+    Examples
+    --------
+    The paper's numbers (Sec. VI): k_p = 23 N/m and gamma = 0.45:
+
+    >>> import bkwaves as bk
+    >>> p = bk.presets.bristol_board()
+    >>> round(p.units.k_p), round(p.gamma, 2)
+    (23, 0.45)
+    >>> round(bk.presets.bristol_board(paper_rounding=False).gamma, 3)
+    0.444
+    """
     d = BRISTOL_BOARD
     a, h = d["spacing"], d["thickness"]
     mass = d["density"] * a * a * h
