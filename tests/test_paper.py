@@ -26,7 +26,10 @@ FIGURES = [
     "fig9_sync_chaos",
 ]
 
-PAPER_PY = Path(__file__).resolve().parents[1] / "python" / "bkwaves" / "paper.py"
+#: The modules of the paper package (figures, claims, report).
+PAPER_PY = sorted(
+    (Path(__file__).resolve().parents[1] / "python" / "bkwaves" / "paper").rglob("*.py")
+)
 
 
 #: What :func:`figure_problems` found in each figure of the ``paper`` fixture's run.
@@ -42,9 +45,10 @@ def paper(tmp_path_factory):
 
     import bkwaves.paper
     from bkwaves.cli import main
+    from bkwaves.paper import figure
 
     out = tmp_path_factory.mktemp("paper")
-    save = bkwaves.paper._save
+    save = figure.save
 
     def checked_save(fig, where, name):
         FIGURE_PROBLEMS[name] = figure_problems(fig)
@@ -52,12 +56,12 @@ def paper(tmp_path_factory):
 
     stdout = io.StringIO()
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(bkwaves.paper, "_save", checked_save)
+        mp.setattr(figure, "save", checked_save)
         with contextlib.redirect_stdout(stdout), pytest.raises(SystemExit) as done:
             main(["paper", "-o", str(out), "--quick", "--json"])
     assert done.value.code in (0, None)
     yield out, json.loads(stdout.getvalue())
-    bkwaves.paper._CACHE.clear()  # the run's shared computations, not needed past here
+    bkwaves.paper.common.CACHE.clear()  # the run's shared computations, not needed past here
 
 
 def test_figures_readable(paper):
@@ -181,15 +185,15 @@ def _literal_text(node) -> list[str]:
 
 
 def test_no_verdict_or_number_in_a_note_is_written_by_hand():
-    """In paper.py no Claim gets a verdict, and no note holds a number typed in (a decimal
+    """In the paper package no Claim gets a verdict, and no note holds a number typed in (a decimal
     or a number of two or more digits: 'CV ~ 0.7', 'margin 1.26'): numbers come from
     formatted computed values."""
     from bkwaves.paper import Claim
 
-    tree = ast.parse(PAPER_PY.read_text())
     calls = [
         n
-        for n in ast.walk(tree)
+        for path in PAPER_PY
+        for n in ast.walk(ast.parse(path.read_text()))
         if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "Claim"
     ]
     assert len(calls) >= 25
@@ -316,7 +320,7 @@ def test_b_value_row_is_inconclusive_where_its_check_cannot_apply(paper):
 def test_beyond_the_paper_section(paper):
     """Every registered "beyond the paper" figure is written, captioned from the run and
     placed in its own section after the paper's figures."""
-    from bkwaves.paper_beyond import BEYOND_FIGURES
+    from bkwaves.paper import BEYOND_FIGURES
 
     out, d = paper
     assert sorted(d["beyond_figures"]) == sorted(BEYOND_FIGURES)
@@ -346,7 +350,7 @@ def test_every_figure_has_a_caption(paper):
     out, _ = paper
     md = (out / "report.md").read_text()
     html = (out / "report.html").read_text()
-    from bkwaves.paper_beyond import BEYOND_FIGURES
+    from bkwaves.paper import BEYOND_FIGURES
 
     assert html.count("<figcaption>") == len(FIGURES) + len(BEYOND_FIGURES)
     for name in FIGURES:

@@ -27,7 +27,7 @@ def ring(args):
     n = int(round(length / h))
     x = np.arange(n) * h
     u0 = 0.5 + 0.02 * _smooth_random(x, 25.0, np.random.default_rng(seed), True)
-    return f"smooth-{seed}", paper._ring_births(length, u0, periods)
+    return f"smooth-{seed}", paper.ring_births(length, u0, periods)
 
 
 def main() -> None:

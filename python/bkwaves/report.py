@@ -233,7 +233,7 @@ class Report:
 
     claims: list[Claim] = field(default_factory=list)
     figures: dict[str, list[Path]] = field(default_factory=dict)
-    #: Figures of what the paper leaves open (``bkwaves.paper_beyond``), same format.
+    #: Figures of what the paper leaves open (:mod:`bkwaves.paper.beyond`), same format.
     beyond: dict[str, list[Path]] = field(default_factory=dict)
     captions: dict[str, str] = field(default_factory=dict)
     findings: list[str] = field(default_factory=list)
