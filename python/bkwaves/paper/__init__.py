@@ -124,7 +124,24 @@ BEYOND_INTRO = (
 
 
 def output_files() -> list[str]:
-    """The names of the files :func:`reproduce` writes into its folder."""
+    """The names of the files :func:`reproduce` writes into its folder.
+
+    Returns
+    -------
+    list of str
+        One PNG and one PDF per registered figure (the paper's, then those beyond it),
+        then ``report.md`` and ``report.html``; the manifest (``bkwaves-paper.json``) is not
+        among them.
+
+    Examples
+    --------
+    >>> from bkwaves.paper import FIGURES, BEYOND_FIGURES, output_files
+    >>> names = output_files()
+    >>> names[:2], names[-2:]
+    (['fig1_model.png', 'fig1_model.pdf'], ['report.md', 'report.html'])
+    >>> len(names) == 2 * (len(FIGURES) + len(BEYOND_FIGURES)) + 2
+    True
+    """
     figures = [f"{n}.{ext}" for n in (*FIGURES, *BEYOND_FIGURES) for ext in FIGURE_FORMATS]
     return [*figures, "report.md", "report.html"]
 
