@@ -124,7 +124,46 @@ class Estimate:
     (None: not known), which includes the noise's candidates (their number and their
     share of the wall time: ``noise_candidates``, ``noise_wall_s``). ``horizon``: the
     run's time span (estimated for a run bounded only by max_events); ``detail``: the
-    engine work behind it (``bkwaves._cost.Work``)."""
+    engine work behind it (``bkwaves._cost.Work``).
+
+    Parameters
+    ----------
+    snapshots : int or None
+        Snapshots the run will write.
+    output_bytes : float
+        Bytes of the output's snapshots.
+    memory_bytes : float
+        Bytes of memory: the engine and the snapshots.
+    work : float or None
+        Chain block-steps or free-boundary crossings.
+    wall_s : float or None
+        Estimated wall time [s] (CPU seconds on one core).
+    notes : list of str
+        What the estimate assumed.
+    noise_candidates : float, default 0
+        Noise candidates drawn.
+    noise_wall_s : float, default 0
+        Their share of ``wall_s`` [s].
+    horizon : float or None
+        The run's time span (dimensionless, units of sqrt(m/k_p)).
+    detail : object
+        The engine work behind it.
+
+    Examples
+    --------
+    Two snapshots of 200 blocks at 17 bytes per block, beside the engine's 400 bytes per
+    block:
+
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 30.0}})
+    >>> e = bk.limits.estimate(cfg)
+    >>> e.snapshots, e.output_bytes, e.memory_bytes, e.horizon
+    (2, 6800.0, 86800.0, 30.0)
+    """
 
     snapshots: int | None
     output_bytes: float
@@ -147,7 +186,26 @@ def physical_memory() -> float:
 
 
 def memory_bytes(model: str, nodes: int) -> float:
-    """Engine memory for a chain of ``nodes`` blocks or a free-boundary grid of ``nodes``."""
+    """Engine memory for a chain of ``nodes`` blocks or a free-boundary grid of ``nodes``.
+
+    Parameters
+    ----------
+    model : {"chain", "free_boundary"}
+        The engine.
+    nodes : int
+        Blocks or grid nodes.
+
+    Returns
+    -------
+    float
+        Bytes (``LIMITS``' per-block or per-node figure times ``nodes``).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.limits.memory_bytes("chain", 1000) == 1000 * bk.limits.LIMITS["chain_bytes_per_block"]
+    True
+    """
     per = LIMITS["chain_bytes_per_block" if model == "chain" else "fb_bytes_per_node"]
     return float(per) * nodes
 
@@ -323,8 +381,32 @@ def _fb_gap(cfg) -> float:
 
 
 def estimate(cfg, output: bool = True) -> Estimate:
-    """Estimate what the run described by ``cfg`` (a RunConfig) needs (module docs);
-    ``output``: the run writes a file."""
+    """Estimate what the run described by ``cfg`` needs (the module's docs say how).
+
+    Parameters
+    ----------
+    cfg : bkwaves.config.RunConfig
+        The run.
+    output : bool, default True
+        Whether the run writes a file.
+
+    Returns
+    -------
+    Estimate
+        Snapshots, bytes, work and wall time [s].
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 30.0}})
+    >>> e = bk.limits.estimate(cfg)
+    >>> e.snapshots, e.output_bytes
+    (2, 6800.0)
+    """
     from . import _cost
 
     p = cfg.params
@@ -549,8 +631,40 @@ def _events_text(cfg) -> str:
 def check_sizes(cfg) -> Estimate:
     """Refuse a config that cannot fit (memory, output size beyond ``LIMITS``) with the
     key and the figure in the message; warn (:class:`LongRunWarning`, one line each)
-    about one that will take long, hold much memory or write a large output. Returns
-    the estimate."""
+    about one that will take long, hold much memory or write a large output.
+
+    ``bkwaves.config.parse_config`` calls it on every config it builds.
+
+    Parameters
+    ----------
+    cfg : bkwaves.config.RunConfig
+        The run.
+
+    Returns
+    -------
+    Estimate
+        What the run needs.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        A run that cannot fit, naming the config key and the figure.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 30.0}})
+    >>> bk.limits.check_sizes(cfg).output_bytes
+    6800.0
+    >>> bk.config.parse_config({**cfg.to_dict(), "domain": {"blocks": 10**11}})
+    Traceback (most recent call last):
+    ...
+    bkwaves._core.ParameterError: domain.blocks = 100000000000: the engine state needs about 36.4 TiB...
+    """
     chain = cfg.model == "chain"
     check_memory("domain.blocks" if chain else "domain.grid", cfg.model, cfg.blocks or cfg.grid)
     if cfg.model == "free_boundary" and cfg.params.v == 0 and cfg.t_end is None:
