@@ -56,6 +56,25 @@ class Check:
     """One computed quantity and the range it must lie in (bounds included).
 
     ``boolean`` marks a yes/no check (value 1 when it holds, see :func:`yes_no`).
+
+    Parameters
+    ----------
+    what : str
+        The quantity, as the report prints it.
+    value : float
+        Its computed value (in the unit the claim states; the paper's dimensionless ones
+        unless the claim says SI).
+    lo, hi : float, default -inf, inf
+        The range it must lie in (same unit).
+    boolean : bool, default False
+        A yes/no check.
+
+    Examples
+    --------
+    >>> from bkwaves.report import Check
+    >>> c = Check("c - 1", 0.25, lo=1e-300)     # a tiny bound prints as "> 0"
+    >>> str(c), c.holds
+    ('c - 1 = 0.25 > 0', True)
     """
 
     what: str
@@ -66,6 +85,7 @@ class Check:
 
     @property
     def holds(self) -> bool:
+        """Whether lo <= value <= hi."""
         return bool(self.lo <= self.value <= self.hi)
 
     def __str__(self) -> str:
@@ -89,7 +109,26 @@ class Check:
 
 
 def yes_no(what: str, ok: bool) -> Check:
-    """A yes/no check (value 1 when it holds)."""
+    """A yes/no check (value 1 when it holds).
+
+    Parameters
+    ----------
+    what : str
+        What is checked.
+    ok : bool
+        Whether it holds.
+
+    Returns
+    -------
+    Check
+        value 1 or 0, holding when 1.
+
+    Examples
+    --------
+    >>> from bkwaves.report import yes_no
+    >>> str(yes_no("a source forms", True)), yes_no("a source forms", False).holds
+    ('a source forms: yes', False)
+    """
     return Check(what, float(bool(ok)), lo=1.0, boolean=True)
 
 
@@ -104,6 +143,40 @@ class Claim:
     ``rounding`` when ``rounding_check`` holds: the paper's number is reproduced by its own
     rounding of intermediate values); ``kind`` is ``"claim"`` (``confirmed``),
     ``"refinement"`` (``refined``) or ``"identity"``.
+
+    Parameters
+    ----------
+    key : str
+        Short name of the claim.
+    equation : str
+        The paper's equation label.
+    statement : str
+        The claim in words.
+    paper : str
+        The paper's number.
+    bkwaves : str
+        bkwaves' number.
+    checks : list of Check
+        Checks of bkwaves' own computation (at least one).
+    paper_check : Check, optional
+        The paper's number against bkwaves'.
+    kind : {"claim", "refinement", "identity"}, default "claim"
+        What kind of statement it is.
+    note : str, default ""
+        A remark printed beside it.
+    applies : Check, optional
+        The condition under which the deciding check can decide.
+    rounding_check : Check, optional
+        Whether the paper's own rounding explains a difference.
+
+    Examples
+    --------
+    >>> from bkwaves.report import Check, Claim, Report
+    >>> claim = Claim("c-small", "c1", "c ~ 1 + u_+^2/2 for small u_+", "1.18", "1.1808",
+    ...               [Check("c - 1", 0.1808, lo=1e-300)],
+    ...               paper_check=Check("|c - 1.18|", 0.0008, hi=0.005))
+    >>> claim.verdict
+    'confirmed'
     """
 
     key: str
@@ -126,6 +199,7 @@ class Claim:
 
     @property
     def verdict(self) -> str:
+        """The verdict derived from the checks (a key of ``VERDICTS``)."""
         if not all(c.holds for c in self.checks):
             return "disagrees"
         if self.kind == "identity":
@@ -140,7 +214,22 @@ class Claim:
 
     def evidence_items(self) -> list[tuple[str, str, bool]]:
         """(role, check as text, holds) for every check behind the verdict, in the order
-        the verdict reads them."""
+            the verdict reads them.
+
+            Returns
+            -------
+            list of tuple of (str, str, bool)
+                One per check.
+
+            Examples
+            --------
+        >>> from bkwaves.report import Check, Claim, Report
+            >>> claim = Claim("c-small", "c1", "c ~ 1 + u_+^2/2 for small u_+", "1.18", "1.1808",
+            ...               [Check("c - 1", 0.1808, lo=1e-300)],
+            ...               paper_check=Check("|c - 1.18|", 0.0008, hi=0.005))
+            >>> claim.evidence_items()[1]
+            ('against the paper', '|c - 1.18| = 0.0008 <= 0.005', True)
+        """
         out = []
         if self.applies:
             out.append(("applies if", str(self.applies), self.applies.holds))
@@ -186,7 +275,24 @@ _TOKEN = re.compile(
 def pretty_math(text: str) -> str:
     """Set the ASCII pseudo-maths of a claim or caption in Unicode (u_+ -> u\u208a, gamma ->
     \u03b3, u_+^2 -> u\u208a\u00b2, sqrt -> \u221a, dx -> \u0394x, <= -> \u2264): readable
-    offline, without a maths renderer. Words are left alone ("gammac" stays)."""
+    offline, without a maths renderer. Words are left alone ("gammac" stays).
+
+    Parameters
+    ----------
+    text : str
+        The text.
+
+    Returns
+    -------
+    str
+        It with the symbols set.
+
+    Examples
+    --------
+    >>> from bkwaves.report import pretty_math
+    >>> pretty_math("c = 1/sqrt(1 - u_+^2), gamma <= 1, gammac")
+    'c = 1/\u221a(1 - u\u208a\u00b2), \u03b3 \u2264 1, gammac'
+    """
 
     def sub(m):
         if m.group("var"):
@@ -229,6 +335,16 @@ class Report:
         Wall time of the reproduction.
     beyond_intro : str
         The paragraph that opens the "Beyond the paper" section.
+
+    Examples
+    --------
+    >>> from bkwaves.report import Check, Claim, Report
+    >>> claim = Claim("c-small", "c1", "c ~ 1 + u_+^2/2 for small u_+", "1.18", "1.1808",
+    ...               [Check("c - 1", 0.1808, lo=1e-300)],
+    ...               paper_check=Check("|c - 1.18|", 0.0008, hi=0.005))
+    >>> report = Report([claim], seconds=1.0)
+    >>> report.counts(), report.to_markdown().splitlines()[0]
+    ({'confirmed': 1}, '# bkwaves validation report')
     """
 
     claims: list[Claim] = field(default_factory=list)
@@ -241,13 +357,41 @@ class Report:
     beyond_intro: str = ""
 
     def counts(self) -> dict[str, int]:
-        """Number of claims per verdict (only verdicts that occur)."""
+        """Number of claims per verdict (only verdicts that occur).
+
+        Returns
+        -------
+        dict
+            Verdict -> count.
+
+        Examples
+        --------
+        >>> from bkwaves.report import Check, Claim, Report
+        >>> ok = Claim("a", "", "", "", "", [Check("x", 1.0, lo=0.0)])
+        >>> bad = Claim("b", "", "", "", "", [Check("x", -1.0, lo=0.0)])
+        >>> Report([ok, bad, ok]).counts()
+        {'confirmed': 2, 'disagrees': 1}
+        """
         out: dict[str, int] = {}
         for c in self.claims:
             out[c.verdict] = out.get(c.verdict, 0) + 1
         return out
 
     def to_markdown(self) -> str:
+        """The report as Markdown (``report.md``): verdicts, claims, figures, findings.
+
+        Returns
+        -------
+        str
+            The Markdown text.
+
+        Examples
+        --------
+        >>> from bkwaves.report import Check, Claim, Report
+        >>> claim = Claim("c-small", "c1", "c ~ 1", "1.18", "1.1808", [Check("c", 1.18)])
+        >>> [row for row in Report([claim]).to_markdown().splitlines() if "1.1808" in row]
+        ['| c ~ 1 | c1 | 1.18 | 1.1808 | **confirmed** |  | c = 1.18 (holds) |']
+        """
         lines = [
             "# bkwaves validation report",
             "",
@@ -288,6 +432,22 @@ class Report:
         return "\n".join(lines) + "\n"
 
     def to_html(self) -> str:
+        """The report as one HTML page (``report.html``), verdicts as coloured badges.
+
+        Returns
+        -------
+        str
+            The HTML text.
+
+        Examples
+        --------
+        >>> from bkwaves.report import Check, Claim, Report
+        >>> claim = Claim("c-small", "c1", "c ~ 1", "1.18", "1.1808", [Check("c", 1.18)])
+        >>> page = Report([claim]).to_html()
+        >>> page.startswith("<!doctype html>"), "confirmed</span>" in page
+        (True, True)
+        """
+
         def esc(text) -> str:
             return html.escape(pretty_math(str(text)))
 
