@@ -1,6 +1,7 @@
 """Start-up time of the command line (issue 12: a command line that answers at once), and
 what the first result of a call costs beyond its own work (issue 27: `bkwaves front` and
-`Chain.run` must not pay for xarray/dask/pandas they do not use).
+`Chain.run` must not pay for xarray/dask/pandas they do not use; `bkwaves run` writes
+NetCDF and Zarr without xarray or dask).
 
 Run: python benchmarks/bench_cli.py [--repeat N] [--before PYTHONPATH]
 Every command is a fresh interpreter (subprocess); the rounds interleave the commands so
@@ -15,10 +16,13 @@ the current ones. ``python -X importtime`` then shows where the remaining import
 import argparse
 import os
 import resource
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
 
 PY = sys.executable
 # a first result of the Python API: a short front in a small chain, reading its counters
@@ -26,6 +30,9 @@ CHAIN_RUN = (
     "import bkwaves as bk; ch = bk.Chain(200, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6); "
     "ch.kick(0, -2.0); r = ch.run(t_end=5.0, progress=False); r.counters"
 )
+# `bkwaves run` of the shipped front to NetCDF and to Zarr (written again each round)
+FRONT = str(Path(__file__).resolve().parents[1] / "examples" / "chain_front.toml")
+OUT = tempfile.mkdtemp(prefix="bench_cli_")
 BASELINES = {
     "python -c pass": [PY, "-c", "pass"],
     'python -c "import numpy"': [PY, "-c", "import numpy"],
@@ -43,6 +50,12 @@ BKWAVES = {
         *("--u-plus", "0.6", "--gamma", "0.3", "--dx", "0.05", "--json"),
     ],
     "Chain.run (200 blocks, a kick, t_end = 5)": [PY, "-c", CHAIN_RUN],
+    "bkwaves run examples/chain_front.toml -o OUT.nc": [
+        *(PY, "-m", "bkwaves", "run", FRONT, "-o", f"{OUT}/x.nc", "--quiet", "--overwrite")
+    ],
+    "bkwaves run examples/chain_front.toml -o OUT.zarr": [
+        *(PY, "-m", "bkwaves", "run", FRONT, "-o", f"{OUT}/x.zarr", "--quiet", "--overwrite")
+    ],
 }
 
 
@@ -105,10 +118,11 @@ def main():
             f"| {cpu[k] * 1e3:.0f} ms | {wall[k] / wall[base]:.2f} "
             f"| {wall[k] / wall[np_base]:.2f} | {cpu[k] / cpu[np_base]:.2f} |"
         )
-    for k in ("bkwaves --help", "bkwaves speed 0.5 --json", *list(BKWAVES)[-2:]):
+    for k in ("bkwaves --help", "bkwaves speed 0.5 --json", *list(BKWAVES)[-4:]):
         print(f"\nlargest top-level imports of `{k}` (python -X importtime, ms):")
         for ms, name in top_imports(BKWAVES[k]):
             print(f"  {ms:8.1f}  {name}")
+    shutil.rmtree(OUT, ignore_errors=True)
 
 
 if __name__ == "__main__":

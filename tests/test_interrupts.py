@@ -200,6 +200,55 @@ def test_a_signal_while_the_command_starts_ends_it_in_one_line(tmp_path, sig):
             assert f"interrupted by {name}" in lines[0] and "--resume" in lines[0]
 
 
+def _imports_after_site(cmd) -> list[str]:
+    """The modules ``python -X importtime`` reports (in the order their imports end)
+    after the interpreter's ``site``."""
+    err = subprocess.run(cmd, capture_output=True, text=True, check=True).stderr
+    names = [ln.split("|")[-1].strip() for ln in err.splitlines() if ln.startswith("import time:")]
+    return names[names.index("site") + 1 :]
+
+
+def test_the_console_script_installs_the_handlers_before_any_other_import():
+    """The residual start-up window (docs/reliability.md, benchmarks/signal_window.py) is
+    the interpreter's start and the console script's own `import re`: `import bkwaves`
+    notes signals (bkwaves._signals) before it imports anything else of its own or of
+    the standard library that `import re` had not (typing, importlib, the core, ...)."""
+    script = os.path.join(os.path.dirname(sys.executable), "bkwaves")
+    if not os.path.exists(script):
+        pytest.skip("no bkwaves console script beside this python")
+    seen = _imports_after_site([sys.executable, "-X", "importtime", script, "--version"])
+    before = seen[: seen.index("bkwaves._signals")]
+    allowed = set(_imports_after_site([sys.executable, "-X", "importtime", "-c", "import re"]))
+    allowed |= {"__future__", "signal", "_signal"}
+    assert set(before) <= allowed, sorted(set(before) - allowed)
+    assert "bkwaves._core" in seen and seen.index("bkwaves._core") > seen.index("bkwaves._signals")
+
+
+def test_a_signal_right_after_the_first_lines_of_import_bkwaves_is_answered(tmp_path):
+    """SIGTERM (which kills silently while no handler is installed) and SIGINT (a
+    KeyboardInterrupt traceback) sent the moment `import bkwaves` has run, as the command
+    line starts: noted, one line, exit 128 + signal, nothing written."""
+    cfg = tmp_path / "quiet.toml"
+    cfg.write_text(QUIET)
+    script = os.path.join(os.path.dirname(sys.executable), "bkwaves")
+    for sig in (signal.SIGTERM, signal.SIGINT):
+        out = tmp_path / f"o{int(sig)}.nc"
+        code = (
+            "import os, signal, sys\n"
+            f"sys.argv = [{script!r}, 'run', {str(cfg)!r}, '-o', {str(out)!r}, '--quiet']\n"
+            "import bkwaves\n"
+            f"os.kill(os.getpid(), {int(sig)})\n"
+            "from bkwaves.cli import main\n"
+            "sys.exit(main())\n"
+        )
+        p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+        name = signal.Signals(sig).name
+        assert p.returncode == 128 + sig, (p.returncode, p.stderr)
+        lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
+        assert len(lines) == 1 and f"stopped by {name} before it started" in lines[0], p.stderr
+        assert not out.exists() and not partial_path(out).exists()
+
+
 def test_a_signal_during_the_publication_is_not_swallowed(tmp_path, monkeypatch):
     """SIGINT while a complete run is being merged into OUT: the publication stops before
     anything is renamed, the run is kept with a checkpoint of its end, and --resume

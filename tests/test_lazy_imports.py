@@ -51,3 +51,23 @@ def test_chain_result_tables_on_first_use():
         "n = len(sl); ch.run(t_end=6.0, progress=False); assert len(r.slips) == n\n"
     )
     assert set(imported_after(code)) >= {"pandas", "xarray"}
+
+
+def test_run_command_writes_netcdf_and_zarr_without_xarray_or_dask(tmp_path):
+    """`bkwaves run` writes its snapshots with h5netcdf or zarr directly: neither xarray
+    nor dask is imported (xarray was, for .zarr, and dask came with it on older runs)."""
+    from pathlib import Path
+
+    front = Path(__file__).resolve().parents[1] / "examples" / "chain_front.toml"
+    for suffix in (".nc", ".zarr"):
+        out = tmp_path / f"x{suffix}"
+        code = (
+            "from bkwaves.cli import main\n"
+            "try:\n"
+            f"    main(['run', {str(front)!r}, '-o', {str(out)!r}, '--quiet'])\n"
+            "except SystemExit as e:\n"
+            "    assert not e.code, e.code\n"
+        )
+        got = imported_after(code)
+        assert out.exists()
+        assert "xarray" not in got and "dask" not in got, (suffix, got)

@@ -361,8 +361,7 @@ def _import_writers(out) -> None:
     import pyarrow.parquet  # noqa: F401
 
     if Path(out).suffix == ".zarr":
-        import xarray  # noqa: F401
-        import zarr  # noqa: F401
+        import zarr  # noqa: F401  (written by zarr directly: no xarray, no dask)
     else:
         import h5netcdf  # noqa: F401
 
