@@ -122,3 +122,67 @@ def test_a_point_rupture_tends_to_the_planar_speeds_from_below():
         assert d > 0 and all(e > 0 for e in r.eikonal[k]), (k, r.eikonal)
         far = r.profiles[k]["c"][-3]
         assert far < r.planar[k]
+
+
+def test_a_line_kicked_across_a_lattice_periodic_in_x_is_the_chain_at_dy():
+    # every column of a lattice periodic in x whose row j0 is kicked along its whole
+    # length is the same chain along y: the x Laplacian vanishes identically, so each
+    # column's first slip times are the chain's at spacing dy (the lattice's step is
+    # step min(dx, dy) = step dy, the chain's step dy: the same)
+    nx, ny, dx, dy, j0 = 3, 60, 0.15, 0.1, 20
+    ch = bk.Chain(ny, _params(dy), u0=0.6)
+    ch.kick(j0, -2.0)
+    t_chain = ch.run(t_end=4.0, progress=False).first_slip_times()
+    la = bk.Lattice((nx, ny), _params(dx), u0=0.6, dy=dy, boundary=("periodic", "free"))
+    line = {"line": ((0, j0), (nx - 1, j0))}
+    assert la.blocks(line).tolist() == [[i, j0] for i in range(nx)]
+    t = la.kick(line, -2.0).run(t_end=4.0, progress=False).first_slip_times()
+    slipped = np.isfinite(t_chain)
+    assert slipped.sum() > 30
+    for i in range(nx):
+        assert np.array_equal(np.isfinite(t[:, i]), slipped)
+        assert np.max(np.abs(t[:, i][slipped] - t_chain[slipped])) < 1e-12
+
+
+def test_line_and_disc_regions_are_the_blocks_they_name():
+    la = bk.Lattice((30, 20), _params(0.1), u0=0.6, dy=0.2)
+    # a diagonal, a column and a segment of slope 1/2 (the blocks nearest to it)
+    assert la.blocks({"line": ((2, 3), (5, 6))}).tolist() == [[2, 3], [3, 4], [4, 5], [5, 6]]
+    assert la.blocks({"line": ((7, 9), (7, 5))})[:, 1].tolist() == [5, 6, 7, 8, 9]
+    seg = la.blocks({"line": ((0, 0), (4, 2))})
+    assert seg.tolist() == la.blocks({"line": ((4, 2), (0, 0))}).tolist()
+    assert len(seg) == 5 and set(seg[:, 1]) == {0, 1, 2}
+    # a disc is a circle in (x, y) = (i dx, j dy): semi-axes r/dx = 5 and r/dy = 2.5 blocks
+    d = la.blocks({"disc": ((15, 10), 0.5)})
+    di, dj = d[:, 0] - 15, d[:, 1] - 10
+    assert di.max() == 5 and di.min() == -5 and dj.max() == 2 and dj.min() == -2
+    brute = [
+        (i, j)
+        for j in range(20)
+        for i in range(30)
+        if ((i - 15) * 0.1) ** 2 + ((j - 10) * 0.2) ** 2 <= 0.25
+    ]
+    assert [tuple(b) for b in d] == brute
+    assert la.blocks({"disc": ((15, 10), 0.0)}).tolist() == [[15, 10]]
+    with pytest.raises(bk.ParameterError, match="block"):
+        la.kick({"ring": ((1, 1), 2.0)}, -2.0)
+    with pytest.raises(bk.ParameterError, match="radius"):
+        la.kick({"disc": ((1, 1), -1.0)}, -2.0)
+    with pytest.raises(bk.ParameterError, match="block"):
+        la.kick({"line": ((0, 0), (30, 0))}, -2.0)
+
+
+def test_a_disc_of_radius_zero_is_a_point_kick_and_a_disc_rupture_is_symmetric():
+    def run(region):
+        la = bk.Lattice((21, 21), _params(0.2), u0=0.6)
+        return la.kick(region, -2.0).run(t_end=2.0, progress=False).first_slip_times()
+
+    point = run((10, 10))
+    assert np.array_equal(run({"disc": ((10, 10), 0.0)}), point, equal_nan=True)
+    t = run({"disc": ((10, 10), 0.45)})  # i^2 + j^2 <= 5.06: 21 blocks
+    assert np.count_nonzero(t == 0.0) == 21
+    ok = np.isfinite(t)
+    assert ok.sum() > 21 and np.isfinite(point).sum() < ok.sum()
+    for other in (t[::-1], t[:, ::-1], t.T):
+        assert np.array_equal(np.isfinite(other), ok)
+        assert np.max(np.abs(other[ok] - t[ok])) < 1e-11

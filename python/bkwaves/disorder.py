@@ -33,6 +33,7 @@ __all__ = [
     "local_theories",
     "marched_speed",
     "property_seed",
+    "smooth_field",
     "thresholds",
     "TipMarch",
     "tip_march",
@@ -141,6 +142,66 @@ def property_seed(seed: int, name: str) -> list[int]:
     if name not in PROPERTIES:
         V._fail("name", name, "one of " + ", ".join(PROPERTIES))
     return [check_seed(seed), 1 + PROPERTIES.index(name)]
+
+
+def smooth_field(
+    shape,
+    spacing,
+    correlation: float,
+    *,
+    periodic=False,
+    seed=0,
+) -> np.ndarray:
+    """A spatially correlated random field on a grid of ``shape`` (a chain: (n,), a
+    lattice: (ny, nx)) with ``spacing`` per axis ((dy, dx) for a lattice; a scalar for
+    all axes): zero mean, largest |value| 1, Gaussian correlation
+    <f(r) f(r + s)> / <f^2> = exp(-|s|^2 / (2 correlation^2)) in the plane (s in units
+    of x, |s|^2 the sum over the axes).
+
+    The generator of a chain config's smooth fields ([disorder] ... correlation_length,
+    ``initial.kind = "random"``), in any number of dimensions: white noise filtered in
+    Fourier space by exp(-(k correlation)^2 / 4), on a grid padded by 6 correlation
+    lengths along each non-periodic axis (so the field does not wrap around), cut to
+    ``shape``, its mean removed, scaled to a largest |value| of 1. ``periodic``: per
+    axis or for all (then the field is periodic along it). Use it for a property:
+    ``threshold = 1 + 0.1 * smooth_field((ny, nx), (dy, dx), 0.5, seed=1)``.
+    """
+    shape = (shape,) if V._is_int(shape) else tuple(shape)
+    if not shape or len(shape) > 3:
+        V._fail("shape", shape, "a tuple of 1 to 3 block counts >= 1")
+    shape = tuple(V.integer(f"shape[{a}]", n, lo=1, hi=MAX_DRAW) for a, n in enumerate(shape))
+    if np.prod(shape, dtype=float) > MAX_DRAW:
+        V._fail("shape", shape, f"at most {MAX_DRAW} values")
+    d = len(shape)
+    spacing = (spacing,) * d if np.ndim(spacing) == 0 else tuple(spacing)
+    per = (periodic,) * d if np.ndim(periodic) == 0 else tuple(periodic)
+    if len(spacing) != d or len(per) != d:
+        V._fail("spacing", spacing, f"a spacing (and periodic flag) per axis ({d})")
+    spacing = tuple(V.number(f"spacing[{a}]", h, lo=1e-12, hi=1e9) for a, h in enumerate(spacing))
+    corr = V.number("correlation", correlation, lo=0.0, lo_open=True, hi=1e9)
+    rng = np.random.default_rng(check_seed(seed))
+    return _smooth(shape, spacing, corr, rng, tuple(bool(p) for p in per))
+
+
+def _smooth(shape, spacing, corr, rng, periodic) -> np.ndarray:
+    pad = tuple(
+        n if p else n + int(np.ceil(6 * corr / max(h, 1e-300)))
+        for n, h, p in zip(shape, spacing, periodic, strict=True)
+    )
+    if np.prod(pad, dtype=float) > 4 * MAX_DRAW:
+        V._fail("correlation", corr, "a correlation length short enough for the padded grid")
+    noise = rng.standard_normal(pad)
+    kc2 = 0.0  # (k correlation)^2 summed over the axes
+    for a, (m, h) in enumerate(zip(pad, spacing, strict=True)):
+        f = np.fft.rfftfreq(m, d=h) if a == len(pad) - 1 else np.fft.fftfreq(m, d=h)
+        k = (2 * np.pi * f).reshape([-1 if b == a else 1 for b in range(len(pad))])
+        kc2 = kc2 + (k * corr) ** 2
+    axes = tuple(range(len(pad)))
+    field_ = np.fft.irfftn(np.fft.rfftn(noise) * np.exp(-0.25 * kc2), s=pad, axes=axes)
+    field_ = field_[tuple(slice(0, n) for n in shape)]
+    field_ = field_ - field_.mean()
+    m = np.max(np.abs(field_))
+    return field_ / m if m > 0 else field_
 
 
 # --- the front in a disordered chain (docs/disorder.md) ---------------------------------

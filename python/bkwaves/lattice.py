@@ -82,7 +82,7 @@ class Lattice(Chain):
     loader: per-block properties (a scalar or (ny, nx) values; coupling springs are
     uniform). step, seed, integrator, step_tolerance, noise: as for
     ``bkwaves.Chain``; the time step is ``step`` min(dx, dy). ``kick`` and
-    ``release`` take a block (i, j).
+    ``release`` take a block (i, j), a line or a disc of blocks (``blocks``).
     """
 
     def __init__(
@@ -215,6 +215,71 @@ class Lattice(Chain):
 
         meta, arrays = _checkpoint.read(path, "lattice", "Lattice.save")
         return Lattice._from_record(meta, arrays, path)
+
+    # --- triggers --------------------------------------------------------------------
+    def kick(self, block, du_t: float, t: float = 0.0) -> Lattice:
+        """Schedule a kick (``bkwaves.Chain.kick``) of one block (i, j), of the blocks on
+        a line, ``{"line": ((i0, j0), (i1, j1))}``, or of those in a disc,
+        ``{"disc": ((i, j), radius)}`` (``blocks`` gives the set): each gets du_t at
+        time t."""
+        du_t = V.number("du_t", du_t, lo=-1e6, hi=1e6)
+        t = V.number("t", t, lo=self.t)
+        for k in self._region(block):
+            self._engine.add_trigger(t, k, "kick", du_t)
+        self._pending = [*getattr(self, "_pending", []), t]  # (for the run-cost estimate)
+        return self
+
+    def release(self, block, t: float = 0.0, direction: int = 1) -> Lattice:
+        """Schedule a release (``bkwaves.Chain.release``) of one block (i, j), of a line
+        or of a disc (as ``kick``)."""
+        t = V.number("t", t, lo=self.t)
+        direction = V.direction("direction", direction)
+        for k in self._region(block):
+            self._engine.add_trigger(t, k, "release", float(direction))
+        self._pending = [*getattr(self, "_pending", []), t]
+        return self
+
+    def blocks(self, region) -> np.ndarray:
+        """The blocks (i, j) of a trigger region, shape (m, 2), in block order (row after
+        row): a block (i, j); ``{"line": ((i0, j0), (i1, j1))}``, the blocks nearest to
+        the segment, one per step along its longer axis (a row, a column or a diagonal
+        exactly); ``{"disc": ((i, j), radius)}``, the blocks whose centres are within
+        ``radius`` of block (i, j)'s in (x, y) = (i dx, j dy) (radius in units of x, as
+        dx; a circle in the plane, an ellipse of axes radius/dx, radius/dy in blocks)."""
+        k = np.asarray(self._region(region))
+        nx = self.shape[0]
+        return np.column_stack([k % nx, k // nx])
+
+    def _region(self, region) -> list[int]:
+        nx, ny = self.shape
+        if not isinstance(region, dict):
+            return [self._block(region)]
+        if len(region) != 1 or next(iter(region)) not in ("line", "disc"):
+            V._fail(
+                "block",
+                region,
+                'a block (i, j), {"line": ((i0, j0), (i1, j1))} or {"disc": ((i, j), radius)}',
+            )
+        ((kind, spec),) = region.items()
+        if not (isinstance(spec, tuple | list) and len(spec) == 2):
+            want = "((i0, j0), (i1, j1))" if kind == "line" else "((i, j), radius)"
+            V._fail(kind, spec, f"a pair {want}")
+        if kind == "line":
+            a, b = (self._block(e) for e in spec)
+            (i0, j0), (i1, j1) = (a % nx, a // nx), (b % nx, b // nx)
+            m = max(abs(i1 - i0), abs(j1 - j0))
+            s = np.arange(m + 1) / max(m, 1)
+            # (rint depends on the value only: a segment gives the same blocks either way)
+            ii = np.rint(i0 + s * (i1 - i0)).astype(int)
+            jj = np.rint(j0 + s * (j1 - j0)).astype(int)
+            return sorted(set((ii + nx * jj).tolist()))
+        c = self._block(spec[0])
+        ic, jc = c % nx, c // nx
+        r = V.number("radius", spec[1], lo=0.0, hi=1e9)
+        dx, dy = self.params.dx, self.dy
+        j, i = np.mgrid[0:ny, 0:nx]
+        inside = ((i - ic) * dx) ** 2 + ((j - jc) * dy) ** 2 <= r * r
+        return np.flatnonzero(inside.ravel()).tolist()
 
     # --- blocks and state ------------------------------------------------------------
     def _block(self, block) -> int:
