@@ -1,5 +1,6 @@
 """What a program can check in a picture (used by tests/test_paper.py for the figures of
-`bkwaves paper --quick` and tests/test_plot_run.py for those of `bkwaves plot`)."""
+`bkwaves paper --quick`, tests/test_plot_readable.py for every picture `bkwaves plot` draws
+of the example runs and sweeps, and tests/test_plot_run.py)."""
 
 import numpy as np
 
