@@ -142,7 +142,7 @@ class ChainResult:
     params : bkwaves.Params
         The chain's parameters.
     t : float
-        Time reached.
+        Time reached, in units of sqrt(m/k_p).
     catalog : pandas.DataFrame
         One row per event (first slip to last re-stick): t_start, t_end, duration,
         nucleation block, first/last block slipped, n_blocks, n_slips, moment (int slip
@@ -249,12 +249,12 @@ class Chain:
     boundary : {"free", "fixed", "periodic"}
         The ends (``BOUNDARIES``): no spring beyond them, springs to walls, or a ring.
     u0 : float or array_like
-        Initial stress u of every block (scalar or n values).
+        Initial stress u of every block (scalar or n values; dimensionless).
     u_t0 : float or array_like, optional
         Initial velocities du/dt (default v: all stuck; blocks with u_t != v start
         sliding).
     step : float, default 0.05
-        Time step as a fraction of dx (h = step dx).
+        Time step as a fraction of dx (h = step dx, in units of sqrt(m/k_p)).
     fixed : (float, float), optional
         ``"fixed"`` boundary: the walls' u at t = 0 (default: the end blocks' initial u).
     seed : int, optional
@@ -492,7 +492,7 @@ class Chain:
             Change of du/dt, in units of (f_r - f_s)/sqrt(k_p m); negative is a forward
             kick (u falls as the block moves forward).
         t : float, default 0
-            When (>= the chain's time).
+            When (>= the chain's time), in units of sqrt(m/k_p).
 
         Returns
         -------
@@ -521,7 +521,7 @@ class Chain:
         block : int
             The block, 0 <= block < n.
         t : float, default 0
-            When (>= the chain's time).
+            When (>= the chain's time), in units of sqrt(m/k_p).
         direction : {1, -1}
             Forward (+1) or backward (-1, needs a finite ``params.beta``).
 
@@ -1188,15 +1188,15 @@ def front(
     Parameters
     ----------
     u_plus : float
-        Stress ahead of the front, 0 < u_plus < 1.
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
     gamma : float
-        Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     dx : float
-        Lattice spacing sqrt(k_p/k_c), 0 < dx < 1.
+        Lattice spacing sqrt(k_p/k_c), 0 < dx < 1 (dimensionless).
     blocks : int, optional
         Chain length; default: sized so the measurement has settled (see above).
     step : float, default 0.05
-        Time step as a fraction of dx.
+        Time step as a fraction of dx (h = step dx, in units of sqrt(m/k_p)).
     beta : float, default inf
         f_s/(f_r - f_s); inf is the paper's model, no backward slip.
     friction : bkwaves.friction.Law or str, optional

@@ -234,7 +234,8 @@ class FreeBoundary:
     x : array_like
         The grid: uniform and increasing (dimensionless positions).
     u0 : array_like
-        The initial stress on the grid, below 1 (below the threshold field) everywhere.
+        The initial stress on the grid (dimensionless), below 1 (below the threshold
+        field) everywhere.
     boundary : {"free", "periodic"}
         ``"free"``: shocks leave at the ends; ``"periodic"``: a ring of length n h, node
         n coinciding with node 0.
@@ -268,8 +269,9 @@ class FreeBoundary:
         (:func:`~bkwaves.free_boundary.speed_table`). u_- and the critical stress u_c
         follow the law (docs/free_boundary.md, "Front-speed law").
     threshold : float or array_like or callable, optional
-        The static threshold field s(x) (default None: 1 everywhere): a number, an array
-        on the grid or a callable s(x) (:func:`~bkwaves.free_boundary.threshold_field`).
+        The static threshold field s(x) (dimensionless; default None: 1 everywhere): a
+        number, an array on the grid or a callable s(x)
+        (:func:`~bkwaves.free_boundary.threshold_field`).
         Block x slips when u - u_xx >= s(x); for s varying on scales much longer than dx
         and the pulse width, shocks move at c(u_+/s), leave u_- = -u_+ E(c) (eq. um with
         that c), creep where u_+ <= s u_c, and pairs are born where u reaches s
@@ -551,7 +553,7 @@ class FreeBoundary:
     # ------------------------------------------------------------------ state
     @property
     def time(self) -> float:
-        """Current time of the engine."""
+        """Current time of the engine, in units of sqrt(m/k_p)."""
         return self._engine.time
 
     def u(self) -> np.ndarray:

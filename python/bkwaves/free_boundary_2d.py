@@ -225,7 +225,7 @@ class FreeBoundary2D:
 
     @property
     def time(self) -> float:
-        """Current time of the engine."""
+        """Current time of the engine, in units of sqrt(m/k_p)."""
         return self._engine.time
 
     @property

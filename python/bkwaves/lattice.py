@@ -308,7 +308,7 @@ class Lattice(Chain):
 
     @property
     def phi(self) -> np.ndarray:
-        """u - (x and y Laplacians)/(dx^2, dy^2), shape (ny, nx)."""
+        """u - (x and y Laplacians)/(dx^2, dy^2), shape (ny, nx) (dimensionless)."""
         return self._grid(self._engine.phi())
 
     @property
