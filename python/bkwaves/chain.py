@@ -171,6 +171,14 @@ class ChainResult:
         The final state.
     boundary : str
         The chain's boundary condition (one of ``BOUNDARIES``).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> res = bk.Chain(400, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6).kick(0, -2.0).run(
+    ...     t_end=20.0)
+    >>> res.t, len(res.catalog), res.stop, res.u.shape
+    (20.0, 1, 'time', (400,))
     """
 
     params: Params
@@ -220,7 +228,18 @@ class ChainResult:
         Returns
         -------
         numpy.ndarray
-            One time per block, NaN for a block that did not slip.
+            One time per block (units of sqrt(m/k_p)), NaN for a block that did not slip.
+
+        Examples
+        --------
+        The front's speed from its trajectory is the lattice front speed:
+
+        >>> import bkwaves as bk
+        >>> ch = bk.Chain(400, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6)
+        >>> t = ch.kick(0, -2.0).run(t_end=20.0).first_slip_times()
+        >>> c = 0.1 * 100 / float(t[200] - t[100])          # blocks 100 to 200
+        >>> round(c, 3), round(bk.front_speed(0.6, dx=0.1, gamma=0.3), 3)
+        (1.234, 1.234)
         """
         n = len(self.u)
         out = np.full(n, np.nan)
@@ -400,7 +419,19 @@ class Chain:
 
     def integration_attrs(self) -> dict:
         """The integration settings as output attributes: step, integrator and
-        step_tolerance ("none": the fixed step; NetCDF has no None)."""
+        step_tolerance ("none": the fixed step; NetCDF has no None).
+
+        Returns
+        -------
+        dict
+            ``step`` (fraction of dx), ``integrator`` and ``step_tolerance``.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> bk.Chain(10, bk.Params(gamma=0.3, v=0.0, dx=0.1)).integration_attrs()
+        {'step': 0.05, 'integrator': 'rk4', 'step_tolerance': 'none'}
+        """
         return {
             "step": self.step,
             "integrator": self.integrator,
@@ -466,7 +497,28 @@ class Chain:
         see ``bkwaves._checkpoint``), never a pickle. ``Chain.load(path).run(...)``
         continues bit for bit like the uninterrupted run when the checkpoint was taken
         where a run stopped on ``max_events``, on Ctrl-C or on its step budget (a ``t_end``
-        inside an event cuts a step short, which an uninterrupted run would not do)."""
+        inside an event cuts a step short, which an uninterrupted run would not do).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The checkpoint file (npz).
+
+        Examples
+        --------
+        A chain saved mid-run and loaded again continues bit for bit:
+
+        >>> import os, tempfile
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> path = os.path.join(tempfile.mkdtemp(), "chain.npz")
+        >>> a = bk.Chain(400, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6).kick(0, -2.0)
+        >>> _ = a.run(t_end=5.0)
+        >>> a.save(path)
+        >>> b = bk.Chain.load(path)
+        >>> np.array_equal(a.run(t_end=20.0).u, b.run(t_end=20.0).u)
+        True
+        """
         from . import _checkpoint
 
         _checkpoint.write(path, "chain", *self._record())
@@ -474,7 +526,29 @@ class Chain:
     @staticmethod
     def load(path) -> Chain:
         """Read a checkpoint written by :meth:`save`. Pickles, other files and checkpoints
-        of another format version are refused (:class:`bkwaves.ParameterError`)."""
+        of another format version are refused (:class:`bkwaves.ParameterError`).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The checkpoint file.
+
+        Returns
+        -------
+        Chain
+            The chain as saved, ready to run on.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> path = os.path.join(tempfile.mkdtemp(), "chain.npz")
+        >>> ch = bk.Chain(400, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6).kick(0, -2.0)
+        >>> _ = ch.run(t_end=5.0)
+        >>> ch.save(path)
+        >>> bk.Chain.load(path).t
+        5.0
+        """
         from . import _checkpoint
 
         meta, arrays = _checkpoint.read(path, "chain", "Chain.save")
@@ -529,6 +603,16 @@ class Chain:
         -------
         Chain
             The chain itself.
+
+        Examples
+        --------
+        Above the release stress (0.509 here) a block let go starts fronts both ways:
+
+        >>> import bkwaves as bk
+        >>> ch = bk.Chain(400, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.95)
+        >>> ev = ch.release(200).run(t_end=10.0).catalog
+        >>> int(ev.first_block[0]), int(ev.last_block[0]), ev.kind[0]
+        (0, 399, 'trigger')
         """
         block = self._block(block)
         t = V.number("t", t, lo=self.t)
@@ -545,14 +629,17 @@ class Chain:
     # --- state ---------------------------------------------------------------------
     @property
     def t(self) -> float:
+        """The chain's time, in units of sqrt(m/k_p)."""
         return self._engine.time
 
     @property
     def u(self) -> np.ndarray:
+        """The stress u of every block (dimensionless), a copy."""
         return self._engine.u()
 
     @property
     def u_t(self) -> np.ndarray:
+        """du/dt of every block (dimensionless, in units of (f_r - f_s)/sqrt(k_p m)), a copy."""
         return self._engine.u_t()
 
     @property
