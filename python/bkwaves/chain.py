@@ -1002,7 +1002,35 @@ def smooth_random_stress(
     n: int, dx: float, *, mean=0.6, amplitude=0.1, correlation=1.0, seed=0
 ) -> np.ndarray:
     """A smooth random stress profile: Gaussian-filtered white noise with correlation
-    length ``correlation`` (units of x), scaled to the given mean and std amplitude."""
+    length ``correlation`` (units of x), scaled to the given mean and std amplitude.
+
+    Parameters
+    ----------
+    n : int
+        Blocks, >= 1.
+    dx : float
+        Lattice spacing sqrt(k_p/k_c) (dimensionless).
+    mean : float, default 0.6
+        Mean stress (dimensionless).
+    amplitude : float, default 0.1
+        Standard deviation of the stress, >= 0 (dimensionless).
+    correlation : float, default 1
+        Correlation length, >= 0 (dimensionless, the paper's x).
+    seed : int, default 0
+        Seed of the generator.
+
+    Returns
+    -------
+    numpy.ndarray
+        u of the n blocks (dimensionless).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> u = bk.chain.smooth_random_stress(1000, 0.1, correlation=2.0, seed=1)
+    >>> round(float(u.mean()), 6), round(float(u.std()), 6)
+    (0.6, 0.1)
+    """
     n = V.integer("n", n, lo=1)
     from .limits import check_memory
 
@@ -1039,6 +1067,58 @@ class FrontMeasurement:
     "unsteady" (they do not: the front speeds up or slows down), or "dies" (the front
     stopped before the far end, as velocity-weakening fronts do at large v_f; regime
     "none", c NaN, ``reason`` says where).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front (dimensionless).
+    gamma : float
+        Viscous damping (dimensionless).
+    dx : float
+        Lattice spacing (dimensionless).
+    blocks : int
+        Blocks of the chain.
+    c : float
+        Front speed (units of the sound speed a sqrt(k_c/m)).
+    regime : {"pulse", "creep", "undecided", "none"}
+        As above.
+    u_minus : float or None
+        Stress behind the pulse (dimensionless).
+    w : float or None
+        Pulse width (dimensionless x).
+    wall_s : float
+        Wall time [s].
+    unsteadiness : float
+        Largest relative deviation of the window's slip intervals from dx/c.
+    slips, backward_slips : int
+        Slips of the run, and how many were backward.
+    beta : float, default inf
+        f_s/(f_r - f_s) (dimensionless).
+    steadiness : float or None
+        As above (relative).
+    window : tuple of float
+        [x_a, x_b) (dimensionless x).
+    settling_length : float or None
+        x_s (dimensionless x).
+    settled : bool
+        Whether x_a >= SETTLE_MARGIN x_s.
+    reason : str
+        Why the regime is undecided or the front died.
+    passes : int
+        Chains run (a longer one when the first did not settle).
+    app_b : dict or None
+        The continuum traveling wave (c in sound speeds, w in x, u_minus dimensionless).
+    front : {"steady", "unsteady", "dies"}
+        As above.
+    convergence : dict or None
+        The changes of c, w and u_- with the chain length, when measured.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> m = bk.chain.front(0.6, 0.3, 0.1, blocks=400)
+    >>> m.regime, m.front, round(m.c, 5), round(float(bk.front_speed(0.6, dx=0.1, gamma=0.3)), 5)
+    ('pulse', 'steady', 1.23362, 1.23362)
     """
 
     u_plus: float
@@ -1065,6 +1145,20 @@ class FrontMeasurement:
     convergence: dict | None = None
 
     def to_dict(self) -> dict:
+        """The measurement as a dict: what ``bkwaves front --json`` prints.
+
+        Returns
+        -------
+        dict
+            Name -> value (units as in the class).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> d = bk.chain.front(0.6, 0.3, 0.1, blocks=400).to_dict()
+        >>> d["regime"], d["blocks"]
+        ('pulse', 400)
+        """
         d = {
             k: getattr(self, k)
             for k in ("u_plus", "gamma", "dx", "blocks", "c", "regime", "u_minus", "w", "wall_s")
@@ -1627,7 +1721,38 @@ def _died(u_plus, gamma, dx, n, beta, law, step, tw, t0, passes):
 @dataclass(frozen=True)
 class LoadedPulse:
     """One steady pulse in a loaded chain (:func:`loaded_pulse`): the window blocks' u at
-    their first slip and how long they slid (NaN: not re-stuck by the end of the run)."""
+    their first slip and how long they slid (NaN: not re-stuck by the end of the run).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the pulse (dimensionless).
+    gamma : float
+        Viscous damping (dimensionless).
+    v : float
+        Loading rate (dimensionless).
+    dx : float
+        Lattice spacing (dimensionless).
+    c : float
+        The chain's front speed at v = 0 (units of the sound speed).
+    x_window : float
+        Where the window starts (dimensionless x).
+    backswing : float
+        2 pi/omega_d, the end of a block's first backswing (units of sqrt(m/k_p)).
+    u_start : numpy.ndarray
+        The window blocks' u at their first slip (dimensionless).
+    sliding : numpy.ndarray
+        How long each slid (units of sqrt(m/k_p); NaN: not re-stuck).
+    stress : {"arrival", "ramp"}, default "arrival"
+        How the initial stress was laid out.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> p = bk.chain.loaded_pulse(0.6, 0.3, 0.01, 0.2, window=10)
+    >>> p.u_start.shape, bool(abs(p.bias) < 1e-3)
+    ((10,), True)
+    """
 
     u_plus: float
     gamma: float
@@ -1702,7 +1827,40 @@ def loaded_pulse(
     The ``window`` blocks start two settling lengths from the kick; the chain ends where
     the free end's reflection (at most the sound speed) cannot reach them before they have
     passed their first backswing, and the run stops then. Needs a pulse (u_+ > gamma) and
-    0 <= v < 1 (a plate slower than the slip speed scale); beta = inf (no backward slip)."""
+    0 <= v < 1 (a plate slower than the slip speed scale); beta = inf (no backward slip).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the pulse, gamma < u_plus < 1 (dimensionless).
+    gamma : float
+        Viscous damping, >= 0 (dimensionless).
+    v : float
+        Loading rate V sqrt(k_p m)/(f_r - f_s), 0 <= v < 1 (dimensionless).
+    dx : float
+        Lattice spacing sqrt(k_p/k_c), > 0 (dimensionless).
+    window : int, default 100
+        Blocks whose slips are recorded.
+    stress : {"arrival", "ramp"}, default "arrival"
+        The initial stress (above).
+
+    Returns
+    -------
+    LoadedPulse
+        The window blocks' u at their slip and how long they slid.
+
+    Examples
+    --------
+    The blocks re-stick below the re-stick velocity v_c = 0.074 of this chain and keep
+    sliding above it (docs/theory.md, section 6):
+
+    >>> import bkwaves as bk
+    >>> c = float(bk.front_speed(0.6, dx=0.2, gamma=0.3))
+    >>> round(float(bk.theory.restick_velocity(0.6, 0.3, c=c)), 3)
+    0.074
+    >>> [bk.chain.loaded_pulse(0.6, 0.3, v, 0.2, window=10).resticks for v in (0.01, 0.3)]
+    [True, False]
+    """
     from . import theory
     from .limits import check_memory, check_wall
     from .waves import front_speed, traveling_wave
