@@ -62,7 +62,30 @@ def speed_table(speed) -> dict | None:
     :class:`bkwaves.disorder.EnsembleFront` or a list of them (their ``u_plus`` and
     ``c_mean``: the renormalised c_eff of a disordered medium). The table must have
     0 < u_plus < 1 strictly increasing and c > 1 strictly increasing; it is closed by
-    c = 1 at u_+ = 0 and c = infinity at u_+ = 1."""
+    c = 1 at u_+ = 0 and c = infinity at u_+ = 1.
+
+    Parameters
+    ----------
+    speed : None or dict or tuple or callable or EnsembleFront or list of EnsembleFront
+        The law, in one of the forms above (u_plus dimensionless, c in units of the sound
+        speed a sqrt(k_c/m)).
+
+    Returns
+    -------
+    dict or None
+        ``{"u_plus": [...], "c": [...]}`` (dimensionless stresses, speeds in sound
+        speeds), or None for the exact law.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> bk.free_boundary.speed_table({"u_plus": [0.3, 0.6], "c": [1.05, 1.25]})
+    {'u_plus': [0.3, 0.6], 'c': [1.05, 1.25]}
+    >>> table = bk.free_boundary.speed_table(lambda u: 1 / np.sqrt(1 - u * u))
+    >>> len(table["c"]) == bk.free_boundary.SPEED_SAMPLES
+    True
+    """
     from .disorder import EnsembleFront
 
     if speed is None:
@@ -143,7 +166,31 @@ def threshold_field(threshold, x) -> np.ndarray | None:
     u/s, v/s scaled by s); an array of one value per node; or a callable s(x) evaluated at
     the nodes. Block x slips when u - u_xx >= s(x); the free boundary problem assumes s
     varies on scales much longer than dx and the pulse width (docs/free_boundary.md,
-    "Threshold field")."""
+    "Threshold field").
+
+    Parameters
+    ----------
+    threshold : None or float or array_like or callable
+        The threshold in one of the forms above (dimensionless, in units of the uniform
+        chain's static threshold).
+    x : array_like
+        The grid nodes (dimensionless, the paper's x).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        s at the nodes (dimensionless), or None for the uniform threshold 1.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> bk.free_boundary.threshold_field(lambda x: 1 + 0.1 * np.sin(x), [0.0, math.pi / 2])
+    array([1. , 1.1])
+    >>> bk.free_boundary.threshold_field(1, [0.0, 1.0]) is None
+    True
+    """
     if threshold is None:
         return None
     if callable(threshold):
@@ -213,6 +260,19 @@ class FreeBoundaryResult:
         Engine events (births, node crossings, collisions) processed.
     meta : dict
         Run metadata written to the outputs' attributes.
+
+    Examples
+    --------
+    One maximum of u on a ring: a pair is born where u reaches 1 and sweeps the ring.
+
+        >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> x = np.arange(200) * 0.2                           # a ring of length 40
+    >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x,
+    ...                      0.999 - 1e-4 * (x - 20) ** 2, "periodic")
+    >>> res = fb.run(max_events=1)
+    >>> res.events[["x_start", "n_shocks", "complete"]].values.tolist()
+    [[20.0, 2, True]]
     """
 
     events: object
@@ -428,7 +488,30 @@ class FreeBoundary:
         return self._engine.critical_stress
 
     def front_speed(self, u_plus):
-        """c(u_+) of the engine's front-speed law (vectorised)."""
+        """c(u_+) of the engine's front-speed law (vectorised).
+
+        Parameters
+        ----------
+        u_plus : float or array_like
+            Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            c, in units of the sound speed a sqrt(k_c/m).
+
+        Examples
+        --------
+        The default law is the exact c = 1/sqrt(1 - u_+^2):
+
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> x = np.arange(200) * 0.2                           # a ring of length 40
+        >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x,
+        ...                      0.999 - 1e-4 * (x - 20) ** 2, "periodic")
+        >>> fb.front_speed([0.6, 0.8])
+        array([1.25      , 1.66666667])
+        """
         u = np.atleast_1d(V.array("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True))
         c = np.asarray(self._engine.front_speed(np.ascontiguousarray(u.ravel())))
         return c.reshape(np.shape(u_plus)) if np.ndim(u_plus) else float(c[0])
@@ -536,7 +619,28 @@ class FreeBoundary:
         JSON metadata and the engine's bytes, see ``bkwaves._checkpoint``), never a pickle.
         ``FreeBoundary.load(path).run(...)`` continues bit for bit like the uninterrupted
         run when it makes the same engine calls (e.g. the checkpoint was taken where a run
-        stopped on ``max_events`` or Ctrl-C, and the continuation asks for the same end)."""
+        stopped on ``max_events`` or Ctrl-C, and the continuation asks for the same end).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The checkpoint file (npz).
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> x = np.arange(200) * 0.2                           # a ring of length 40
+        >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x,
+        ...                      0.999 - 1e-4 * (x - 20) ** 2, "periodic")
+        >>> _ = fb.run(t_end=50.0)
+        >>> path = os.path.join(tempfile.mkdtemp(), "fb.npz")
+        >>> fb.save(path)
+        >>> again = bk.FreeBoundary.load(path)
+        >>> fb.run(max_events=2).events.equals(again.run(max_events=2).events)
+        True
+        """
         from . import _checkpoint
 
         _checkpoint.write(path, "free_boundary", *self._record())
@@ -544,7 +648,32 @@ class FreeBoundary:
     @staticmethod
     def load(path) -> FreeBoundary:
         """Read a checkpoint written by :meth:`save`. Pickles, other files and checkpoints
-        of another format version are refused (:class:`bkwaves.ParameterError`)."""
+        of another format version are refused (:class:`bkwaves.ParameterError`).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The checkpoint file.
+
+        Returns
+        -------
+        FreeBoundary
+            The engine as saved, ready to run on.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> x = np.arange(200) * 0.2                           # a ring of length 40
+        >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x,
+        ...                      0.999 - 1e-4 * (x - 20) ** 2, "periodic")
+        >>> _ = fb.run(t_end=50.0)
+        >>> path = os.path.join(tempfile.mkdtemp(), "fb.npz")
+        >>> fb.save(path)
+        >>> bk.FreeBoundary.load(path).time
+        50.0
+        """
         from . import _checkpoint
 
         meta, arrays = _checkpoint.read(path, "free_boundary", "FreeBoundary.save")
@@ -557,11 +686,48 @@ class FreeBoundary:
         return self._engine.time
 
     def u(self) -> np.ndarray:
-        """u at the grid nodes now."""
+        """u at the grid nodes now.
+
+        Returns
+        -------
+        numpy.ndarray
+            u (dimensionless), one value per node.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> x = np.arange(200) * 0.2                           # a ring of length 40
+        >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x,
+        ...                      0.999 - 1e-4 * (x - 20) ** 2, "periodic")
+        >>> round(float(fb.u().max()), 4)                      # loading at v = 0.01
+        0.999
+        """
         return self._engine.u_nodes()
 
     def current_shocks(self):
-        """Live shocks now, as a DataFrame (id, event, x, dir, u_plus)."""
+        """Live shocks now, as a DataFrame (id, event, x, dir, u_plus).
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per live shock: position x (dimensionless), direction (+1, -1) and
+            the stress u_plus ahead of it (dimensionless).
+
+        Examples
+        --------
+        Half a time unit after the birth at x = 20 the pair runs apart symmetrically:
+
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> x = np.arange(200) * 0.2                           # a ring of length 40
+        >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x,
+        ...                      0.999 - 1e-4 * (x - 20) ** 2, "periodic")
+        >>> _ = fb.run(t_end=0.5)
+        >>> s = fb.current_shocks()
+        >>> s.dir.tolist(), round(float(s.x[0] + s.x[1]) / 2, 9)
+        ([1, -1], 20.0)
+        """
         import pandas as pd
 
         return pd.DataFrame(self._engine.shocks())
@@ -694,7 +860,30 @@ class FreeBoundary:
 
     # ------------------------------------------------------------------ results
     def result(self, interrupted: bool = False) -> FreeBoundaryResult:
-        """The results recorded since the engine was built."""
+        """The results recorded since the engine was built.
+
+        Parameters
+        ----------
+        interrupted : bool, default False
+            Mark the result as that of an interrupted run.
+
+        Returns
+        -------
+        FreeBoundaryResult
+            Events, shock paths and snapshots.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> x = np.arange(200) * 0.2                           # a ring of length 40
+        >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x,
+        ...                      0.999 - 1e-4 * (x - 20) ** 2, "periodic")
+        >>> _ = fb.run(max_events=1)
+        >>> res = fb.result()
+        >>> len(res.events), res.interrupted
+        (1, False)
+        """
         import pandas as pd
         import xarray as xr
 
