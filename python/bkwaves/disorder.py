@@ -165,6 +165,32 @@ def smooth_field(
     ``shape``, its mean removed, scaled to a largest |value| of 1. ``periodic``: per
     axis or for all (then the field is periodic along it). Use it for a property:
     ``threshold = 1 + 0.1 * smooth_field((ny, nx), (dy, dx), 0.5, seed=1)``.
+
+    Parameters
+    ----------
+    shape : int or tuple of int
+        Nodes per axis ((n,) or (ny, nx)).
+    spacing : float or tuple of float
+        Node spacing per axis (dimensionless, the paper's x: dx for a chain).
+    correlation : float
+        Correlation length (dimensionless, the paper's x).
+    periodic : bool or tuple of bool, default False
+        Periodic along all axes, or per axis.
+    seed : int, default 0
+        Seed of the generator.
+
+    Returns
+    -------
+    numpy.ndarray
+        The field, of ``shape`` (dimensionless: zero mean, largest absolute value 1).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> f = bk.disorder.smooth_field((30, 40), (0.1, 0.1), 0.5, seed=1)
+    >>> f.shape, float(np.abs(f).max()), abs(float(f.mean())) < 1e-12
+    ((30, 40), 1.0, True)
     """
     shape = (shape,) if V._is_int(shape) else tuple(shape)
     if not shape or len(shape) > 3:

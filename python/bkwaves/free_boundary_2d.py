@@ -47,7 +47,34 @@ def random_field(
     1: white noise filtered in Fourier space by exp(-(k l)^2/4), periodic along an axis where
     ``periodic`` (a pair for x, y, or one flag) says so, else drawn on a grid padded by
     6 l and cut. Use it for correlated random initial stresses,
-    ``u0 = mean + amplitude * random_field(...)``, and threshold fields."""
+    ``u0 = mean + amplitude * random_field(...)``, and threshold fields.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        (nx, ny) nodes.
+    h : float
+        Node spacing, > 0 (dimensionless, the paper's x).
+    correlation_length : float
+        Correlation length l, > 0 (dimensionless, the paper's x).
+    seed : int, optional
+        Seed of the generator (None: a fresh one).
+    periodic : bool or tuple of bool, default (True, True)
+        Periodic along x and y, or along both.
+
+    Returns
+    -------
+    numpy.ndarray
+        The field, shape (ny, nx) (dimensionless: zero mean, largest absolute value 1).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> f = bk.free_boundary_2d.random_field((64, 32), 0.5, 2.0, seed=1)
+    >>> f.shape, float(np.abs(f).max()), abs(float(f.mean())) < 1e-12
+    ((32, 64), 1.0, True)
+    """
     try:
         nx, ny = shape
     except (TypeError, ValueError):
@@ -101,6 +128,36 @@ class FreeBoundary2DResult:
         live ruptures), complete.
     snapshots: xarray Dataset, u(t, y, x) and live(t) (running ruptures), with the
         threshold field s(y, x) when there is one.
+
+    Times are in units of sqrt(m/k_p), positions and areas in the paper's dimensionless
+    x (and x^2), stresses and slips dimensionless.
+
+    Parameters
+    ----------
+    ruptures : pandas.DataFrame
+        The ruptures (above).
+    snapshots : xarray.Dataset
+        The snapshots (above).
+    interrupted : bool, default False
+        Whether the run was stopped by Ctrl-C.
+    steps : int, default 0
+        Engine steps processed.
+    meta : dict
+        Run metadata written to the outputs' attributes.
+
+    Examples
+    --------
+    A rupture in uniform u_+ = 0.6 leaves u_- behind: its moment over its area is the
+    slip u_+ - u_- of the traveling wave (App. B):
+
+    >>> import bkwaves as bk
+    >>> p = bk.Params(gamma=0.3, v=0.0, dx=1e-3)
+    >>> fb = bk.FreeBoundary2D(p, (81, 81), 0.5, 0.6, "free")
+    >>> _ = fb.trigger(20.0, 20.0, radius=1.0)
+    >>> r = fb.run(max_events=1).ruptures
+    >>> slip = 0.6 - bk.traveling_wave(0.6, 0.3).u_minus
+    >>> round(float(r.moment[0] / r.area[0]), 9), round(slip, 9)
+    (0.697820121, 0.697820121)
     """
 
     ruptures: object
@@ -113,25 +170,53 @@ class FreeBoundary2DResult:
 class FreeBoundary2D:
     """The two-dimensional free boundary engine.
 
-    params: :class:`bkwaves.Params` (gamma < 1 and v are used).
+    Fronts move along their normal at c(u_+) and leave u_-(u_+); away from them u loads
+    at v; ruptures are born where u reaches the threshold (docs/free_boundary_2d.md).
 
-    shape: (nx, ny) nodes; h: their spacing (the same along x and y); origin: (x0, y0),
-        the place of node (0, 0).
+    Parameters
+    ----------
+    params : bkwaves.Params
+        gamma < 1 and v are used (dimensionless).
+    shape : tuple of int
+        (nx, ny) nodes, each >= 3.
+    h : float
+        Their spacing, the same along x and y, > 0 (dimensionless, the paper's x).
+    u0 : float or array_like or callable
+        The initial stress (dimensionless): a number, an (ny, nx) array or a callable
+        u0(x, y) (x, y arrays of shape (ny, nx)); below the threshold everywhere.
+    boundary : {"periodic", "free"} or tuple of str, default "periodic"
+        For both axes, or a pair (x axis, y axis).
+    origin : tuple of float, default (0, 0)
+        (x0, y0), the place of node (0, 0) (dimensionless x).
+    creep : {"zero", "stop"}, default "zero"
+        As in :class:`bkwaves.FreeBoundary`.
+    second_order : bool, default True
+        Second-order upwind fast marching (else first order).
+    record_arrivals : bool, default False
+        Keep each rupture's arrival times (:meth:`arrival_time`).
+    noise : dict, optional
+        As in :class:`bkwaves.FreeBoundary`, but ``rate`` is per unit area and unit time
+        (dimensionless).
+    seed : int, optional
+        Seed of the noise.
+    speed : optional
+        The front-speed law, as in :class:`bkwaves.FreeBoundary`.
+    threshold : float or array_like or callable, optional
+        The static threshold field s(x, y) (dimensionless; default 1 everywhere).
 
-    u0: the initial stress, a number, an (ny, nx) array or a callable u0(x, y) (x, y
-        arrays of shape (ny, nx)); below the threshold everywhere.
+    Examples
+    --------
+    A rupture triggered in uniform u_+ = 0.6 at v = 0 reaches x = 40 along the axis at
+    (20 - 1)/c = 15.2 (c = 1.25), to within the grid spacing h/c = 0.4:
 
-    boundary: "free" or "periodic", or a pair (x axis, y axis).
-
-    creep, noise, seed, speed: as in :class:`bkwaves.FreeBoundary` (noise ``rate`` is per
-        unit area and time here).
-
-    threshold: the static threshold field s(x, y) (number, array or callable; default
-        1 everywhere).
-
-    second_order: second-order upwind fast marching (default) or first order.
-
-    record_arrivals: keep each rupture's arrival times (:meth:`arrival_time`).
+    >>> import bkwaves as bk
+    >>> p = bk.Params(gamma=0.3, v=0.0, dx=1e-3)
+    >>> fb = bk.FreeBoundary2D(p, (81, 81), 0.5, 0.6, "free", record_arrivals=True)
+    >>> fb.trigger(20.0, 20.0, radius=1.0)
+    0
+    >>> res = fb.run(max_events=1)
+    >>> round(float(fb.arrival_time(0)[40, 80]), 6)
+    15.0
     """
 
     def __init__(
@@ -234,23 +319,95 @@ class FreeBoundary2D:
         return self._engine.critical_stress
 
     def u(self) -> np.ndarray:
-        """u at the nodes now, shape (ny, nx)."""
+        """u at the nodes now, shape (ny, nx).
+
+        Returns
+        -------
+        numpy.ndarray
+            u (dimensionless).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> fb = bk.FreeBoundary2D(bk.Params(gamma=0.3, v=0.0, dx=1e-3), (9, 5), 1.0, 0.6)
+        >>> fb.u().shape, float(fb.u().max())
+        ((5, 9), 0.6)
+        """
         return np.asarray(self._engine.u_nodes()).reshape(self.ny, self.nx)
 
     def last_arrival(self) -> np.ndarray:
-        """The last arrival time of a front at each node, (ny, nx), NaN where none passed."""
+        """The last arrival time of a front at each node, (ny, nx), NaN where none passed.
+
+        Returns
+        -------
+        numpy.ndarray
+            Times in units of sqrt(m/k_p).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> fb = bk.FreeBoundary2D(bk.Params(gamma=0.3, v=0.0, dx=1e-3), (81, 81), 0.5, 0.6,
+        ...                        "free")
+        >>> _ = fb.trigger(20.0, 20.0, radius=1.0)
+        >>> _ = fb.run(max_events=1)
+        >>> round(float(fb.last_arrival()[40, 80]), 6)
+        15.0
+        """
         return np.asarray(self._engine.last_arrival()).reshape(self.ny, self.nx)
 
     def trigger(self, x: float, y: float, radius: float = 0.0) -> int:
         """Start a rupture now on the disk of ``radius`` around (x, y) (at least the
-        nearest node); returns its id. Refused where a rupture is running."""
+        nearest node); returns its id. Refused where a rupture is running.
+
+        Parameters
+        ----------
+        x, y : float
+            The centre (dimensionless, the paper's x).
+        radius : float, default 0
+            The disk's radius, >= 0 (dimensionless x).
+
+        Returns
+        -------
+        int
+            The rupture's id.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> fb = bk.FreeBoundary2D(bk.Params(gamma=0.3, v=0.0, dx=1e-3), (41, 41), 1.0, 0.6)
+        >>> fb.trigger(10.0, 10.0), fb.trigger(30.0, 30.0)
+        (0, 1)
+        """
         x, y = V.number("x", x), V.number("y", y)
         radius = V.number("radius", radius, lo=0.0)
         return self._engine.trigger_disk(x, y, radius)
 
     def arrival_time(self, rupture: int) -> np.ndarray:
         """The arrival time of rupture ``rupture`` at each node, (ny, nx), NaN outside it
-        (needs ``record_arrivals=True`` and a complete rupture)."""
+        (needs ``record_arrivals=True`` and a complete rupture).
+
+        Parameters
+        ----------
+        rupture : int
+            The rupture's id.
+
+        Returns
+        -------
+        numpy.ndarray
+            Times in units of sqrt(m/k_p).
+
+        Examples
+        --------
+        Along the diagonal the front needs (sqrt(2) 20 - 1)/c = 21.8 to reach the corner:
+
+        >>> import bkwaves as bk
+        >>> fb = bk.FreeBoundary2D(bk.Params(gamma=0.3, v=0.0, dx=1e-3), (81, 81), 0.5, 0.6,
+        ...                        "free", record_arrivals=True)
+        >>> rid = fb.trigger(20.0, 20.0, radius=1.0)
+        >>> _ = fb.run(max_events=1)
+        >>> round(float(fb.arrival_time(rid)[0, 0]), 1)
+        22.0
+        """
         if not self.record_arrivals:
             V._fail("record_arrivals", False, "True to keep arrival times (FreeBoundary2D(...))")
         nodes, times = self._engine.arrivals(V.integer("rupture", rupture, lo=0))
@@ -279,7 +436,35 @@ class FreeBoundary2D:
         """Advance to ``t_end`` or until ``max_events`` more ruptures are complete.
         ``snapshots``: an int n (n evenly spaced times up to a finite t_end) or an array
         of times; the state is recorded at the start and the end too. Ctrl-C returns what
-        was computed (``result.interrupted``); ``run`` again continues."""
+        was computed (``result.interrupted``); ``run`` again continues.
+
+        Parameters
+        ----------
+        t_end : float, optional
+            End time (units of sqrt(m/k_p)).
+        max_events : int, optional
+            Stop after this many more complete ruptures.
+        snapshots : int or array_like, optional
+            n evenly spaced snapshot times, or the times (units of sqrt(m/k_p)).
+        progress : bool, default False
+            Show a progress bar.
+        chunk : int, default 200000
+            Engine steps between checks for Ctrl-C.
+
+        Returns
+        -------
+        FreeBoundary2DResult
+            Everything since the engine was built.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> fb = bk.FreeBoundary2D(bk.Params(gamma=0.3, v=0.0, dx=1e-3), (41, 41), 1.0, 0.6)
+        >>> _ = fb.trigger(20.0, 20.0)
+        >>> res = fb.run(t_end=40.0, snapshots=5)
+        >>> res.ruptures.complete.tolist(), res.snapshots.t.values.tolist()
+        ([True], [0.0, 10.0, 20.0, 30.0, 40.0])
+        """
         from .free_boundary import run_window
 
         t0 = self.time
@@ -320,7 +505,25 @@ class FreeBoundary2D:
         return self.result(interrupted=interrupted)
 
     def result(self, interrupted: bool = False) -> FreeBoundary2DResult:
-        """The results recorded since the engine was built."""
+        """The results recorded since the engine was built.
+
+        Parameters
+        ----------
+        interrupted : bool, default False
+            Mark the result as that of an interrupted run.
+
+        Returns
+        -------
+        FreeBoundary2DResult
+            Ruptures and snapshots.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> fb = bk.FreeBoundary2D(bk.Params(gamma=0.3, v=0.0, dx=1e-3), (41, 41), 1.0, 0.6)
+        >>> len(fb.result().ruptures), fb.result().interrupted
+        (0, False)
+        """
         import pandas as pd
         import xarray as xr
 
@@ -408,14 +611,54 @@ class FreeBoundary2D:
     def save(self, path) -> None:
         """Write a checkpoint of the whole state, snapshots included (data only, never a
         pickle). ``FreeBoundary2D.load(path).run(...)`` continues bit for bit like the
-        uninterrupted run when it makes the same engine calls."""
+        uninterrupted run when it makes the same engine calls.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The checkpoint file (npz).
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> fb = bk.FreeBoundary2D(bk.Params(gamma=0.3, v=0.01, dx=1e-3), (41, 41), 1.0, 0.6)
+        >>> _ = fb.run(t_end=10.0)
+        >>> path = os.path.join(tempfile.mkdtemp(), "fb2d.npz")
+        >>> fb.save(path)
+        >>> again = bk.FreeBoundary2D.load(path)
+        >>> bool((fb.run(t_end=50.0).snapshots.u == again.run(t_end=50.0).snapshots.u).all())
+        True
+        """
         from . import _checkpoint
 
         _checkpoint.write(path, "free_boundary_2d", *self._record())
 
     @staticmethod
     def load(path) -> FreeBoundary2D:
-        """Read a checkpoint written by :meth:`save` (others are refused)."""
+        """Read a checkpoint written by :meth:`save` (others are refused).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The checkpoint file.
+
+        Returns
+        -------
+        FreeBoundary2D
+            The engine as saved.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> fb = bk.FreeBoundary2D(bk.Params(gamma=0.3, v=0.01, dx=1e-3), (41, 41), 1.0, 0.6)
+        >>> _ = fb.run(t_end=10.0)
+        >>> path = os.path.join(tempfile.mkdtemp(), "fb2d.npz")
+        >>> fb.save(path)
+        >>> bk.FreeBoundary2D.load(path).time
+        10.0
+        """
         from . import _checkpoint
         from ._checkpoint import params_from_record, restore_engine
 
