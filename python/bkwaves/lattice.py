@@ -37,14 +37,55 @@ class LatticeResult(ChainResult):
     (the block that slipped first: i, j, x, y), ``area`` (blocks slipped x dx dy),
     ``moment`` (the integral of slip over the area: dx dy x the sum of the blocks' slips)
     and ``duration``, and whose snapshots are
-    an xarray Dataset with dims (t, y, x)."""
+    an xarray Dataset with dims (t, y, x).
+
+    Parameters
+    ----------
+    params, t, energy, counters, interrupted, stop, wall_s, seed, u, u_t, boundary
+        As in ``bkwaves.chain.ChainResult`` (t and wall_s: units of sqrt(m/k_p) and
+        seconds; u, u_t dimensionless, here of shape (ny, nx)).
+    shape : tuple of int
+        (nx, ny).
+    dy : float
+        The spacing across (dimensionless).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+    >>> res = la.kick((20, 15), -2.0).run(t_end=1.0)
+    >>> res.shape, res.u.shape, res.first_slip_times().shape
+    ((40, 30), (30, 40), (30, 40))
+    """
 
     shape: tuple[int, int] = (0, 0)
     dy: float = math.nan
 
     def first_slip_times(self, event: int | None = None) -> np.ndarray:
         """First slip time of every block, shape (ny, nx) (NaN if it did not slip),
-        optionally within one event: the arrival times of a rupture."""
+            optionally within one event: the arrival times of a rupture.
+
+            Parameters
+            ----------
+            event : int, optional
+                Only the slips of this event (catalog row); default all.
+
+            Returns
+            -------
+            numpy.ndarray
+                Times in units of sqrt(m/k_p), shape (ny, nx).
+
+            Examples
+            --------
+            The kicked block slips first, its neighbours along x and along y (dx = dy) at
+            the same time:
+
+        >>> import bkwaves as bk
+            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+            >>> t = la.kick((20, 15), -2.0).run(t_end=1.0).first_slip_times()
+            >>> float(t[15, 20]), bool(t[15, 21] == t[16, 20] > 0)
+            (0.0, True)
+        """
         nx, ny = self.shape
         out = np.full(nx * ny, np.nan)
         s = self.slips if event is None else self.slips[self.slips["event"] == event]
@@ -54,7 +95,26 @@ class LatticeResult(ChainResult):
 
     def slip_map(self, event: int | None = None) -> np.ndarray:
         """Total slip of every block (finished slips), shape (ny, nx), optionally within
-        one event."""
+            one event.
+
+            Parameters
+            ----------
+            event : int, optional
+                Only the slips of this event (catalog row); default all.
+
+            Returns
+            -------
+            numpy.ndarray
+                Slip (dimensionless, a change of u; 0 where none), shape (ny, nx).
+
+            Examples
+            --------
+        >>> import bkwaves as bk
+            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+            >>> s = la.kick((20, 15), -2.0).run(t_end=3.0).slip_map()
+            >>> s.shape, bool(s[15, 20] > 0), float(s[0, 0])
+            ((30, 40), True, 0.0)
+        """
         nx, ny = self.shape
         s = self.slips if event is None else self.slips[self.slips["event"] == event]
         total = s.groupby("block")["slip"].sum(min_count=1)
@@ -74,15 +134,44 @@ def _pair(name, value, allowed) -> tuple:
 class Lattice(Chain):
     """A lattice of nx x ny blocks with the chain's friction, loading and sources.
 
-    shape: (nx, ny). params: ``bkwaves.Params`` (its dx is the spacing along x).
-    u0, u_t0: a scalar or an array shaped (ny, nx). dy: the spacing across (default dx).
-    boundary: one of ``BOUNDARIES`` for both axes, or a pair (across x, across y).
-    fixed: wall positions u_wall at t = 0 of fixed sides, ((x low, x high), (y low, y
-    high)) (default: the mean initial u of the blocks along that side). threshold, mass,
-    loader: per-block properties (a scalar or (ny, nx) values; coupling springs are
-    uniform). step, seed, integrator, step_tolerance, noise: as for
-    ``bkwaves.Chain``; the time step is ``step`` min(dx, dy). ``kick`` and
-    ``release`` take a block (i, j), a line or a disc of blocks (``blocks``).
+    ``kick`` and ``release`` take a block (i, j), a line or a disc of blocks (``blocks``).
+
+    Parameters
+    ----------
+    shape : tuple of int
+        (nx, ny) blocks, each >= 1.
+    params : bkwaves.Params
+        gamma, v and beta (dimensionless); its dx is the spacing along x.
+    u0 : float or array_like, default 0
+        Initial stress (dimensionless), a scalar or an array shaped (ny, nx).
+    u_t0 : float or array_like, optional
+        Initial du/dt (dimensionless), a scalar or (ny, nx) values; default v.
+    dy : float, optional
+        The spacing across, sqrt(k_p/k_y) (dimensionless); default dx.
+    boundary : str or tuple of str, default "free"
+        One of ``BOUNDARIES`` for both axes, or a pair (across x, across y).
+    step : float, default 0.05
+        Time step as a fraction of min(dx, dy) (in units of sqrt(m/k_p)).
+    fixed : tuple, optional
+        Wall positions u_wall at t = 0 of fixed sides, ((x low, x high), (y low, y
+        high)) (dimensionless; default the mean initial u of the blocks along that side).
+    seed, integrator, step_tolerance, noise
+        As for ``bkwaves.Chain``.
+    threshold, mass, loader : float or array_like, optional
+        Per-block properties, a scalar or (ny, nx) values, in units of the reference
+        values of ``params`` (coupling springs are uniform).
+
+    Examples
+    --------
+    A rupture from a block near the centre; along the axes (dx = dy) the front reaches
+    the same distance at the same time:
+
+    >>> import bkwaves as bk
+    >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+    >>> res = la.kick((20, 15), -2.0).run(t_end=1.0)
+    >>> t = res.first_slip_times()
+    >>> bool(t[15, 25] == t[20, 20])
+    True
     """
 
     def __init__(
@@ -203,14 +292,54 @@ class Lattice(Chain):
         self._e0 = meta["e0"]
 
     def save(self, path) -> None:
-        """Write a checkpoint (as ``bkwaves.Chain.save``, of kind "lattice")."""
+        """Write a checkpoint (as ``bkwaves.Chain.save``, of kind "lattice").
+
+            Parameters
+            ----------
+            path : str or pathlib.Path
+                The checkpoint file (npz).
+
+            Examples
+            --------
+            >>> import os, tempfile
+            >>> import numpy as np
+        >>> import bkwaves as bk
+            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+            >>> _ = la.kick((20, 15), -2.0).run(t_end=0.5)
+            >>> path = os.path.join(tempfile.mkdtemp(), "lattice.npz")
+            >>> la.save(path)
+            >>> again = bk.Lattice.load(path)
+            >>> np.array_equal(la.run(t_end=1.0).u, again.run(t_end=1.0).u)
+            True
+        """
         from . import _checkpoint
 
         _checkpoint.write(path, "lattice", *self._record())
 
     @staticmethod
     def load(path) -> Lattice:
-        """Read a checkpoint written by ``save``."""
+        """Read a checkpoint written by ``save``.
+
+            Parameters
+            ----------
+            path : str or pathlib.Path
+                The checkpoint file.
+
+            Returns
+            -------
+            Lattice
+                The lattice as saved.
+
+            Examples
+            --------
+            >>> import os, tempfile
+        >>> import bkwaves as bk
+            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+            >>> path = os.path.join(tempfile.mkdtemp(), "lattice.npz")
+            >>> la.save(path)
+            >>> bk.Lattice.load(path).shape
+            (40, 30)
+        """
         from . import _checkpoint
 
         meta, arrays = _checkpoint.read(path, "lattice", "Lattice.save")
@@ -219,9 +348,33 @@ class Lattice(Chain):
     # --- triggers --------------------------------------------------------------------
     def kick(self, block, du_t: float, t: float = 0.0) -> Lattice:
         """Schedule a kick (``bkwaves.Chain.kick``) of one block (i, j), of the blocks on
-        a line, ``{"line": ((i0, j0), (i1, j1))}``, or of those in a disc,
-        ``{"disc": ((i, j), radius)}`` (``blocks`` gives the set): each gets du_t at
-        time t."""
+            a line, ``{"line": ((i0, j0), (i1, j1))}``, or of those in a disc,
+            ``{"disc": ((i, j), radius)}`` (``blocks`` gives the set): each gets du_t at
+            time t.
+
+            Parameters
+            ----------
+            block : tuple of int or dict
+                A block (i, j), a line or a disc (above).
+            du_t : float
+                The change of du/dt (dimensionless; negative: a forward kick).
+            t : float, default 0
+                When (>= the lattice's time), in units of sqrt(m/k_p).
+
+            Returns
+            -------
+            Lattice
+                The lattice itself.
+
+            Examples
+            --------
+        >>> import bkwaves as bk
+            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+            >>> res = la.kick({"line": ((0, 0), (0, 29))}, -2.0).run(t_end=2.0)
+            >>> t = res.first_slip_times()        # a planar front from the left edge
+            >>> bool((t[:, 10] == t[0, 10]).all())
+            True
+        """
         du_t = V.number("du_t", du_t, lo=-1e6, hi=1e6)
         t = V.number("t", t, lo=self.t)
         for k in self._region(block):
@@ -231,7 +384,31 @@ class Lattice(Chain):
 
     def release(self, block, t: float = 0.0, direction: int = 1) -> Lattice:
         """Schedule a release (``bkwaves.Chain.release``) of one block (i, j), of a line
-        or of a disc (as ``kick``)."""
+        or of a disc (as ``kick``).
+
+        Parameters
+        ----------
+        block : tuple of int or dict
+            A block (i, j), a line or a disc.
+        t : float, default 0
+            When (>= the lattice's time), in units of sqrt(m/k_p).
+        direction : {1, -1}
+            Forward (+1) or backward (-1, needs a finite ``params.beta``).
+
+        Returns
+        -------
+        Lattice
+            The lattice itself.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import bkwaves as bk
+        >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.95)
+        >>> t = la.release((20, 15)).run(t_end=1.0).first_slip_times()
+        >>> int(np.isfinite(t).sum())                  # every block has slipped
+        1200
+        """
         t = V.number("t", t, lo=self.t)
         direction = V.direction("direction", direction)
         for k in self._region(block):
@@ -241,11 +418,31 @@ class Lattice(Chain):
 
     def blocks(self, region) -> np.ndarray:
         """The blocks (i, j) of a trigger region, shape (m, 2), in block order (row after
-        row): a block (i, j); ``{"line": ((i0, j0), (i1, j1))}``, the blocks nearest to
-        the segment, one per step along its longer axis (a row, a column or a diagonal
-        exactly); ``{"disc": ((i, j), radius)}``, the blocks whose centres are within
-        ``radius`` of block (i, j)'s in (x, y) = (i dx, j dy) (radius in units of x, as
-        dx; a circle in the plane, an ellipse of axes radius/dx, radius/dy in blocks)."""
+            row): a block (i, j); ``{"line": ((i0, j0), (i1, j1))}``, the blocks nearest to
+            the segment, one per step along its longer axis (a row, a column or a diagonal
+            exactly); ``{"disc": ((i, j), radius)}``, the blocks whose centres are within
+            ``radius`` of block (i, j)'s in (x, y) = (i dx, j dy) (radius in units of x, as
+            dx; a circle in the plane, an ellipse of axes radius/dx, radius/dy in blocks).
+
+            Parameters
+            ----------
+            region : tuple of int or dict
+                A block, a line or a disc (radius dimensionless, the paper's x).
+
+            Returns
+            -------
+            numpy.ndarray
+                The blocks' (i, j), shape (m, 2).
+
+            Examples
+            --------
+        >>> import bkwaves as bk
+            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+            >>> la.blocks({"disc": ((20, 15), 0.1)}).tolist()      # radius dx: 4 neighbours
+            [[20, 14], [19, 15], [20, 15], [21, 15], [20, 16]]
+            >>> la.blocks({"line": ((0, 0), (3, 3))}).tolist()
+            [[0, 0], [1, 1], [2, 2], [3, 3]]
+        """
         k = np.asarray(self._region(region))
         nx = self.shape[0]
         return np.column_stack([k % nx, k // nx])
@@ -300,10 +497,12 @@ class Lattice(Chain):
 
     @property
     def u(self) -> np.ndarray:
+        """The stress u of every block, shape (ny, nx) (dimensionless)."""
         return self._grid(self._engine.u())
 
     @property
     def u_t(self) -> np.ndarray:
+        """du/dt of every block, shape (ny, nx) (dimensionless)."""
         return self._grid(self._engine.u_t())
 
     @property
@@ -399,6 +598,33 @@ class PlanarFront:
     times of a window of the normal coordinate; c_check: the same from a lattice twice as
     long (the measurement's convergence: |c - c_check|); spacing: the spacing of the
     chain the front reduces to exactly (dx along an axis, dx/sqrt(2) along the diagonal).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front (dimensionless).
+    gamma : float
+        Viscous damping (dimensionless).
+    dx : float
+        Lattice spacing (dimensionless).
+    angle : {0, 45}
+        The front's normal: along x, or along the diagonal.
+    blocks : int
+        Blocks along the normal.
+    c, c_check : float
+        Normal speed, and its value on a lattice twice as long (units of the sound
+        speed a sqrt(k_c/m)).
+    spacing : float
+        The spacing of the equivalent chain (dimensionless).
+    window : tuple of float
+        The window, as fractions of the blocks crossed.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> f = bk.lattice.front(0.6, 0.3, 0.2, blocks=32)
+    >>> f.spacing, bool(f.convergence < 1e-3)
+    (0.2, True)
     """
 
     u_plus: float
@@ -413,7 +639,8 @@ class PlanarFront:
 
     @property
     def convergence(self) -> float:
-        """|c - c_check|: the change of c when the lattice is twice as long."""
+        """|c - c_check|: the change of c when the lattice is twice as long (units of the
+        sound speed)."""
         return abs(self.c - self.c_check)
 
 
@@ -472,6 +699,45 @@ def front(
     blocks/2 rows of n a front crosses before it meets the other one). Both reduce
     exactly to a chain (at dx, at dx/sqrt(2): docs/lattice.md), whose c they must give.
     The measurement is repeated on a lattice twice as long (``c_check``).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
+    gamma : float
+        Viscous damping, >= 0 (dimensionless).
+    dx : float
+        Lattice spacing, 0 < dx < 1 (dimensionless; dy = dx).
+    angle : {0, 45}, default 0
+        Along x, or along the diagonal.
+    blocks : int, default 128
+        Blocks along the normal, 16 <= blocks <= 4096.
+    step : float, default 0.05
+        Time step as a fraction of dx (in units of sqrt(m/k_p)).
+    beta : float, default inf
+        f_s/(f_r - f_s) (dimensionless).
+    window : tuple of float, default (0.5, 0.75)
+        The measuring window, as fractions of the blocks crossed.
+
+    Returns
+    -------
+    PlanarFront
+        c and c_check (units of the sound speed) and the equivalent chain's spacing.
+
+    Examples
+    --------
+    The exact reductions: along x the chain at dx, along the diagonal the chain at
+    dx/sqrt(2):
+
+    >>> import math
+    >>> import bkwaves as bk
+    >>> f = bk.lattice.front(0.6, 0.3, 0.2, blocks=32)
+    >>> round(float(f.c_check), 5), round(float(bk.front_speed(0.6, dx=0.2, gamma=0.3)), 5)
+    (1.21525, 1.21525)
+    >>> d = bk.lattice.front(0.6, 0.3, 0.2, angle=45, blocks=32)
+    >>> chain = float(bk.front_speed(0.6, dx=0.2 / math.sqrt(2), gamma=0.3))
+    >>> round(float(d.c_check), 3), round(chain, 3)
+    (1.226, 1.226)
     """
     u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     gamma = V.number("gamma", gamma, lo=0.0)
@@ -501,6 +767,39 @@ class Rupture:
     the lower and the upper half of ``fit_range`` (equal halves: c = c0 - D/R holds).
     check: the fits and eikonal D of the same rupture on a quadrant twice as large, over
     the same fractions of it (the measurement's convergence).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front (dimensionless).
+    gamma : float
+        Viscous damping (dimensionless).
+    dx, dy : float
+        Lattice spacings (dimensionless).
+    size : tuple of int
+        (nx, ny) of the quadrant.
+    arrival : numpy.ndarray
+        First slip times (units of sqrt(m/k_p)), shape (ny, nx).
+    profiles : dict
+        Per direction: r (dimensionless x), t (units of sqrt(m/k_p)), c (units of the
+        sound speed).
+    fits : dict
+        Per direction: (c0 in sound speeds, D in sound speeds times x).
+    planar : dict
+        Per direction: the planar front speed (units of the sound speed).
+    fit_range : tuple of float
+        The fitted fractions of the quadrant.
+    check : dict or None, default None
+        The same on a quadrant twice as large.
+    eikonal : dict or None, default None
+        Per direction: D over the lower and the upper half of the range.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> r = bk.lattice.rupture(0.6, 0.3, 0.1, size=32, check=False)
+    >>> r.size, r.arrival.shape
+    ((32, 32), (32, 32))
     """
 
     u_plus: float
@@ -518,7 +817,24 @@ class Rupture:
 
     def aspect(self, t: float) -> float:
         """The rupture's extent along x over its extent along y, in blocks, at time t
-        (dy/dx for a circle in (x, y) = (i dx, j dy))."""
+        (dy/dx for a circle in (x, y) = (i dx, j dy)).
+
+        Parameters
+        ----------
+        t : float
+            The time (units of sqrt(m/k_p)).
+
+        Returns
+        -------
+        float
+            The ratio (NaN before the rupture reached a block along y).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> float(bk.lattice.rupture(0.6, 0.3, 0.1, size=32, check=False).aspect(1.5))
+        1.0
+        """
         a = self.arrival
         ni = np.count_nonzero(np.isfinite(a[0]) & (a[0] <= t))
         nj = np.count_nonzero(np.isfinite(a[:, 0]) & (a[:, 0] <= t))
@@ -609,6 +925,41 @@ def rupture(
     quadrant's extent); c0 must tend to the planar speed of that direction (``planar``,
     from ``front``'s exact reductions, measured on chains) and D is the eikonal
     coefficient. With ``check`` the rupture is repeated on a quadrant twice as large.
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
+    gamma : float
+        Viscous damping, >= 0 (dimensionless).
+    dx : float
+        Lattice spacing along x, 0 < dx < 1 (dimensionless).
+    size : int, default 128
+        Blocks of the quadrant along x, 16 <= size <= 8192.
+    dy : float, optional
+        Spacing along y (dimensionless); default dx.
+    step : float, default 0.05
+        Time step as a fraction of min(dx, dy) (in units of sqrt(m/k_p)).
+    beta : float, default inf
+        f_s/(f_r - f_s) (dimensionless).
+    fit : tuple of float, default (0.25, 0.95)
+        The fitted range of R, as fractions of the quadrant's extent.
+    check : bool, default True
+        Repeat on a quadrant twice as large.
+
+    Returns
+    -------
+    Rupture
+        Arrival times, profiles, fits and the planar speeds.
+
+    Examples
+    --------
+    The fitted c0 along the axes is near the planar speed (a small quadrant):
+
+    >>> import bkwaves as bk
+    >>> r = bk.lattice.rupture(0.6, 0.3, 0.1, size=32, check=False)
+    >>> [bool(abs(r.fits[k][0] / r.planar[k] - 1) < 1e-3) for k in ("x", "y")]
+    [True, True]
     """
     u_plus = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     gamma = V.number("gamma", gamma, lo=0.0)
