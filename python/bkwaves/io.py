@@ -83,13 +83,51 @@ class PublishStopped(Exception):
 
 
 def table_path(out, name: str, suffix: str = ".parquet") -> Path:
-    """Path of the table ``name`` beside the main output ``out``."""
+    """Path of the table ``name`` beside the main output ``out``.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The main output.
+    name : str
+        The table's name (``events``, ``slips``, ...).
+    suffix : str, default ".parquet"
+        The file type.
+
+    Returns
+    -------
+    pathlib.Path
+        ``OUT.NAME.parquet`` (or the suffix given).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.io.table_path("run.nc", "events").name
+    'run.nc.events.parquet'
+    """
     out = Path(out)
     return out.with_name(f"{out.name}.{name}{suffix}")
 
 
 def partial_path(out) -> Path:
-    """Where the unfinished run writing ``out`` keeps its records: ``OUT.partial/``."""
+    """Where the unfinished run writing ``out`` keeps its records: ``OUT.partial/``.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The main output.
+
+    Returns
+    -------
+    pathlib.Path
+        ``OUT.partial``.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.io.partial_path("run.zarr").name
+    'run.zarr.partial'
+    """
     out = Path(out)
     return out.with_name(out.name + ".partial")
 
@@ -376,6 +414,45 @@ class RunWriter:
     replaced, when the new output is published). ``resume_count`` continues the unfinished
     run of ``OUT.partial/`` after its first ``resume_count`` records (and ``resume_rows``:
     the first rows of each table), dropping those written later.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The output, ``OUT.nc`` or ``OUT.zarr``.
+    x : array_like
+        The grid (in the unit ``coord_units`` gives; the paper's dimensionless x by
+        default).
+    variables : dict
+        Name -> ``(units, long_name, dtype[, attrs])``.
+    attrs : dict, optional
+        Global attributes.
+    coord_units : tuple of str, default ("1", "1")
+        Units of x and t ("1": dimensionless).
+    coord_attrs : tuple of dict, default ({}, {})
+        More attributes of x and t.
+    overwrite : bool, default False
+        Replace an existing output (only files bkwaves wrote).
+    resume_count : int, optional
+        Continue after this many records of ``OUT.partial/``.
+    resume_rows : dict, optional
+        Table name -> rows to keep when resuming.
+    block_bytes : int, default 8 MiB
+        Commit when the buffer holds this many bytes.
+    flush_every : float, default 5
+        Commit when the oldest buffered record is this old [s].
+
+    Examples
+    --------
+        >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+    >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+    >>> with w:
+    ...     w.append(0.0, u=[0.1, 0.2, 0.3])
+    ...     w.append_block([1.0, 2.0], u=[[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]])
+    >>> ds, catalog = bk.io.load(out)
+    >>> ds.u.shape, ds.t.values.tolist()
+    ((3, 3), [0.0, 1.0, 2.0])
     """
 
     def __init__(
@@ -664,11 +741,49 @@ class RunWriter:
     # --- appending ---------------------------------------------------------------------
 
     def append(self, t: float, **fields):
-        """Append one snapshot at time ``t``; every declared variable must be given."""
+        """Append one snapshot at time ``t``; every declared variable must be given.
+
+        Parameters
+        ----------
+        t : float
+            Its time (the unit of ``coord_units``; dimensionless by default).
+        **fields : array_like
+            One array on the grid per declared variable.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+        >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+        >>> w.append(0.0, u=[0.1, 0.2, 0.3])
+        >>> w.records
+        1
+        >>> w.abandon()
+        """
         self.append_block([t], **{k: np.asarray(v)[None, ...] for k, v in fields.items()})
 
     def append_block(self, t, **fields):
-        """Append snapshots at the times ``t`` (fields: one row per time)."""
+        """Append snapshots at the times ``t`` (fields: one row per time).
+
+        Parameters
+        ----------
+        t : array_like
+            Their times (the unit of ``coord_units``; dimensionless by default).
+        **fields : array_like
+            Per declared variable, an array of shape (len(t), len(x)).
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+        >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+        >>> w.append_block([1.0, 2.0], u=[[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]])
+        >>> w.records
+        2
+        >>> w.abandon()
+        """
         missing = set(self.variables) - set(fields)
         if missing:
             raise ParameterError(f"snapshot misses variables {sorted(missing)}")
@@ -693,7 +808,36 @@ class RunWriter:
         """Append the rows of the pandas table ``df`` to the table ``name`` (created on
         first use, with CSV beside the Parquet unless ``csv=False``). ``units`` gives the
         units of columns, ``scales`` how dimensionless columns are scaled,
-        ``descriptions`` what columns are (read back into ``df.attrs``)."""
+        ``descriptions`` what columns are (read back into ``df.attrs``).
+
+        Parameters
+        ----------
+        name : str
+            The table.
+        df : pandas.DataFrame
+            Its new rows.
+        units : dict, optional
+            Column -> unit ("1": dimensionless).
+        csv : bool, optional
+            Also write CSV (default True for a new table).
+        scales : dict, optional
+            Column -> factor to physical units.
+        descriptions : dict, optional
+            Column -> what it is.
+
+        Examples
+        --------
+        >>> import pandas as pd
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+        >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+        >>> with w:
+        ...     w.append(0.0, u=[0.1, 0.2, 0.3])
+        ...     w.append_rows("events", pd.DataFrame({"t_start": [0.5]}), units={"t_start": "1"})
+        >>> bk.io.load_tables(out)[1]["events"].t_start.tolist()
+        [0.5]
+        """
         tb = self._tables.setdefault(
             name, {"rows": 0, "buf": [], "units": {}, "scales": {}, "descriptions": {}, "csv": True}
         )
@@ -711,7 +855,34 @@ class RunWriter:
         self._note_buffered()
 
     def write_table(self, name: str, df, units: dict | None = None, csv: bool = True, scales=None):
-        """Set the whole table ``name`` (replacing rows written before)."""
+        """Set the whole table ``name`` (replacing rows written before).
+
+        Parameters
+        ----------
+        name : str
+            The table.
+        df : pandas.DataFrame
+            All its rows.
+        units : dict, optional
+            Column -> unit ("1": dimensionless).
+        csv : bool, default True
+            Also write CSV.
+        scales : dict, optional
+            Column -> factor to physical units.
+
+        Examples
+        --------
+        >>> import pandas as pd
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+        >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+        >>> w.write_table("events", pd.DataFrame({"a": [1, 2]}))
+        >>> w.write_table("events", pd.DataFrame({"a": [3]}))
+        >>> w.table_rows("events")
+        1
+        >>> w.abandon()
+        """
         d = self.partial / "tables" / name
         if d.exists():
             shutil.rmtree(d)
@@ -719,7 +890,30 @@ class RunWriter:
         self.append_rows(name, df, units, csv, scales)
 
     def table_rows(self, name: str) -> int:
-        """Rows of the table ``name`` written or buffered so far."""
+        """Rows of the table ``name`` written or buffered so far.
+
+        Parameters
+        ----------
+        name : str
+            The table.
+
+        Returns
+        -------
+        int
+            Its rows (0 for a table never written).
+
+        Examples
+        --------
+        >>> import pandas as pd
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+        >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+        >>> w.append_rows("events", pd.DataFrame({"t_start": [0.5, 1.5]}))
+        >>> w.table_rows("events"), w.table_rows("slips")
+        (2, 0)
+        >>> w.abandon()
+        """
         tb = self._tables.get(name)
         return 0 if tb is None else tb["rows"] + sum(len(d) for d in tb["buf"])
 
@@ -741,7 +935,20 @@ class RunWriter:
             self.commit()
 
     def commit(self):
-        """Write the buffered rows of every table, then the buffered snapshots."""
+        """Write the buffered rows of every table, then the buffered snapshots.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+        >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+        >>> w.append(0.0, u=[0.1, 0.2, 0.3])
+        >>> w.commit()
+        >>> w.count                                   # committed records
+        1
+        >>> w.abandon()
+        """
         for name, tb in self._tables.items():
             if tb["buf"]:
                 import pandas as pd
@@ -816,7 +1023,33 @@ class RunWriter:
         ``stop``: a function asked between the pieces of the merge; when it returns true
         the publication is abandoned before anything is renamed (``OUT.partial/`` kept),
         ``on_stop()`` is called while the lock is still held, and close returns False.
-        Returns True when the output was published."""
+
+        Parameters
+        ----------
+        publish : bool, default True
+            Publish the output (a complete run).
+        remove : iterable of path, default ()
+            Files to remove once published (e.g. the checkpoint).
+        stop : callable, optional
+            Asked between the pieces of the merge.
+        on_stop : callable, optional
+            Called when ``stop`` abandons the publication.
+
+        Returns
+        -------
+        bool
+            True when the output was published.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+        >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+        >>> w.append(0.0, u=[0.1, 0.2, 0.3])
+        >>> w.close(publish=False), os.path.exists(out + ".partial")
+        (False, True)
+        """
         if self.closed:
             return False
         try:
@@ -835,7 +1068,19 @@ class RunWriter:
             self._lock.release()
 
     def abandon(self):
-        """Stop after a failed write: drop the buffer, keep what was committed, unlock."""
+        """Stop after a failed write: drop the buffer, keep what was committed, unlock.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import bkwaves as bk
+        >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+        >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+        >>> w.append(0.0, u=[0.1, 0.2, 0.3])
+        >>> w.abandon()
+        >>> os.path.exists(out)
+        False
+        """
         self._buf_t, self._buf_bytes = [], 0
         self._buf = {name: [] for name in self.variables}
         for tb in self._tables.values():
@@ -1120,7 +1365,31 @@ def _install(out: Path, partial: Path, final: Path, replaces, remove=()):
 def finalize(path) -> Path:
     """Publish the records an unfinished run left in ``OUT.partial/`` as ``OUT`` (after a
     crash, an interruption or a full disk), replacing an earlier output: the run can then
-    no longer be resumed (its checkpoint is removed)."""
+    no longer be resumed (its checkpoint is removed).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The output ``OUT``.
+
+    Returns
+    -------
+    pathlib.Path
+        ``OUT`` (unchanged when there is nothing to publish).
+
+    Examples
+    --------
+        >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+    >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+    >>> w.append(0.0, u=[0.1, 0.2, 0.3])
+    >>> w.close(publish=False)                     # as a run cut short leaves it
+    False
+    >>> ds, _ = bk.io.load(bk.io.finalize(out))
+    >>> ds.u.values.tolist()
+    [[0.1, 0.2, 0.3]]
+    """
     from .runner import checkpoint_path
 
     p = _check_path(path)
@@ -1182,7 +1451,34 @@ def load(path):
 def load_tables(path):
     """Like :func:`load`, with every table: returns ``(dataset, {name: DataFrame})``.
     A table written by another run than the snapshots (another run id) is left out,
-    with a warning."""
+    with a warning.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The output, ``OUT.nc`` or ``OUT.zarr``.
+
+    Returns
+    -------
+    dataset : xarray.Dataset
+        The snapshots (units in the attributes).
+    tables : dict
+        Table name -> pandas.DataFrame (column units in ``attrs["units"]``).
+
+    Examples
+    --------
+    >>> import pandas as pd
+        >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
+    >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
+    >>> with w:
+    ...     w.append(0.0, u=[0.1, 0.2, 0.3])
+    ...     w.append_rows("events", pd.DataFrame({"t_start": [0.5]}), units={"t_start": "1"})
+    >>> ds, tables = bk.io.load_tables(out)
+    >>> ds.u.shape, list(tables), tables["events"].attrs["units"]
+    ((1, 3), ['events'], {'t_start': '1'})
+    """
     p = _check_path(path)
     partial = partial_path(p)
     marker = _read_marker(partial)
