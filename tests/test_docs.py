@@ -56,7 +56,8 @@ def test_core_docstring_examples_run():
             runner.run(test)
             tested.add(test.name.rsplit(".", 1)[1])
     assert runner.failures == 0
-    assert tested == set(CORE_FUNCTIONS), set(CORE_FUNCTIONS) - tested
+    # every function has an example (the engine classes too, besides)
+    assert set(CORE_FUNCTIONS) <= tested, set(CORE_FUNCTIONS) - tested
 
 
 def _errors(name: str, codes: set[str]) -> list:

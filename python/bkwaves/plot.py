@@ -68,7 +68,27 @@ def _new_axes(figsize):
 
 @_styled
 def wave_profile(wave: TravelingWave, ax=None):
-    """u(z) behind the front (paper Fig. 4): front at z = 0, stick point at z = -w."""
+    """u(z) behind the front (paper Fig. 4): front at z = 0, stick point at z = -w.
+
+    Parameters
+    ----------
+    wave : bkwaves.TravelingWave
+        The wave (:func:`bkwaves.traveling_wave`).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default: a new figure).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes: z (dimensionless x) against u (dimensionless).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> ax = bk.plot.wave_profile(bk.traveling_wave(0.6, 0.3))
+    >>> ax.get_title(), float(ax.lines[0].get_ydata()[-1])       # u_+ ahead of the front
+    ('pulse: u+ = 0.6, gamma = 0.3, c = 1.25', 0.6)
+    """
     if ax is None:
         ax = _new_axes((6, 3.6))
     if wave.w is not None:
@@ -92,7 +112,27 @@ def wave_profile(wave: TravelingWave, ax=None):
 @_styled
 def speed_curve(u_points=None, ax=None):
     """c(u_+) (paper Fig. 3): exact tip-problem speed, the interpolation formula eq. (c)
-    dashed, and the wrong formal continuum answer dotted; optional marked points."""
+    dashed, and the wrong formal continuum answer dotted; optional marked points.
+
+    Parameters
+    ----------
+    u_points : array_like, optional
+        Stresses u_+ to mark on the curve (dimensionless).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default: a new figure).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes: u_+ (dimensionless) against c (units of the sound speed).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> ax = bk.plot.speed_curve([0.6])
+    >>> ax.lines[-1].get_xydata().tolist()                  # the marked point on c(u_+)
+    [[0.6, 1.25]]
+    """
     if ax is None:
         ax = _new_axes((5, 3.8))
     u = np.linspace(0.005, 0.96, 400)
@@ -221,6 +261,40 @@ def spacetime(ds, var: str = "u", ax=None, cmap=None, events=None):
     snapshots are seen as such. ``events`` (a catalog with ``t_start``
     and ``nucleation`` block or ``x_start``) marks where and when each event began,
     threshold and noise-triggered ones told apart.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Snapshots with dimensions (t, x) (a run output, :func:`bkwaves.load`).
+    var : str, default "u"
+        The variable drawn.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default: a new figure).
+    cmap : str, optional
+        The colour map (default viridis; coolwarm for the sliding state).
+    events : pandas.DataFrame, optional
+        A catalog whose nucleations are marked.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes: x against t, in the units the output records (dimensionless by
+        default).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = {"model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...        "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...        "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...        "run": {"t_end": 20.0}, "output": {"snapshot_every": 1.0}}
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> _ = bk.run(cfg, out)
+    >>> ds, catalog = bk.load(out)
+    >>> ax = bk.plot.spacetime(ds, events=catalog)
+    >>> ax.get_xlabel(), ax.get_ylabel()
+    ('x', 't')
     """
     if ax is None:
         ax = _new_axes((7, 4.4))
@@ -277,7 +351,38 @@ def spacetime(ds, var: str = "u", ax=None, cmap=None, events=None):
 
 @_styled
 def profiles(ds, var: str = "u", n: int = 6, ax=None):
-    """Profiles ``var(x)`` at ``n`` snapshots spread over the run."""
+    """Profiles ``var(x)`` at ``n`` snapshots spread over the run.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        Snapshots with dimensions (t, x).
+    var : str, default "u"
+        The variable drawn.
+    n : int, default 6
+        How many snapshots.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default: a new figure).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes: x against var, in the units the output records.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = {"model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...        "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...        "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...        "run": {"t_end": 20.0}, "output": {"snapshot_every": 1.0}}
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> _ = bk.run(cfg, out)
+    >>> ax = bk.plot.profiles(bk.load(out)[0], n=3)
+    >>> [line.get_label() for line in ax.lines]
+    ['t = 0', 't = 10', 't = 20']
+    """
     if ax is None:
         ax = _new_axes((7, 3.8))
     nt = ds.sizes["t"]
@@ -305,7 +410,43 @@ def trajectories(
     df, *, x: str = "x", t: str = "t", by: str | None = None, ax=None, points: bool = False
 ):
     """Front or shock trajectories x(t) from a table, one line per ``by`` group (or
-    points, for fronts that spread both ways from their nucleation)."""
+    points, for fronts that spread both ways from their nucleation).
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table (a run's ``slips``, a free boundary's ``shocks``).
+    x : str, default "x"
+        Its position column (dimensionless x, or the unit in ``df.attrs["units"]``).
+    t : str, default "t"
+        Its time column (likewise).
+    by : str, optional
+        One line per value of this column (e.g. ``shock``).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default: a new figure).
+    points : bool, default False
+        Draw points instead of lines.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes: x against t.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = {"model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...        "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...        "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...        "run": {"t_end": 20.0}, "output": {"snapshot_every": 1.0}}
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> _ = bk.run(cfg, out)
+    >>> slips = bk.io.load_tables(out)[1]["slips"]
+    >>> ax = bk.plot.trajectories(slips, x="x", t="t_start", points=True)
+    >>> ax.get_xlabel(), ax.get_ylabel(), len(ax.lines[0].get_xdata()) == len(slips)
+    ('x', 't_start', True)
+    """
     if ax is None:
         ax = _new_axes((7, 4.2))
     import matplotlib
@@ -354,7 +495,33 @@ def _b_title(gr) -> str:
 def size_frequency(sizes, ax=None, label: str = "event size"):
     """Size-frequency (complementary cumulative) plot of moments, titled with their b
     (:func:`bkwaves.stats.gutenberg_richter`: moment magnitudes, Mc by maximum curvature,
-    a bootstrap interval) or the reason there is none (too few events, one size)."""
+    a bootstrap interval) or the reason there is none (too few events, one size).
+
+    Parameters
+    ----------
+    sizes : array_like
+        Event moments int slip dx (dimensionless); others than finite and > 0 are left
+        out.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default: a new figure).
+    label : str, default "event size"
+        The x label.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes, log-log.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> mags = np.random.default_rng(0).exponential(math.log10(math.e), 300)   # b = 1
+    >>> moments = 10 ** (1.5 * mags)
+    >>> bk.plot.size_frequency(moments).get_title()
+    'b = 0.91 [0.80, 1.05] (95 %), Mc = 0.20, n = 211'
+    """
     from . import stats
 
     if ax is None:
@@ -374,7 +541,33 @@ def frequency_magnitude(moments, ax=None, what: str = "events"):
     """The frequency-magnitude distribution of moments: the number of ``what`` with
     magnitude >= M (M = (2/3) log10(moment)) and per bin of 0.1, the magnitude of
     completeness Mc and the Gutenberg-Richter fit N(>= M) = N(>= Mc) 10^(-b (M - Mc))
-    above it (:func:`bkwaves.stats.gutenberg_richter`), or the reason there is no b."""
+    above it (:func:`bkwaves.stats.gutenberg_richter`), or the reason there is no b.
+
+    Parameters
+    ----------
+    moments : array_like
+        Event moments int slip dx (dimensionless).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default: a new figure).
+    what : str, default "events"
+        What is counted, for the labels.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The axes: magnitude (dimensionless) against counts, log scale.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import bkwaves as bk
+    >>> mags = np.random.default_rng(0).exponential(math.log10(math.e), 300)   # b = 1
+    >>> moments = 10 ** (1.5 * mags)
+    >>> ax = bk.plot.frequency_magnitude(moments, what="ruptures")
+    >>> ax.get_title()
+    'b = 0.91 [0.80, 1.05] (95 %), Mc = 0.20, n = 211'
+    """
     from . import stats
 
     if ax is None:
@@ -406,7 +599,39 @@ def frequency_magnitude(moments, ax=None, what: str = "events"):
 @_styled
 def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
     """The standard pictures of a run output (see :func:`bkwaves.io.load`): space-time
-    diagrams of every field, profiles, trajectories and the catalog's size-frequency."""
+    diagrams of every field, profiles, trajectories and the catalog's size-frequency.
+
+    A sweep store (``bkwaves sweep``) is drawn by :func:`plot_sweep`.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The run output (or a sweep store).
+    outdir : str or pathlib.Path, optional
+        Where the pictures go (default: beside ``out``).
+    fmt : {"png", "svg", "pdf"}, default "png"
+        Their format.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = {"model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...        "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...        "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...        "run": {"t_end": 20.0}, "output": {"snapshot_every": 1.0}}
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> _ = bk.run(cfg, out)
+    >>> files = bk.plot.plot_run(out, os.path.join(os.path.dirname(out), "figures"))
+    >>> [f.name for f in files]  # doctest: +NORMALIZE_WHITESPACE
+    ['front_spacetime_u.png', 'front_spacetime_u_t.png', 'front_spacetime_sliding.png',
+     'front_profiles.png', 'front_slips.png']
+    """
     from .io import _readable, load_tables
 
     if fmt not in FORMATS:
@@ -484,7 +709,28 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
 @_styled
 def save(ax, path) -> Path:
     """Save the figure of ``ax`` to ``path`` (format from the suffix: one of
-    :data:`FORMATS`) and close it. The file is written whole (beside, then renamed)."""
+    :data:`FORMATS`) and close it. The file is written whole (beside, then renamed).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Any axes of the figure.
+    path : str or pathlib.Path
+        The file, ending in .png, .svg or .pdf.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> path = bk.plot.save(bk.plot.speed_curve(), os.path.join(tempfile.mkdtemp(), "c.svg"))
+    >>> path.read_text().startswith("<?xml")
+    True
+    """
     import matplotlib.pyplot as plt
 
     from ._paths import write_atomic
@@ -544,7 +790,32 @@ def plot_sweep(out, outdir=None, fmt: str = "png") -> list[Path]:
     named ``seed`` is averaged over (mean with its standard error, n realisations in the
     legend). For the front speed c against u_plus, the exact continuum c = 1/sqrt(1 -
     u_+^2) and, per dx, the finite-dx tip solver are drawn with the points, and a second
-    panel shows c - 1/sqrt(1 - u_+^2)."""
+    panel shows c - 1/sqrt(1 - u_+^2).
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The sweep store (.zarr).
+    outdir : str or pathlib.Path, optional
+        Where the pictures go (default: beside ``out``).
+    fmt : {"png", "svg", "pdf"}, default "png"
+        Their format.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> out = os.path.join(tempfile.mkdtemp(), "speed.zarr")
+    >>> spec = {"task": "speed", "axes": {"u_plus": {"values": [0.3, 0.6, 0.8]}}}
+    >>> _ = bk.sweep(spec, out, workers=1)
+    >>> [f.name for f in bk.plot.plot_sweep(out)]
+    ['speed_c.png']
+    """
     import matplotlib.pyplot as plt
 
     from .sweeps import load_sweep_result

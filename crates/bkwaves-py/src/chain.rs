@@ -22,6 +22,16 @@ use pyo3::types::{PyDict, PyList};
 ///
 /// The engine behind ``bkwaves.Chain``, which validates its inputs, builds the per-block
 /// properties and turns the records into pandas and xarray objects; use that class.
+/// Its arguments: ``u0`` (dimensionless stresses), ``dx``, ``v`` (dimensionless) and
+/// ``step`` (a fraction of dx), then the options of ``bkwaves.Chain``.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> eng = _core.ChainEngine(np.full(10, 0.6), 0.1, 0.0, 0.05)
+/// >>> eng.n, eng.time, eng.boundary
+/// (10, 0.0, 'free')
 #[pyclass(module = "bkwaves._core")]
 pub struct ChainEngine {
     inner: Box<dyn DynChain>,
@@ -671,13 +681,13 @@ impl ChainEngine {
 /// Parameters
 /// ----------
 /// u_plus : float
-///     Stress ahead of the front.
+///     Stress ahead of the front (dimensionless).
 /// dx : float
-///     Lattice spacing.
+///     Lattice spacing sqrt(k_p/k_c) (dimensionless).
 /// blocks : int
 ///     Chain length in blocks.
 /// step : float, default 0.05
-///     Time step as a fraction of dx.
+///     Time step as a fraction of dx (in units of dx sqrt(m/k_p)).
 /// law : str, default "coulomb"
 ///     Friction law (``friction_laws()``).
 /// friction : dict, optional

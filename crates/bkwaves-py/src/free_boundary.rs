@@ -11,7 +11,17 @@ use pyo3::types::PyDict;
 /// The free boundary (shock dynamics) engine of Sec. IV, advanced event by event.
 ///
 /// The engine behind ``bkwaves.FreeBoundary``, which validates its inputs and turns the
-/// records into pandas and xarray objects; use that class.
+/// records into pandas and xarray objects; use that class. Its arguments: the grid's
+/// first node ``x0`` and spacing ``h`` (dimensionless x), ``u0`` on the grid, ``gamma``
+/// and ``v`` (dimensionless), then the options of ``bkwaves.FreeBoundary``.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> eng = _core.FreeBoundaryEngine(0.0, 0.5, np.full(9, 0.6), 0.3, 0.01)
+/// >>> eng.time, eng.n_shocks
+/// (0.0, 0)
 #[pyclass(name = "FreeBoundaryEngine", module = "bkwaves._core")]
 pub struct PyFreeBoundary {
     inner: FreeBoundary,

@@ -15,6 +15,21 @@ type Arrivals<'py> = (
     Bound<'py, numpy::PyArray1<f64>>,
 );
 
+/// The two-dimensional free boundary engine: fronts by fast marching (Sec. IV in the plane).
+///
+/// The engine behind ``bkwaves.FreeBoundary2D``, which validates its inputs and turns
+/// the records into pandas and xarray objects; use that class. Its arguments: ``nx``,
+/// ``ny`` nodes of spacing ``h`` from (``x0``, ``y0``) (dimensionless x), ``u0`` (nx ny
+/// dimensionless stresses, row after row), ``gamma`` and ``v`` (dimensionless), then the
+/// options of ``bkwaves.FreeBoundary2D``.
+///
+/// Examples
+/// --------
+/// >>> import numpy as np
+/// >>> from bkwaves import _core
+/// >>> eng = _core.FreeBoundary2DEngine(4, 3, 1.0, 0.0, 0.0, np.full(12, 0.6), 0.3, 0.01)
+/// >>> eng.time, len(eng.u_nodes())
+/// (0.0, 12)
 #[pyclass(name = "FreeBoundary2DEngine", module = "bkwaves._core")]
 pub struct PyFreeBoundary2D {
     inner: FreeBoundary2D,

@@ -30,7 +30,7 @@ fn map_array<'py>(
 /// Parameters
 /// ----------
 /// u_plus : numpy.ndarray of float
-///     Stress ahead of the front, 0 < u_plus < 1.
+///     Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
 ///
 /// Returns
 /// -------
@@ -59,9 +59,9 @@ fn front_speed<'py>(
 /// Parameters
 /// ----------
 /// u_plus : numpy.ndarray of float
-///     Stress ahead of the front, 0 < u_plus < 1.
+///     Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
 /// dx : float
-///     Lattice spacing sqrt(k_p/k_c), with dx sqrt(1 - u_+^2) <= 2 u_+.
+///     Lattice spacing sqrt(k_p/k_c) (dimensionless), with dx sqrt(1 - u_+^2) <= 2 u_+.
 ///
 /// Returns
 /// -------
@@ -116,7 +116,7 @@ fn u_plus_of_speed<'py>(
 /// Parameters
 /// ----------
 /// gamma : float
-///     Viscous damping alpha/(2 sqrt(k_p m)), >= 0.
+///     Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 ///
 /// Returns
 /// -------
@@ -140,9 +140,9 @@ fn critical_stress(gamma: f64) -> PyResult<Option<f64>> {
 /// Parameters
 /// ----------
 /// u_plus : float
-///     Stress ahead of the front, 0 < u_plus < 1.
+///     Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
 /// gamma : float
-///     Viscous damping, >= 0.
+///     Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 ///
 /// Returns
 /// -------
@@ -176,13 +176,14 @@ fn traveling_wave<'py>(py: Python<'py>, u_plus: f64, gamma: f64) -> PyResult<Bou
 /// Parameters
 /// ----------
 /// u_plus : float
-///     Stress ahead of the front, 0 < u_plus < 1.
+///     Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
 /// gamma : float
-///     Viscous damping, >= 0.
+///     Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 /// z : numpy.ndarray of float
-///     Positions relative to the front (z > 0 ahead; not NaN).
+///     Positions relative to the front (dimensionless, the paper's x; z > 0 ahead;
+///     not NaN).
 /// c : float, optional
-///     The front speed (default: the exact c(u_+)).
+///     The front speed in units of the sound speed (default: the exact c(u_+)).
 ///
 /// Returns
 /// -------
@@ -229,9 +230,9 @@ fn wave_profile<'py>(
 /// Parameters
 /// ----------
 /// c : numpy.ndarray of float
-///     Front speed (> 1).
+///     Front speed (> 1, units of the sound speed).
 /// gamma : float
-///     Viscous damping, >= 0.
+///     Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 ///
 /// Returns
 /// -------
@@ -258,16 +259,17 @@ fn gamma_tilde<'py>(
 /// Parameters
 /// ----------
 /// u_plus : numpy.ndarray of float
-///     Stress ahead of the front.
+///     Stress ahead of the front (dimensionless).
 /// c : numpy.ndarray of float
-///     Front speed, of the shape of u_plus (exact, interpolated or measured).
+///     Front speed in units of the sound speed, of the shape of u_plus (exact,
+///     interpolated or measured).
 /// gamma : float
-///     Viscous damping, >= 0.
+///     Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
 ///
 /// Returns
 /// -------
 /// u_minus : numpy.ndarray of float
-///     Stress left behind; NaN in creep.
+///     Stress left behind (dimensionless); NaN in creep.
 /// w : numpy.ndarray of float
 ///     Pulse width in units of a sqrt(k_c/k_p); NaN in creep.
 ///

@@ -41,9 +41,9 @@ fn to_dict<'py>(py: Python<'py>, s: &TipSolution) -> PyResult<Bound<'py, PyDict>
 /// decay : float, default 40
 ///     e-folds of the slowest transient kept behind the tip.
 /// dx : float, default 0
-///     Lattice spacing; 0 is the continuum limit.
+///     Lattice spacing sqrt(k_p/k_c) (dimensionless); 0 is the continuum limit.
 /// gamma : float, default 0
-///     Viscous damping (enters at dx > 0).
+///     Viscous damping alpha/(2 sqrt(k_p m)) (dimensionless; enters at dx > 0).
 /// chain_domain : bool, default True
 ///     At dx > 0, refuse a front that is not the chain's (a narrow pulse); False solves the
 ///     linear tip problem as stated.
@@ -87,15 +87,15 @@ fn tip_solve_speed<'py>(
 /// Parameters
 /// ----------
 /// u_plus : float
-///     Stress ahead of the front, 0 < u_plus < 1.
+///     Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
 /// degree : int, default 16
 ///     Polynomial degree per interval between slips.
 /// decay : float, default 40
 ///     e-folds of the slowest transient kept behind the tip.
 /// dx : float, default 0
-///     Lattice spacing; 0 is the continuum limit.
+///     Lattice spacing sqrt(k_p/k_c) (dimensionless); 0 is the continuum limit.
 /// gamma : float, default 0
-///     Viscous damping (enters at dx > 0).
+///     Viscous damping alpha/(2 sqrt(k_p m)) (dimensionless; enters at dx > 0).
 /// chain_domain : bool, default True
 ///     At dx > 0, refuse a front that is not the chain's (a narrow pulse); False solves the
 ///     linear tip problem as stated.
@@ -139,17 +139,17 @@ fn tip_solve_u_plus<'py>(
 /// Parameters
 /// ----------
 /// u_plus : float
-///     Stress ahead of the front.
+///     Stress ahead of the front (dimensionless).
 /// threshold : numpy.ndarray of float
 ///     Static threshold of every block (1: the paper's chain).
 /// dx : float
-///     Lattice spacing.
+///     Lattice spacing sqrt(k_p/k_c) (dimensionless).
 /// gamma : float
-///     Viscous damping.
+///     Viscous damping alpha/(2 sqrt(k_p m)) (dimensionless).
 /// behind : int, default 64
 ///     Blocks kept behind the tip (at least).
 /// step : float, default 0.5
-///     Time step as a fraction of dx.
+///     Time step as a fraction of dx (in units of dx sqrt(m/k_p)).
 /// order : int, default 20
 ///     Degree of the Taylor series per step.
 ///
