@@ -206,7 +206,76 @@ class Trigger:
 
 @dataclass(frozen=True)
 class RunConfig:
-    """A validated run description (frozen)."""
+    """A validated run description (frozen), built by :func:`parse_config`.
+
+    The fields are the TOML keys (docs/usage.md lists them with their units); every
+    quantity is in the paper's dimensionless units (a config given in SI through
+    ``[physical]`` is converted when parsed, and ``params.units`` keeps the SI description).
+
+    Parameters
+    ----------
+    model : {"chain", "free_boundary", "lattice", "free_boundary_2d"}
+        The engine.
+    params : bkwaves.Params
+        gamma, v, dx, beta (dimensionless).
+    boundary : str
+        The boundary condition.
+    initial : InitialSpec
+        The initial state (``[initial]``).
+    blocks : int, default 0
+        Blocks of a chain.
+    length : float, default 0
+        Length of a free boundary domain (dimensionless x).
+    grid : int, default 0
+        Nodes of a free boundary grid.
+    triggers : tuple of Trigger, default ()
+        Kicks and releases (times in units of sqrt(m/k_p)).
+    t_end : float, optional
+        End of the run (units of sqrt(m/k_p)).
+    max_events : int, optional
+        End after this many events.
+    max_event_slips : int, optional
+        The most slips one event may take.
+    max_event_duration : float, optional
+        The longest an event may last (units of sqrt(m/k_p)).
+    step : float, optional
+        The chain's time step as a fraction of dx (in units of sqrt(m/k_p)).
+    integrator : str, optional
+        The chain's integrator.
+    step_tolerance : float, optional
+        Error per step of the adaptive step control.
+    output_path : str, optional
+        ``[output] path``.
+    snapshot_every : float, optional
+        Snapshot interval (units of sqrt(m/k_p)).
+    snapshot_events : int, optional
+        A snapshot every this many events.
+    output_units : {"native", "physical"}, default "native"
+        Units of the outputs.
+    seed : int, optional
+        The seed of every random draw.
+    title : str, default ""
+        A title written into the outputs.
+    disorder : tuple, default ()
+        Per-block properties (``[disorder]``).
+    noise : dict, optional
+        The ``[noise]`` table.
+    speed : dict, optional
+        The free boundary's front-speed law (``[speed]``).
+    base_dir : pathlib.Path, optional
+        The folder relative paths are read from.
+
+    Examples
+    --------
+        >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> cfg.model, cfg.blocks, cfg.t_end, cfg.params.gamma
+    ('chain', 200, 20.0, 0.3)
+    """
 
     model: str
     params: Params
@@ -236,6 +305,7 @@ class RunConfig:
 
     @property
     def physical(self) -> bool:
+        """Whether the config carries an SI description (``[physical]``)."""
         return self.params.units is not None
 
     @property
@@ -248,7 +318,24 @@ class RunConfig:
     def seeded(self) -> RunConfig:
         """This config with a seed: its own, or for a random run without one a fresh seed
         drawn from the operating system's entropy (recorded in the outputs, so the run can
-        be repeated)."""
+        be repeated).
+
+        Returns
+        -------
+        RunConfig
+            This config, or a copy with a seed.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> cfg = bk.config.parse_config({
+        ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+        ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+        ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+        ...     "run": {"t_end": 20.0}})
+        >>> cfg.seeded() is cfg                 # nothing random: no seed needed
+        True
+        """
         if self.seed is not None or not self.random:
             return self
         import dataclasses
@@ -260,17 +347,75 @@ class RunConfig:
         """This config as a document of the TOML schema, in the paper's dimensionless
         units (``input_units = "dimensionless"`` when the config carries an SI
         description in [physical]): ``RunConfig.from_dict(cfg.to_dict()) == cfg``
-        exactly. A config changed in code (``dataclasses.replace``) writes what it holds."""
+        exactly. A config changed in code (``dataclasses.replace``) writes what it holds.
+
+        Returns
+        -------
+        dict
+            The document (dimensionless values).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> cfg = bk.config.parse_config({
+        ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+        ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+        ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+        ...     "run": {"t_end": 20.0}})
+        >>> cfg.to_dict()["params"]
+        {'gamma': 0.3, 'v': 0.0, 'dx': 0.1, 'beta': inf}
+        >>> bk.config.RunConfig.from_dict(cfg.to_dict()) == cfg
+        True
+        """
         return _to_doc(self)
 
     @classmethod
     def from_dict(cls, doc: dict, *, base_dir: Path | None = None) -> RunConfig:
-        """Validate a document of the TOML schema (see :meth:`to_dict`)."""
+        """Validate a document of the TOML schema (see :meth:`to_dict`).
+
+        Parameters
+        ----------
+        doc : dict
+            The document.
+        base_dir : pathlib.Path, optional
+            The folder relative paths are read from.
+
+        Returns
+        -------
+        RunConfig
+            The validated config (:func:`parse_config`).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> doc = {"model": "free_boundary", "params": {"gamma": 0.3, "v": 0.01, "dx": 0.001},
+        ...        "domain": {"length": 10.0, "grid": 11},
+        ...        "initial": {"kind": "uniform", "value": 0.5}, "run": {"t_end": 10.0}}
+        >>> bk.config.RunConfig.from_dict(doc).grid
+        11
+        """
         return parse_config(doc, base_dir=base_dir)
 
     def chain_integration(self) -> dict:
         """The chain's integration settings, bkwaves.Chain's ``step``, ``integrator`` and
-        ``step_tolerance``, with the defaults (DEFAULT_STEP, rk4, none) for keys not given."""
+        ``step_tolerance``, with the defaults (DEFAULT_STEP, rk4, none) for keys not given.
+
+        Returns
+        -------
+        dict
+            ``step`` (a fraction of dx), ``integrator`` and ``step_tolerance``.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> cfg = bk.config.parse_config({
+        ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+        ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+        ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+        ...     "run": {"t_end": 20.0}})
+        >>> cfg.chain_integration()
+        {'step': 0.05, 'integrator': 'rk4', 'step_tolerance': None}
+        """
         from .chain import DEFAULT_STEP, INTEGRATORS
 
         return {
@@ -280,7 +425,24 @@ class RunConfig:
         }
 
     def x(self) -> np.ndarray:
-        """Node positions in dimensionless units (blocks at i*dx for the chain)."""
+        """Node positions in dimensionless units (blocks at i*dx for the chain).
+
+        Returns
+        -------
+        numpy.ndarray
+            The positions (dimensionless x).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> cfg = bk.config.parse_config({
+        ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+        ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+        ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+        ...     "run": {"t_end": 20.0}})
+        >>> cfg.x()[:3], len(cfg.x())
+        (array([0. , 0.1, 0.2]), 200)
+        """
         if self.model == "chain":
             return np.arange(self.blocks) * self.params.dx
         end = self.length if self.boundary == "free" else self.length * (1 - 1 / self.grid)
@@ -598,7 +760,40 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     """Validate a parsed TOML document and build a :class:`RunConfig`. Every key is
     checked against the parameter tables of ``bkwaves._validate`` (type, range),
     and so are the sizes that follow from them (:func:`bkwaves.limits.check_sizes`),
-    before any work."""
+    before any work.
+
+    Parameters
+    ----------
+    doc : dict
+        The document (docs/usage.md lists the keys, their units and allowed values).
+    base_dir : pathlib.Path, optional
+        The folder relative paths are read from.
+
+    Returns
+    -------
+    RunConfig
+        The validated config, in the paper's dimensionless units.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        An unknown key (the message lists the valid ones) or a value out of range.
+
+    Examples
+    --------
+        >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> cfg.triggers[0].kind, cfg.triggers[0].velocity
+    ('kick', 2.0)
+    >>> bk.config.parse_config({**cfg.to_dict(), "params": {"gamma": 0.3, "gama": 1.0}})
+    Traceback (most recent call last):
+    ...
+    bkwaves._core.ParameterError: params.gama: unknown key; valid keys here: gamma, v, dx, beta
+    """
     doc = _table(doc, "(top level)")
     _keys(doc, "", TOP_KEYS, ("model",))
     model = _cfg(doc, "model", "")
@@ -1110,7 +1305,29 @@ def _smooth_random(x: np.ndarray, corr: float, rng: np.random.Generator, periodi
 
 
 def initial_state(cfg: RunConfig) -> np.ndarray:
-    """The initial u at the nodes ``cfg.x()`` (dimensionless)."""
+    """The initial u at the nodes ``cfg.x()`` (dimensionless).
+
+    Parameters
+    ----------
+    cfg : RunConfig
+        The run.
+
+    Returns
+    -------
+    numpy.ndarray
+        u at the nodes (dimensionless).
+
+    Examples
+    --------
+        >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> bk.config.initial_state(cfg)[:3]
+    array([0.6, 0.6, 0.6])
+    """
     x = cfg.x()
     s = cfg.initial
     if s.kind == "uniform":

@@ -23,13 +23,14 @@ use pyo3::types::{PyDict, PyList};
 /// The engine behind ``bkwaves.Chain``, which validates its inputs, builds the per-block
 /// properties and turns the records into pandas and xarray objects; use that class.
 /// Its arguments: ``u0`` (dimensionless stresses), ``dx``, ``v`` (dimensionless) and
-/// ``step`` (a fraction of dx), then the options of ``bkwaves.Chain``.
+/// ``step`` (a fraction of dx), then the friction law with its parameters (``gamma``
+/// dimensionless) and the options of ``bkwaves.Chain``.
 ///
 /// Examples
 /// --------
 /// >>> import numpy as np
 /// >>> from bkwaves import _core
-/// >>> eng = _core.ChainEngine(np.full(10, 0.6), 0.1, 0.0, 0.05)
+/// >>> eng = _core.ChainEngine(np.full(10, 0.6), 0.1, 0.0, 0.05, friction={"gamma": 0.3})
 /// >>> eng.n, eng.time, eng.boundary
 /// (10, 0.0, 'free')
 #[pyclass(module = "bkwaves._core")]
