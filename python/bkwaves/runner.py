@@ -76,7 +76,24 @@ class RunNotStarted(KeyboardInterrupt):
 
 
 def checkpoint_path(out) -> Path:
-    """Where the checkpoint of the run writing ``out`` lives: ``OUT.checkpoint``."""
+    """Where the checkpoint of the run writing ``out`` lives: ``OUT.checkpoint``.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The run's output.
+
+    Returns
+    -------
+    pathlib.Path
+        ``OUT.checkpoint``.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.runner.checkpoint_path("run.zarr").name
+    'run.zarr.checkpoint'
+    """
     out = Path(out)
     return out.with_name(out.name + ".checkpoint")
 
@@ -118,6 +135,44 @@ def _read_checkpoint(out) -> dict:
 
 @dataclass
 class RunSummary:
+    """What :func:`run` and :func:`resume` return: the scalars of a run written to disk.
+
+    Parameters
+    ----------
+    model : str
+        The engine.
+    out : str or None
+        The output written.
+    t : float
+        Time reached (in the output's units; the paper's sqrt(m/k_p) by default).
+    events : int
+        Events recorded.
+    snapshots : int
+        Snapshots written.
+    interrupted : bool
+        Whether Ctrl-C or SIGTERM stopped the run (a checkpoint was left).
+    wall_s : float
+        Wall time [s].
+    units : str
+        The units of the outputs.
+    extra : dict
+        More scalars (blocks, ruptures, the signal, event statistics, ...).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> s = bk.runner.run(cfg, out)
+    >>> s.model, s.t, s.interrupted, s.units
+    ('chain', 20.0, False, 'dimensionless (paper eq. dimless)')
+    """
+
     model: str
     out: str | None
     t: float
@@ -129,6 +184,27 @@ class RunSummary:
     extra: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
+        """The summary as one flat dict (what ``bkwaves run --json`` prints).
+
+            Returns
+            -------
+            dict
+                The fields, ``extra`` merged in.
+
+            Examples
+            --------
+        >>> import os, tempfile
+            >>> import bkwaves as bk
+            >>> cfg = bk.config.parse_config({
+            ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+            ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+            ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+            ...     "run": {"t_end": 20.0}})
+            >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+            >>> d = bk.runner.run(cfg, out).to_dict()
+            >>> d["t"], d["blocks"]
+            (20.0, 200)
+        """
         return {
             "model": self.model,
             "out": self.out,
@@ -321,7 +397,47 @@ def run(
     (SIGKILL, a crash) can be resumed; ``checkpoint_every`` (seconds of wall time) sets
     the cadence, ``inf`` turns them off. A resumed run equals the
     uninterrupted one bit for bit: checkpoints are taken between engine chunks, where the
-    engines restart exactly. A full disk raises :class:`OutputFull`."""
+    engines restart exactly. A full disk raises :class:`OutputFull`.
+
+    ``bk.run(cfg, out)`` (:func:`simulate`) runs and reads the result back; this is the
+    runner behind it and behind ``bkwaves run``.
+
+    Parameters
+    ----------
+    cfg : bkwaves.config.RunConfig
+        The run.
+    out : str or pathlib.Path, optional
+        The output (.nc or .zarr); default ``cfg.output_path``.
+    progress : bool, default False
+        Show a progress bar.
+    overwrite : bool, default False
+        Replace an existing output (only files bkwaves wrote).
+    flush_every : float, default 5
+        Commit buffered records at least this often [s].
+    chunk : int, default 20000
+        Engine steps between checks for a signal and a checkpoint.
+    checkpoint_every : float, optional
+        Seconds of wall time between checkpoints (inf: only when interrupted).
+
+    Returns
+    -------
+    RunSummary
+        What was written, with the time reached and the counts.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> s = bk.runner.run(cfg, out)
+    >>> s.t, s.snapshots, sorted(p for p in os.listdir(os.path.dirname(out)))[:2]
+    (20.0, 1, ['front.nc', 'front.nc.events.csv'])
+    """
     from ._core import ParameterError
 
     with _StopRequest() as stop_request:  # first: a signal from here on is never lost
@@ -404,7 +520,48 @@ def resume(
     checkpoint_every: float | None = None,
     _stop_after_chunks: int | None = None,
 ) -> RunSummary:
-    """Continue the run that wrote ``out`` from its checkpoint ``OUT.checkpoint``."""
+    """Continue the run that wrote ``out`` from its checkpoint ``OUT.checkpoint``.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The interrupted run's output.
+    progress : bool, default False
+        Show a progress bar.
+    flush_every : float, default 5
+        Commit buffered records at least this often [s].
+    chunk : int, default 20000
+        Engine steps between checks for a signal and a checkpoint.
+    checkpoint_every : float, optional
+        Seconds of wall time between checkpoints.
+
+    Returns
+    -------
+    RunSummary
+        The summary of the whole run.
+
+    Examples
+    --------
+    A run stopped after its first chunk (as Ctrl-C stops it) and resumed has the slips
+    of an uninterrupted run, bit for bit:
+
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> cut = bk.runner.run(cfg, out, chunk=200, _stop_after_chunks=1)   # stands for Ctrl-C
+    >>> cut.interrupted, os.path.exists(bk.runner.checkpoint_path(out))
+    (True, True)
+    >>> bk.runner.resume(out).t
+    20.0
+    >>> whole = bk.run(cfg).tables["slips"]
+    >>> bk.io.load_tables(out)[1]["slips"].t_start.equals(whole.t_start)
+    True
+    """
     from .config import parse_config
 
     with _StopRequest():
@@ -526,6 +683,20 @@ class RunResult:
         The snapshots, when asked for (``snapshots=True``) or read back from ``out``.
     config : bkwaves.config.RunConfig
         The validated configuration that ran.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> res = bk.run(cfg)
+    >>> res.summary["t"], len(res.events), res.events is res.tables["events"]   # one front
+    (20.0, 1, True)
     """
 
     summary: dict
@@ -549,7 +720,36 @@ def _event_statistics(events, ruptures=None) -> dict:
 
 def run_result(cfg: RunConfig, *, snapshots: bool = False, chunk: int = 20_000) -> RunResult:
     """Run ``cfg`` in memory: nothing is written to disk (``cfg.output_path`` is ignored).
-    Returns the summary scalars, the tables and, with ``snapshots=True``, the snapshots."""
+    Returns the summary scalars, the tables and, with ``snapshots=True``, the snapshots.
+
+    Parameters
+    ----------
+    cfg : bkwaves.config.RunConfig
+        The run.
+    snapshots : bool, default False
+        Keep the snapshots in memory.
+    chunk : int, default 20000
+        Engine steps between checks for a signal.
+
+    Returns
+    -------
+    RunResult
+        The summary, the tables and the snapshots if asked.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> res = bk.runner.run_result(cfg, snapshots=True)
+    >>> res.summary["t"], sorted(res.tables), res.snapshots.u.shape
+    (20.0, ['events', 'ruptures', 'slips'], (1, 200))
+    """
     mem = _MemoryWriter(snapshots)
     s = run(cfg, None, chunk=chunk, _memory=mem)
     summary = {k: v for k, v in s.to_dict().items() if k not in ("out", "units")}
@@ -879,7 +1079,35 @@ def _frame(cols: dict, stop: int | None = None):
 def chain_from_config(cfg: RunConfig):
     """The :class:`bkwaves.Chain` a chain config describes, at t = 0: initial state,
     per-block properties, noise, integration settings (run.step, run.integrator,
-    run.step_tolerance) and triggers (no snapshots scheduled)."""
+    run.step_tolerance) and triggers (no snapshots scheduled).
+
+    Parameters
+    ----------
+    cfg : bkwaves.config.RunConfig
+        A chain config.
+
+    Returns
+    -------
+    bkwaves.Chain
+        The chain, ready to run.
+
+    Examples
+    --------
+    The chain run by hand ends where the config's run ends:
+
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> cfg = bk.config.parse_config({
+    ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+    ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+    ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+    ...     "run": {"t_end": 20.0}})
+    >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+    >>> _ = bk.runner.run(cfg, out)
+    >>> chain = bk.runner.chain_from_config(cfg)
+    >>> bool((chain.run(t_end=20.0).u == bk.load(out)[0].u.values[-1]).all())
+    True
+    """
     from .chain import Chain
 
     p = cfg.params
