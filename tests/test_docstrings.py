@@ -178,22 +178,6 @@ KNOWN_GAPS: dict[str, str] = {
     "bkwaves.paper.model.fig_schematic": "EPR",
     "bkwaves.paper.reproduce": "EPR",
     "bkwaves.plot.trajectories": "U",
-    "bkwaves.sweeps.Axis": "EP",
-    "bkwaves.sweeps.Axis.key": "D",
-    "bkwaves.sweeps.Axis.name": "D",
-    "bkwaves.sweeps.SweepResult": "E",
-    "bkwaves.sweeps.SweepResult.to_dict": "D",
-    "bkwaves.sweeps.SweepSpec": "EP",
-    "bkwaves.sweeps.SweepSpec.dims": "D",
-    "bkwaves.sweeps.SweepSpec.from_dict": "D",
-    "bkwaves.sweeps.SweepSpec.indices": "D",
-    "bkwaves.sweeps.SweepSpec.key": "D",
-    "bkwaves.sweeps.SweepSpec.point": "EPR",
-    "bkwaves.sweeps.SweepSpec.point_at": "D",
-    "bkwaves.sweeps.SweepSpec.shape": "D",
-    "bkwaves.sweeps.SweepSpec.to_dict": "D",
-    "bkwaves.sweeps.load_sweep": "EPR",
-    "bkwaves.sweeps.parse_sweep": "EPR",
 }
 
 # A parameter or return of one of these names is a physical quantity: its description

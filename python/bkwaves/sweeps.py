@@ -215,7 +215,25 @@ def run_point(task: str, point: dict, keep: tuple = ()) -> dict:
 @dataclass(frozen=True)
 class Axis:
     """One axis: ``path`` is the key path in the task's input (``("params", "gamma")``),
-    ``name`` its last part (the dimension name in the result)."""
+    ``name`` its last part (the dimension name in the result).
+
+    Parameters
+    ----------
+    path : tuple of str
+        The key path.
+    values : tuple, default ()
+        The values (in the unit of the key: the paper's dimensionless ones, or SI where
+        the task's input is SI).
+    bounds : tuple of float, optional
+        The interval of an adaptive axis (same unit).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> axis = bk.sweeps.Axis(("params", "gamma"), (0.3, 0.5))
+    >>> axis.name, axis.key
+    ('gamma', 'params.gamma')
+    """
 
     path: tuple[str, ...]
     values: tuple = ()
@@ -223,16 +241,47 @@ class Axis:
 
     @property
     def name(self) -> str:
+        """The last key of the path: the dimension's name in the result."""
         return self.path[-1]
 
     @property
     def key(self) -> str:
+        """The path joined by dots, as the sweep file writes it."""
         return ".".join(self.path)
 
 
 @dataclass(frozen=True)
 class SweepSpec:
-    """A validated sweep (frozen). ``to_dict()``/``from_dict()`` round-trip it."""
+    """A validated sweep (frozen). ``to_dict()``/``from_dict()`` round-trip it.
+
+    Parameters
+    ----------
+    task : str
+        What each point computes (``TASKS``).
+    base : dict
+        The input every point shares (its values in the task's units: the paper's
+        dimensionless ones unless the task takes SI).
+    axes : tuple of Axis
+        The swept keys.
+    combine : {"product", "zip"}, default "product"
+        Every combination of the axes' values, or their values side by side.
+    title : str, default ""
+        A title written into the store.
+    adaptive : dict, optional
+        The adaptive sampler's settings.
+    output_path : str, optional
+        The store.
+    catalogs, snapshots : bool, default False
+        What task "run" hands back besides the summary.
+
+    Examples
+    --------
+        >>> import bkwaves as bk
+    >>> spec = bk.sweeps.parse_sweep({"task": "speed", "axes": {
+    ...     "u_plus": {"values": [0.6, 0.8]}, "dx": {"values": [0.0, 0.1]}}})
+    >>> spec.shape, spec.dims
+    ((2, 2), ('u_plus', 'dx'))
+    """
 
     task: str
     base: dict
@@ -251,16 +300,37 @@ class SweepSpec:
 
     @property
     def shape(self) -> tuple[int, ...]:
+        """Points along each dimension of the result."""
         if self.combine == "zip":
             return (len(self.axes[0].values),)
         return tuple(len(a.values) for a in self.axes)
 
     @property
     def dims(self) -> tuple[str, ...]:
+        """The result's dimensions: the axes' names (``("point",)`` when zipped)."""
         return ("point",) if self.combine == "zip" else tuple(a.name for a in self.axes)
 
     def point(self, index: tuple[int, ...]) -> dict:
-        """The full input of the point at ``index`` (base with the axes' values set)."""
+        """The full input of the point at ``index`` (base with the axes' values set).
+
+        Parameters
+        ----------
+        index : tuple of int
+            One index per dimension.
+
+        Returns
+        -------
+        dict
+            The task's input (values in the task's units).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> spec = bk.sweeps.parse_sweep({"task": "speed", "axes": {
+        ...     "u_plus": {"values": [0.6, 0.8]}, "dx": {"values": [0.0, 0.1]}}})
+        >>> spec.point((1, 0))
+        {'u_plus': 0.8, 'dx': 0.0}
+        """
         values = (
             [a.values[index[0]] for a in self.axes]
             if self.combine == "zip"
@@ -269,6 +339,26 @@ class SweepSpec:
         return self.point_at(values)
 
     def point_at(self, values) -> dict:
+        """The full input with the axes set to ``values`` (one per axis).
+
+        Parameters
+        ----------
+        values : sequence
+            One value per axis, in the axes' order (the task's units).
+
+        Returns
+        -------
+        dict
+            The task's input.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> spec = bk.sweeps.parse_sweep({"task": "speed", "axes": {
+        ...     "u_plus": {"values": [0.6, 0.8]}, "dx": {"values": [0.0, 0.1]}}})
+        >>> spec.point_at([0.8, 0.1])
+        {'u_plus': 0.8, 'dx': 0.1}
+        """
         p = copy.deepcopy(self.base)
         for a, v in zip(self.axes, values, strict=True):
             d = p
@@ -280,12 +370,63 @@ class SweepSpec:
         return p
 
     def indices(self):
+        """Every point's index, in order.
+
+        Returns
+        -------
+        list of tuple of int
+            The indices.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> spec = bk.sweeps.parse_sweep({"task": "speed", "axes": {
+        ...     "u_plus": {"values": [0.6, 0.8]}, "dx": {"values": [0.0, 0.1]}}})
+        >>> spec.indices()
+        [(0, 0), (0, 1), (1, 0), (1, 1)]
+        """
         return list(np.ndindex(*self.shape))
 
     def key(self, point: dict) -> str:
+        """The hash under which a point's result is stored (task, input and version).
+
+        Parameters
+        ----------
+        point : dict
+            The point's input.
+
+        Returns
+        -------
+        str
+            24 hexadecimal digits; equal inputs give equal keys.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> spec = bk.sweeps.parse_sweep({"task": "speed", "axes": {
+        ...     "u_plus": {"values": [0.6, 0.8]}, "dx": {"values": [0.0, 0.1]}}})
+        >>> k = spec.key(spec.point((0, 0)))
+        >>> len(k), k == spec.key({"u_plus": 0.6, "dx": 0.0}), k == spec.key(spec.point((0, 1)))
+        (24, True, False)
+        """
         return point_key(self.task, point)
 
     def to_dict(self) -> dict:
+        """The sweep as a document of the SWEEP.toml schema.
+
+        Returns
+        -------
+        dict
+            The document; ``SweepSpec.from_dict`` reads it back.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> spec = bk.sweeps.parse_sweep({"task": "speed", "axes": {
+        ...     "u_plus": {"values": [0.6, 0.8]}, "dx": {"values": [0.0, 0.1]}}})
+        >>> spec.to_dict()["axes"]
+        {'u_plus': {'values': [0.6, 0.8]}, 'dx': {'values': [0.0, 0.1]}}
+        """
         axes = {}
         for a in self.axes:
             axes[a.key] = {"bounds": list(a.bounds)} if a.bounds else {"values": list(a.values)}
@@ -305,6 +446,28 @@ class SweepSpec:
 
     @classmethod
     def from_dict(cls, d: dict, *, base_dir: Path | None = None) -> SweepSpec:
+        """Validate a document of the SWEEP.toml schema (:func:`parse_sweep`).
+
+        Parameters
+        ----------
+        d : dict
+            The document.
+        base_dir : pathlib.Path, optional
+            The folder relative paths are read from.
+
+        Returns
+        -------
+        SweepSpec
+            The validated sweep.
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> spec = bk.sweeps.parse_sweep({"task": "speed", "axes": {
+        ...     "u_plus": {"values": [0.6, 0.8]}, "dx": {"values": [0.0, 0.1]}}})
+        >>> bk.sweeps.SweepSpec.from_dict(spec.to_dict()) == spec
+        True
+        """
         return parse_sweep(d, base_dir=base_dir)
 
 
@@ -398,7 +561,35 @@ def _axis(key: str, t: Any) -> Axis:
 
 
 def parse_sweep(doc: dict, *, base_dir: Path | None = None) -> SweepSpec:
-    """Validate a parsed SWEEP.toml document (or ``SweepSpec.to_dict()``)."""
+    """Validate a parsed SWEEP.toml document (or ``SweepSpec.to_dict()``).
+
+    Parameters
+    ----------
+    doc : dict
+        The document (docs/sweeps.md lists the keys).
+    base_dir : pathlib.Path, optional
+        The folder relative paths are read from.
+
+    Returns
+    -------
+    SweepSpec
+        The validated sweep.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        An unknown key or task, or a value out of range.
+
+    Examples
+    --------
+    Zipped axes give one point per value pair:
+
+    >>> import bkwaves as bk
+    >>> spec = bk.sweeps.parse_sweep({"task": "wave", "combine": "zip", "axes": {
+    ...     "u_plus": {"values": [0.6, 0.8]}, "gamma": {"values": [0.3, 0.5]}}})
+    >>> spec.shape, spec.dims, spec.point((1,))
+    ((2,), ('point',), {'u_plus': 0.8, 'gamma': 0.5})
+    """
     if not isinstance(doc, dict):
         _fail("(top level)", "expected a table")
     top = ("title", "task", "combine", "base", "axes", "adaptive", "output")
@@ -496,7 +687,28 @@ def parse_sweep(doc: dict, *, base_dir: Path | None = None) -> SweepSpec:
 
 
 def load_sweep(path) -> SweepSpec:
-    """Read and validate a SWEEP.toml."""
+    """Read and validate a SWEEP.toml.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+
+    Returns
+    -------
+    SweepSpec
+        The validated sweep.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> path = os.path.join(tempfile.mkdtemp(), "speed.toml")
+    >>> lines = ['task = "speed"', "[axes.u_plus]", "values = [0.6, 0.8]"]
+    >>> _ = open(path, "w").write(chr(10).join(lines))
+    >>> bk.sweeps.load_sweep(path).shape
+    (2,)
+    """
     path = Path(path)
     try:
         doc = tomllib.loads(path.read_text(encoding="utf-8"))
@@ -799,6 +1011,16 @@ class SweepResult:
         Task-specific information (adaptive sweeps: the learner's state).
     signal : int or None
         The signal that interrupted the sweep.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> out = os.path.join(tempfile.mkdtemp(), "speed.zarr")
+    >>> spec = {"task": "speed", "axes": {"u_plus": {"values": [0.6, 0.8]}}}
+    >>> r = bk.sweep(spec, out, workers=1)
+    >>> r.computed, r.skipped, r.failed, r.dataset["c"].values.round(6).tolist()
+    (2, 0, 0, [1.25, 1.666667])
     """
 
     dataset: Any
@@ -814,6 +1036,25 @@ class SweepResult:
     signal: int | None = None  # the signal that interrupted the sweep (SIGINT, SIGTERM)
 
     def to_dict(self) -> dict:
+        """The counts as a dict (what ``bkwaves sweep --json`` prints).
+
+        Returns
+        -------
+        dict
+            out, points, computed, skipped, failed, wall_s [s], dashboard, interrupted,
+            workers.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import xarray as xr
+        >>> import bkwaves as bk
+        >>> ds = xr.Dataset({"status": ("u_plus", np.ones(3, dtype=np.int8))})
+        >>> d = bk.sweeps.SweepResult(ds, "s.zarr", computed=3, skipped=0, failed=0,
+        ...                           wall_s=1.0).to_dict()
+        >>> d["points"], d["computed"]
+        (3, 3)
+        """
         return {
             "out": self.out,
             "points": int(np.prod(self.dataset["status"].shape)),
