@@ -156,7 +156,47 @@ def reproduce(
     (``output_files()``), is refused with a ParameterError, unless ``overwrite``; even
     then only files an earlier ``reproduce`` wrote and nobody changed since (recorded
     with their SHA-256 in ``outdir/bkwaves-paper.json``) are replaced. Other files in
-    ``outdir`` are never touched. Every file is written whole (beside, then renamed)."""
+    ``outdir`` are never touched. Every file is written whole (beside, then renamed).
+
+    A full run takes minutes (``quick=True``: shorter runs, about a minute);
+    ``bkwaves paper`` calls it.
+
+    Parameters
+    ----------
+    outdir : str or pathlib.Path
+        The folder of the figures and the report.
+    quick : bool, default False
+        Shorter runs and coarser measurements.
+    progress : bool, default True
+        Show a progress bar.
+    overwrite : bool, default False
+        Replace the files an earlier ``reproduce`` wrote.
+
+    Returns
+    -------
+    bkwaves.report.Report
+        Every claim with its verdict, the figures and the findings.
+
+    Raises
+    ------
+    bkwaves.ParameterError
+        An ``outdir`` that cannot be written or holds a file it would write.
+
+    Examples
+    --------
+    A folder holding a file of the user's is refused before any work:
+
+    >>> import os, tempfile
+    >>> import bkwaves as bk
+    >>> outdir = tempfile.mkdtemp()
+    >>> _ = open(os.path.join(outdir, "report.md"), "w").write("my notes")
+    >>> bk.paper.reproduce(outdir, quick=True)
+    Traceback (most recent call last):
+    ...
+    bkwaves._core.ParameterError: ...
+    >>> open(os.path.join(outdir, "report.md")).read()
+    'my notes'
+    """
     from .._paths import OwnedFiles
 
     out = OwnedFiles(outdir, MANIFEST, command="bkwaves paper")

@@ -53,25 +53,90 @@ V_CHAIN = 1e-3
 
 
 def rel(a, b):
-    """|a/b - 1|."""
+    """|a/b - 1|: the relative difference of a from b.
+
+    Parameters
+    ----------
+    a, b : float
+        Two numbers of one unit.
+
+    Returns
+    -------
+    float
+        |a/b - 1| (dimensionless).
+
+    Examples
+    --------
+    >>> from bkwaves.paper.common import rel
+    >>> round(rel(1.01, 1.0), 12)
+    0.01
+    """
     return abs(a / b - 1.0)
 
 
 def found(text: str) -> None:
-    """A finding of this run (a sentence built from computed values) for the report."""
+    """A finding of this run (a sentence built from computed values) for the report.
+
+    Parameters
+    ----------
+    text : str
+        The sentence.
+
+    Examples
+    --------
+    >>> from bkwaves.paper.common import CACHE, found
+    >>> found("c = 1.25 at u_+ = 0.6")
+    >>> CACHE["findings"][-1]
+    'c = 1.25 at u_+ = 0.6'
+    >>> _ = CACHE["findings"].pop()
+    """
     CACHE.setdefault("findings", []).append(text)
 
 
 def fb_params():
     """The free-boundary runs' parameters: gamma = GAMMA_FB, v = V_FB (dx is not used by
-    the free boundary engine)."""
+    the free boundary engine).
+
+    Returns
+    -------
+    bkwaves.Params
+        gamma, v (dimensionless) and dx = 1e-3.
+
+    Examples
+    --------
+    >>> from bkwaves.paper.common import fb_params
+    >>> p = fb_params()
+    >>> p.gamma, p.v
+    (0.3, 0.01)
+    """
     from ..params import Params
 
     return Params(gamma=GAMMA_FB, v=V_FB, dx=1e-3)
 
 
 def selected_u_plus(L: float) -> float:
-    """The u_+ of the train of wavelength L: the root of eq. (L), L = c(u_+) A(u_+)/v."""
+    """The u_+ of the train of wavelength L: the root of eq. (L), L = c(u_+) A(u_+)/v.
+
+    Parameters
+    ----------
+    L : float
+        The wavelength (dimensionless x).
+
+    Returns
+    -------
+    float
+        u_+ (dimensionless), at gamma = GAMMA_FB and v = V_FB.
+
+    Examples
+    --------
+    The inverse of ``bk.theory.wavelength``:
+
+    >>> import bkwaves as bk
+    >>> from bkwaves.paper.common import GAMMA_FB, V_FB, selected_u_plus
+    >>> L = float(bk.theory.wavelength(0.7, GAMMA_FB, V_FB))
+    >>> round(selected_u_plus(L), 9)
+    0.7
+    """
     from scipy.optimize import brentq
 
     uc = theory.critical_stress(GAMMA_FB)

@@ -24,6 +24,25 @@ def _printed(text: str) -> tuple[float, int]:
 
 @register_claims(rank=140)
 def claims_bristol(quick: bool) -> list[Claim]:
+    """The numbers of the paper's Bristol-board example (Sec. VI) against bkwaves'.
+
+    Parameters
+    ----------
+    quick : bool
+        Unused (the numbers are closed forms).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        One claim per number (m, k_c, k_p, f_r - f_s, the sliding speed, the slip per
+        wave, gamma) and eq. (crit), values in SI units.
+
+    Examples
+    --------
+    >>> from bkwaves.paper.model import claims_bristol
+    >>> [(c.key, c.verdict) for c in claims_bristol(True)][:3]
+    [('bristol-m', 'confirmed'), ('bristol-k_c', 'confirmed'), ('bristol-k_p', 'rounding')]
+    """
     exact = presets.bristol_board(V=1e-6, paper_rounding=False)
     rounded = presets.bristol_board(V=1e-6, paper_rounding=True)
     u, ur = exact.units, rounded.units
@@ -96,7 +115,26 @@ def claims_bristol(quick: bool) -> list[Claim]:
 
 @register_figure("fig1_model")
 def fig_schematic(ax):
-    """Fig. 1: the Burridge-Knopoff model."""
+    """Fig. 1: the Burridge-Knopoff model.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+
+    Returns
+    -------
+    str
+        The caption.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from bkwaves.paper.model import fig_schematic
+    >>> fig, ax = plt.subplots()
+    >>> fig_schematic(ax)[:32]
+    'Fig. 1: the model: blocks of mas'
+    """
     ax.set_xlim(-0.5, 6.5)
     ax.set_ylim(-0.6, 2.4)
     ax.axis("off")
@@ -123,7 +161,26 @@ def fig_schematic(ax):
 
 @register_figure("fig2_friction")
 def fig_friction(ax):
-    """Fig. 2: friction force vs block velocity (static jump, kinetic level, viscous slope)."""
+    """Fig. 2: friction force vs block velocity (static jump, kinetic level, viscous slope).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+
+    Returns
+    -------
+    str
+        The caption.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> from bkwaves.paper.model import fig_friction
+    >>> fig, ax = plt.subplots()
+    >>> fig_friction(ax)[:33]
+    'Fig. 2: the friction law of the m'
+    """
     fr, fs, alpha = 1.0, 0.6, 0.25
     vel = np.linspace(0, 2, 50)
     ax.plot(vel, fs + alpha * vel, "C0", lw=2)
