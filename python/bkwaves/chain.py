@@ -168,7 +168,7 @@ class ChainResult:
     seed : int or None
         The seed recorded with the chain.
     u, u_t : numpy.ndarray
-        The final state.
+        The final state (dimensionless).
     boundary : str
         The chain's boundary condition (one of ``BOUNDARIES``).
 

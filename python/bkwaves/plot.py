@@ -419,7 +419,7 @@ def trajectories(
     x : str, default "x"
         Its position column (dimensionless x, or the unit in ``df.attrs["units"]``).
     t : str, default "t"
-        Its time column (likewise).
+        Its time column (units of sqrt(m/k_p), or the unit in ``df.attrs["units"]``).
     by : str, optional
         One line per value of this column (e.g. ``shock``).
     ax : matplotlib.axes.Axes, optional

@@ -18,6 +18,19 @@ from .figure import register_claims, register_figure
 
 @register_claims(rank=10)
 def claim_speed_interpolation(quick: bool) -> Claim:
+    """Eq. (c): the interpolation formula against the tip solver over 0 < u_+ < 1.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    bkwaves.report.Claim
+        The claim, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     u = np.linspace(0.02, 0.98, 49 if quick else 197)
     c = np.array([tip_solve(x)["c"] for x in u])
     err = float(np.max(np.abs(theory.c_interpolation(u) / c - 1)))
@@ -34,6 +47,19 @@ def claim_speed_interpolation(quick: bool) -> Claim:
 
 @register_claims(rank=20)
 def claim_c1(quick: bool) -> Claim:
+    """Eq. (c1): (c - 1)/u_+^2 -> 1/2 as u_+ -> 0, fitted to the tip solver.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    bkwaves.report.Claim
+        The claim, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     u = np.linspace(0.02, 0.08, 7)
     c = np.array([tip_solve(x)["c"] for x in u])
     a0 = float(np.polyfit(u**2, (c - 1) / u**2, 2)[-1])
@@ -57,6 +83,26 @@ def _series_fit():
 
 @register_claims(rank=30)
 def claims_series(quick: bool) -> list[Claim]:
+    """Eq. (ca): the large-c series of (1 - u_+)/u_+ in 1/c^2, its coefficients fitted to the
+    tip solver.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        The claims, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+
+    Examples
+    --------
+    >>> from bkwaves.paper.fig3_speed import claims_series
+    >>> [(c.key, c.verdict) for c in claims_series(True)]
+    [('ca', 'confirmed'), ('ca4', 'corrected')]
+    """
     a = _series_fit()
     exact = [0.5, 0.375, 0.3125, 35 / 128]  # 1/sqrt(1 - x) - 1 = x/2 + 3x^2/8 + 5x^3/16 + ...
     dev3 = float(max(abs(a[k] - exact[k]) for k in range(3)))
@@ -86,6 +132,26 @@ def claims_series(quick: bool) -> list[Claim]:
 
 @register_claims(rank=40)
 def claim_formal(quick: bool) -> Claim:
+    """Sec. VI: the formal continuum answer c = 1/sqrt(1 - u_+) is not the tip problem's.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    bkwaves.report.Claim
+        The claim, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+
+    Examples
+    --------
+    >>> from bkwaves.paper.fig3_speed import claim_formal
+    >>> claim = claim_formal(True)
+    >>> claim.key, claim.verdict
+    ('formal', 'confirmed')
+    """
     c = tip_solve(0.6)["c"]
     wrong = float(theory.c_formal_continuum(0.6))
     return Claim(
@@ -106,6 +172,19 @@ def claim_formal(quick: bool) -> Claim:
 
 @register_claims(rank=50)
 def claim_c_above_one(quick: bool) -> Claim:
+    """Fig. 3: c > 1 for every 0 < u_+ < 1, diverging as u_+ -> 1.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    bkwaves.report.Claim
+        The claim, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     u = np.linspace(0.01, 0.999, 40)
     c = np.array([tip_solve(x)["c"] for x in u])
     return Claim(
@@ -124,6 +203,19 @@ def claim_c_above_one(quick: bool) -> Claim:
 
 @register_claims(rank=60)
 def claim_dx(quick: bool) -> Claim:
+    """Sec. III: c becomes independent of dx as dx -> 0 (the finite-dx tip problem).
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    bkwaves.report.Claim
+        The claim, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     hs = (0.1, 0.05, 0.025)
     errs = [abs(tip_solve(0.7, dx=h, gamma=0.3)["c"] / float(front_speed(0.7)) - 1) for h in hs]
     errs0 = [abs(tip_solve(0.7, dx=h, gamma=0.0)["c"] / float(front_speed(0.7)) - 1) for h in hs]
@@ -161,6 +253,19 @@ def _richardson(values, dxs, orders):
 
 @register_claims(rank=100)
 def claims_chain(quick: bool) -> list[Claim]:
+    """The fronts of the direct chain against the tip problem (c, u_-, w at finite dx).
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        The claims, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     out = []
     m = chain_fronts(quick)
     devs, narrow = [], 0

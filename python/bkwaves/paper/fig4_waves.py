@@ -41,6 +41,20 @@ def _critical_stress_from_tip_solver(gamma: float) -> float:
 
 @register_claims(rank=70)
 def claims_wave(quick: bool) -> list[Claim]:
+    """App. B: the critical stress (gammac), the pulse width (w), the stress behind (um), the
+    slip (A) and creep.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        The claims, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     out = []
     g = 0.3
     uc_tip = _critical_stress_from_tip_solver(g)

@@ -52,6 +52,19 @@ def fb_lmin(quick: bool):
 
 @register_claims(rank=90)
 def claims_trains(quick: bool) -> list[Claim]:
+    """Sec. V: wave trains, their wavelength (L) and the shortest one (Lmin).
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        The claims, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     out = []
     m = fb_lmin(quick)
     lmin = m["lmin"]

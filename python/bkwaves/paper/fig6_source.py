@@ -13,6 +13,20 @@ from .figure import register_claims, register_figure
 
 @register_claims(rank=110)
 def claims_free_boundary(quick: bool) -> list[Claim]:
+    """Sec. V: sources, the shocks' start (b), the map (ap) at each birth, the period T and a >
+    a_max.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        The claims, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     out = []
     a = 1e-4
     r, m = fb_source(quick, a)

@@ -14,6 +14,19 @@ from .figure import register_claims, register_figure
 
 @register_claims(rank=80)
 def claims_patterns(quick: bool) -> list[Claim]:
+    """App. C: the source map a -> a', its kappa, a_max and the asymptote of a_n.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        The claims, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     v, g = V_FB, GAMMA_FB
     out = []
     k = theory.kappa(g)

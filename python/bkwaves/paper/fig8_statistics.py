@@ -15,6 +15,19 @@ from .figure import register_claims, register_figure
 
 @register_claims(rank=130)
 def claims_statistics(quick: bool) -> list[Claim]:
+    """Sec. V: omega ~ 1/A, recurrence ~ A/v and the b-value of long catalogs.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        The claims, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     from .. import stats
 
     out = []

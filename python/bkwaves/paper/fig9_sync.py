@@ -25,6 +25,20 @@ from .figure import register_claims, register_figure
 
 @register_claims(rank=120)
 def claims_sync(quick: bool) -> list[Claim]:
+    """Sec. V: sources at the maxima, the coarsening exponent and prefactor of R ~ a_n^(-1/2),
+    chaos for a > a_max.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    list of bkwaves.report.Claim
+        The claims, with the checks computed here (values in the paper's dimensionless
+        units) and the verdict derived from them.
+    """
     m = sync_chaos(quick)
     amax = theory.a_max(V_FB, GAMMA_FB)
     smooth = {k: r for k, r in m["res"].items() if k.startswith("smooth")}
