@@ -320,7 +320,20 @@ def claims_chain(quick: bool) -> list[Claim]:
 @register_figure("fig3_speed", 2)
 def fig_speed(axes, quick):
     """Fig. 3 (cf): c(u_+) from the tip solver, interpolation dashed; right: what finite dx
-    changes, c(0) - c(dx), with its laws."""
+    changes, c(0) - c(dx), with its laws.
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     ax = axes[0]
     u = np.linspace(0.01, 0.96, 300)
     ax.plot(u, front_speed(u), "C0", lw=2, label=r"$c = 1/\sqrt{1 - u_+^2}$ (exact tip problem)")

@@ -177,7 +177,18 @@ def chain_profile(u_plus, gamma, dx=0.05, n=2400):
 
 @register_figure("fig4_waves", 2)
 def fig_waves(axes):
-    """Fig. 4: the two traveling-wave types from theory, direct-chain profiles overlaid."""
+    """Fig. 4: the two traveling-wave types from theory, direct-chain profiles overlaid.
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     for ax, (u, g) in zip(axes, ((0.25, 0.3), (0.7, 0.3)), strict=True):
         w = traveling_wave(u, g)
         if w.w:

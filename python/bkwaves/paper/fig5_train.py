@@ -134,7 +134,20 @@ def claims_trains(quick: bool) -> list[Claim]:
 
 @register_figure("fig5_wave_train", 2)
 def fig_train(axes, quick):
-    """Fig. 5 (period): a wave train selected on a ring from uniform stress."""
+    """Fig. 5 (period): a wave train selected on a ring from uniform stress.
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     r, m = fb_train(quick)
     ds = r.snapshots
     s = train_summary(m)

@@ -97,7 +97,20 @@ def claims_free_boundary(quick: bool) -> list[Claim]:
 @register_figure("fig6_source", 2)
 def fig_source(axes, quick):
     """Fig. 6 (guide): a source of counter-propagating waves: the space-time diagram and
-    the shock paths near two births, with eq. (b)."""
+    the shock paths near two births, with eq. (b).
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     r, m = fb_source(quick)
     ds = r.snapshots
     ax = axes[0]

@@ -82,7 +82,20 @@ def claims_patterns(quick: bool) -> list[Claim]:
 @register_figure("fig7_source_map", 2)
 def fig_map(axes, quick):
     """Fig. 7 (aa): a'(a) at gamma = 0.3 with the diagonal and the iterates of the map;
-    right: the same on log axes, where the iterates and the measured births lie."""
+    right: the same on log axes, where the iterates and the measured births lie.
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     v, g = 1e-2, 0.3
     amax = theory.a_max(v, g)
     r, m = fb_source(quick)

@@ -145,7 +145,20 @@ B_CHAIN_REGULAR_CV = 0.3
 
 @register_figure("fig8_statistics", 3)
 def fig_statistics(axes, quick):
-    """Event statistics: the wave-train frequency law and the catalogs of long runs."""
+    """Event statistics: the wave-train frequency law and the catalogs of long runs.
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     from .. import stats
 
     tr = fb_trains(quick)

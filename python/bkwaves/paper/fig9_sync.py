@@ -181,7 +181,20 @@ def claims_sync(quick: bool) -> list[Claim]:
 @register_figure("fig9_sync_chaos", 3)
 def fig_sync(axes, quick):
     """Synchronisation vs chaos (Sec. V): births per period, their recurrence, and the
-    growth of the synchronised regions."""
+    growth of the synchronised regions.
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 
     m = sync_chaos(quick)

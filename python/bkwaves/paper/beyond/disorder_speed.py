@@ -12,7 +12,20 @@ from ..figure import register_figure
 @register_figure("beyond_disorder_speed", 2, beyond=True)
 def fig_disorder_speed(axes, quick):
     """c_eff of a front in a chain with iid uniform thresholds 1 + sigma xi (the tip
-    marcher, docs/disorder.md) against the theories; right: the sigma^2 coefficient."""
+    marcher, docs/disorder.md) against the theories; right: the sigma^2 coefficient.
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
 
     from ...disorder import defect_response, front_speed_ensemble, local_theories
 

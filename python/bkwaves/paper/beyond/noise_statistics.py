@@ -42,7 +42,20 @@ NU_R_LABEL = r"noise strength $\nu_R = \Lambda R_0 / v$"
 @register_figure("beyond_noise_statistics", 3, beyond=True)
 def fig_noise_statistics(axes, quick):
     """Noise-triggered slips (issue 14): size-frequency, b-value and recurrence against
-    the noise strength, from the synchronised and the chaotic regimes to noise dominated."""
+    the noise strength, from the synchronised and the chaotic regimes to noise dominated.
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     from ... import stats, theory
 
     m = noise_scan(quick)

@@ -11,7 +11,20 @@ from ..figure import register_figure
 @register_figure("beyond_vw_crossover", 2, beyond=True)
 def fig_vw_crossover(axes, quick):
     """Velocity-weakening friction against eq. (crit): front speed c and slipping zone
-    (lattice spacings) against v_f/dx at several dx (bkwaves.velocity_weakening)."""
+    (lattice spacings) against v_f/dx at several dx (bkwaves.velocity_weakening).
+
+    Parameters
+    ----------
+    axes : matplotlib.axes.Axes or numpy.ndarray of Axes
+        The panels to draw into (:func:`bkwaves.paper.figure.panels` hands them over).
+    quick : bool
+        Shorter computations (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    str
+        The caption, with the numbers computed for the figure.
+    """
     from ... import velocity_weakening as vw
     from ...waves import front_speed, traveling_wave
 
