@@ -156,7 +156,27 @@ def fb_train(quick: bool, ring: float | None = None, teeth: int = 3, u0: float =
     """A wave train that selects itself: a ring (default three wavelengths of the u_+ = 0.7
     train, eq. L) at uniform stress u0 with ``teeth`` equally spaced right-moving shocks.
     Nothing of the answer is put in but the ring length: the first lap sees u_+ = u0 + v t
-    and leaves a field that is not a saw-tooth; the run shows what the train becomes."""
+    and leaves a field that is not a saw-tooth; the run shows what the train becomes.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter runs (``bkwaves paper --quick``).
+    ring : float, optional
+        The ring's length (dimensionless x).
+    teeth : int, default 3
+        Shocks on the ring.
+    u0 : float, default 0.5
+        The uniform initial stress (dimensionless).
+
+    Returns
+    -------
+    result : bkwaves.FreeBoundaryResult
+        The run (cached in ``CACHE``).
+    train : dict
+        L and the grid (dimensionless x), and the passages at one node: times t (units
+        of sqrt(m/k_p)), u_+ and u_- (dimensionless).
+    """
     if ring is None:
         ring = teeth * float(theory.wavelength(0.7, GAMMA_FB, V_FB))
     key = ("train", quick, ring, teeth, u0)
@@ -186,7 +206,29 @@ def fb_train(quick: bool, ring: float | None = None, teeth: int = 3, u0: float =
 
 def train_summary(m):
     """The train at the end of a run: u_+, A, period and speed from the last passages at
-    one node, and how far u_+ still moved over the last two."""
+    one node, and how far u_+ still moved over the last two.
+
+    Parameters
+    ----------
+    m : dict
+        The passages of :func:`fb_train`: ``t``, ``up``, ``um`` and the wavelength ``L``.
+
+    Returns
+    -------
+    dict
+        up and A (dimensionless), period (units of sqrt(m/k_p)), c (units of the sound
+        speed), drift (dimensionless) and the number of passages.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from bkwaves.paper.common import train_summary
+    >>> m = {"t": np.array([0.0, 100.0, 200.5]), "up": np.array([0.6, 0.7, 0.7001]),
+    ...      "um": np.array([-0.1, -0.1, -0.1]), "L": 120.0}
+    >>> s = train_summary(m)
+    >>> s["period"], round(s["c"], 6), round(s["A"], 4)
+    (100.5, 1.19403, 0.8001)
+    """
     t, up, um = m["t"], m["up"], m["um"]
     period = float(t[-1] - t[-2])
     return dict(
@@ -200,7 +242,25 @@ def train_summary(m):
 
 
 def fb_source(quick: bool, a: float = 1e-4, events: int | None = None):
-    """A source: u = 1 - 1e-3 - a (x - x0)^2 on a free segment, several cycles."""
+    """A source: u = 1 - 1e-3 - a (x - x0)^2 on a free segment, several cycles.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter runs (``bkwaves paper --quick``).
+    a : float, default 1e-4
+        The curvature of the maximum (dimensionless, 1/x^2).
+    events : int, optional
+        Events to run (default 6, or 12 in the full run).
+
+    Returns
+    -------
+    result : bkwaves.FreeBoundaryResult
+        The run (cached in ``CACHE``).
+    source : dict
+        a, the maximum's place x0 (dimensionless x) and the period T (units of
+        sqrt(m/k_p)).
+    """
     import warnings
 
     key = ("source", quick, a, events)
@@ -231,7 +291,19 @@ PAPER_BETA = math.inf
 
 def chain_fronts(quick: bool):
     """Fronts measured in the direct chain: c at gamma = 0 for two dx (Fig. 3), and c, u_-,
-    w at gamma = 0.3 for three dx (Richardson towards dx -> 0)."""
+    w at gamma = 0.3 for three dx (Richardson towards dx -> 0).
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter runs (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    dict
+        ``us`` (dimensionless), ``fig3`` (dx -> c at each u, units of the sound speed),
+        ``dxs`` and ``pulse`` (dx -> bkwaves.chain.FrontMeasurement). Cached in ``CACHE``.
+    """
     key = ("fronts", quick)
     if key not in CACHE:
         from ..chain import front
@@ -248,7 +320,19 @@ def chain_fronts(quick: bool):
 def fb_trains(quick: bool):
     """Wave trains of several amplitudes, each selected by a ring (one wavelength of the
     u_+ train, eq. L) started at uniform stress with one shock: u_+, A and the frequency at
-    a point at the end of the run."""
+    a point at the end of the run.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter runs (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    numpy.ndarray
+        One row per train: the ring's u_+, the slip A, the frequency (per unit of
+        sqrt(m/k_p)) and the u_+ selected (dimensionless).
+    """
     rows = []
     for up in (0.4, 0.55, 0.7, 0.85, 0.95):
         r, m = fb_train(quick, ring=float(theory.wavelength(up, GAMMA_FB, V_FB)), teeth=1)
@@ -259,7 +343,20 @@ def fb_trains(quick: bool):
 
 def long_catalogs(quick: bool):
     """Event catalogs of long runs: the free boundary engine on a ring from a rough random
-    stress (the paper's a > a_max regime), and the chain under loading."""
+    stress (the paper's a > a_max regime), and the chain under loading.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter runs (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    dict
+        ``fb`` (bkwaves.FreeBoundaryResult), ``chain`` (bkwaves.ChainResult), the source
+        period ``T`` (units of sqrt(m/k_p)) and the ring's length ``L`` (dimensionless x).
+        Cached in ``CACHE``.
+    """
     import warnings
 
     key = ("catalogs", quick)
@@ -293,7 +390,22 @@ def ring_births(L: float, u0, periods: int):
     """A free-boundary ring from u0, run for ``periods`` source periods: per period, the
     births, the fraction of them within 1 of a birth of the previous period, and the sites
     (births closer than 1 counted once; one source can fire at two points 2h apart in a
-    very flat field, docs/free_boundary.md)."""
+    very flat field, docs/free_boundary.md).
+
+    Parameters
+    ----------
+    L : float
+        The ring's length (dimensionless x).
+    u0 : numpy.ndarray
+        The initial stress on the ring's grid (dimensionless).
+    periods : int
+        Source periods to run.
+
+    Returns
+    -------
+    dict
+        ``births``, ``recurrent`` (fractions) and ``sites``, one value per period.
+    """
     import warnings
 
     from ..free_boundary import FreeBoundary, NoCreepWarning
@@ -342,7 +454,20 @@ def sync_chaos(quick: bool):
     """Rings from random stresses with maxima below (smooth, SYNC_RINGS seeds) and far
     above (sharp, one seed) a_max: births per source period, the fraction of them that
     recur at a birth site of the previous period (docs/validation.md, "Synchronisation or
-    chaos"), and the size R = L / sites of the synchronised regions."""
+    chaos"), and the size R = L / sites of the synchronised regions.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter runs (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    dict
+        ``res`` (ring name -> :func:`ring_births` with the maxima's curvatures ``a``),
+        the rings' length ``L`` (dimensionless x), ``periods``, ``rings`` and ``sharp``.
+        Cached in ``CACHE``.
+    """
     key = ("sync", quick)
     if key not in CACHE:
         from ..config import _smooth_random
@@ -378,7 +503,35 @@ def coarsening_exponent(m, seed: int = 0) -> dict:
     with its bootstrap standard error over rings (rings resampled with replacement,
     SYNC_BOOTSTRAP times): the exponent against the fitting window. Also the drift of the
     local exponent between the last two windows, and the paper's prefactor R a_n^(1/2)
-    (a_n ~ v^2/(2 n (1 + kappa)), Sec. V) at the first window, with theirs."""
+    (a_n ~ v^2/(2 n (1 + kappa)), Sec. V) at the first window, with theirs.
+
+    Parameters
+    ----------
+    m : dict
+        What :func:`sync_chaos` returns (``res`` with the rings' ``sites``, and ``L``).
+    seed : int, default 0
+        Seed of the bootstrap.
+
+    Returns
+    -------
+    dict
+        The exponent ``p`` with its ``sigma``, the ``local`` exponents per window, the
+        drift between the last two, R per period (dimensionless x) and the prefactor.
+
+    Examples
+    --------
+    Sites falling as n^(-1/2) on four rings give p = 1/2:
+
+    >>> import numpy as np
+    >>> from bkwaves.paper.common import coarsening_exponent
+    >>> n = np.arange(1, 81)
+    >>> rng = np.random.default_rng(0)
+    >>> res = {f"smooth-{k}": {"sites": 400 * n**-0.5 * (1 + 0.01 * rng.standard_normal(80))}
+    ...        for k in range(4)}
+    >>> out = coarsening_exponent({"res": res, "L": 800.0})
+    >>> round(out["p"], 3), [w["window"] for w in out["local"]]
+    (0.5, [(10, 20), (20, 40), (40, 80)])
+    """
     S = np.array([r["sites"] for k, r in m["res"].items() if k.startswith("smooth")], float)
     K, P = S.shape
     n = np.arange(1, P + 1)
