@@ -2,6 +2,7 @@
 "Long runs compared: a chain that cycles").
 
     python docs/scripts/noise_long_runs.py          # about five minutes on one core
+    python docs/scripts/noise_long_runs.py --b OUT.json   # 5.: b from independent runs
 
 1. The rupture map: the background u at which a ring is next fired by its own pattern,
    after a ring-wide rupture at u_+ (kick 0.5, as the noise), against gamma.
@@ -11,10 +12,17 @@
 4. Ruptures of many sizes: rings of length 1000 (20000 blocks) at v = 1e-4 and 3000
    (60000 blocks) at v = 3e-5, where several ruptures share a loading: rate,
    size-frequency, b-value (about four minutes).
+5. (--b OUT.json [--fb-only]) The b-values of 4. from independent runs (noise seeds): 8
+   runs per engine at L = 1000 and 6 at L = 3000, each b with its bootstrap interval,
+   and their mean with the standard error over runs (or why there is none); the rows
+   are saved to OUT.json.
 """
 
+import json
 import math
+import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 from scipy import stats
@@ -118,24 +126,35 @@ def comparison(gamma=0.85, v=1e-5, t_end=3e7, phi0=0.01):
     )
 
 
-def sizes(length=1000.0, t_end=1e6, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96):
-    """Several ruptures per loading: L >> c phi0 / v. Rate per block at phi = 1 set so
-    that one nucleation is expected by the time a uniform ring reaches u_star."""
+def _many_sizes(length, t_end, gamma, v, phi0, u_star, seeds=(1, 2), chain=True):
+    """The runs of sizes(): the chain's ruptures (noise seed seeds[0]; None unless
+    ``chain``) and the free boundary's (seeds[1]) after two loadings of burn-in, the
+    chain's result, the burn-in."""
     n = round(length / DX)
     rate = DX * v / (length * phi0 * math.exp(-(1 - u_star) / phi0))
     chain_noise = {"law": "exponential", "rate": rate, "phi0": phi0, "kick": KICK}
     p = bk.Params(gamma=gamma, v=v, dx=DX, beta=math.inf)
-    ch = bk.Chain(n, p, "periodic", np.full(n, 0.9), noise=chain_noise, seed=1)
-    chain_result = ch.run(
-        t_end=t_end, progress=False, max_event_duration=1e9, max_event_slips=10**9
-    )
-    per = ns.chain_ruptures(chain_result)
+    burn = 2 * (u_star + 0.1) / v  # two loadings
+    per = chain_result = None
+    if chain:
+        ch = bk.Chain(n, p, "periodic", np.full(n, 0.9), noise=chain_noise, seed=seeds[0])
+        chain_result = ch.run(
+            t_end=t_end, progress=False, max_event_duration=1e9, max_event_slips=10**9
+        )
+        per = ns.chain_ruptures(chain_result)
+        per = per[per.t_start > burn]
     fb_noise = ns.calibrated_noise(chain_noise, DX, gamma)
     x = np.arange(round(length / 0.1)) * 0.1
-    fb = bk.FreeBoundary(p, x, np.full(x.size, 0.9), "periodic", noise=fb_noise, seed=2)
+    fb = bk.FreeBoundary(p, x, np.full(x.size, 0.9), "periodic", noise=fb_noise, seed=seeds[1])
     rup = ns.ruptures(fb.run(t_end=t_end))
-    burn = 2 * (u_star + 0.1) / v  # two loadings
-    per, rup = per[per.t_start > burn], rup[rup.t_start > burn]
+    return per, rup[rup.t_start > burn], chain_result, burn
+
+
+def sizes(length=1000.0, t_end=1e6, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96):
+    """Several ruptures per loading: L >> c phi0 / v. Rate per block at phi = 1 set so
+    that one nucleation is expected by the time a uniform ring reaches u_star."""
+    n = round(length / DX)
+    per, rup, chain_result, burn = _many_sizes(length, t_end, gamma, v, phi0, u_star)
     print(f"ring of length {length} ({n} blocks), gamma = {gamma}, v = {v}, t = {burn:g}-{t_end:g}")
     print(f"  open chain events: {chain_result.catalog.t_end.isna().sum()}")
     for name, r in (("chain", per), ("free boundary", rup)):
@@ -164,7 +183,71 @@ def sizes(length=1000.0, t_end=1e6, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96):
     print(f"  KS two-sample, u_start: p = {stats.ks_2samp(per.u_start, rup.u_start).pvalue:.2g}")
 
 
-if __name__ == "__main__":
+def b_values(length, t_end, v, seeds, chain=True, gamma=0.85, phi0=0.01, u_star=0.96):
+    """The b-value of the ruptures of sizes() (bk.stats.gutenberg_richter: moment
+    magnitudes M = (2/3) log10(int slip dx), Mc by maximum curvature + 0.2, Aki-Utsu, 95 %
+    bootstrap interval) in independent runs: one noise seed per run and engine (the chain
+    seed k, the free boundary seed k + 1: run 1 is the table's; the chain only if
+    ``chain``). Returns one row per run and engine, with the largest magnitude and the
+    fraction of ruptures that sweep the whole ring."""
+    rows = []
+    for k in seeds:
+        per, rup, _, _ = _many_sizes(length, t_end, gamma, v, phi0, u_star, (k, k + 1), chain)
+        for name, r in (("chain", per), ("free boundary", rup)):
+            if r is None:
+                continue
+            b = bk.stats.gutenberg_richter(r.moment.to_numpy())
+            rows.append(
+                dict(
+                    length=length, v=v, t_end=t_end, seed=k, engine=name,
+                    ruptures=len(r), b=b.b, lo=b.lo, hi=b.hi, m_c=b.m_c, n=b.n,
+                    fit_p=b.fit_p, reason=b.reason, text=b.text(),
+                    m_max=float((2 / 3) * np.log10(r.moment.max())),
+                    ring_wide=float(np.mean(r.swept >= (1 - 1e-9) * length)),
+                )
+            )  # fmt: skip
+            print(f"L = {length:g}, seed {k}, {name}: {len(r)} ruptures, {b.text()}", flush=True)
+    return rows
+
+
+def _b_summary(rows):
+    """Per ring and engine: the b of each run and their mean with its standard error
+    over the independent runs (the spread of b between runs, not a bootstrap)."""
+    import pandas as pd
+
+    df = pd.DataFrame(rows)
+    for (length, engine), g in df.groupby(["length", "engine"], sort=False):
+        b = g.b.to_numpy()
+        ok = b[np.isfinite(b)]
+        rw = g.ring_wide.to_numpy()
+        print(
+            f"L = {length:g}, {engine}: ring-wide ruptures {rw.mean():.2f} +- "
+            f"{rw.std(ddof=1) / math.sqrt(rw.size):.2f} of all, largest M "
+            f"{g.m_max.min():.3f}-{g.m_max.max():.3f}, Mc {g.m_c.min():.2f}-{g.m_c.max():.2f}"
+        )
+        if not ok.size:
+            print(f"  no b in any of {b.size} runs: {g.reason.iloc[0]}")
+            continue
+        err = ok.std(ddof=1) / math.sqrt(ok.size) if ok.size > 1 else math.nan
+        print(
+            f"L = {length:g}, {engine}: b = {ok.mean():.2f} +- {err:.2f} over {ok.size} runs "
+            f"(each: {', '.join(f'{x:.2f}' for x in b)}; Mc {g.m_c.min():.2f}-"
+            f"{g.m_c.max():.2f}, {g.n.min()}-{g.n.max()} of {g.ruptures.min()}-"
+            f"{g.ruptures.max()} ruptures above Mc)"
+        )
+
+
+if __name__ == "__main__" and "--b" in sys.argv:
+    # the b-values of "Ruptures of many sizes" from independent runs (docs/noise.md):
+    # python docs/scripts/noise_long_runs.py --b OUT.json [--fb-only]
+    chain = "--fb-only" not in sys.argv
+    rows = b_values(1000.0, 1e6, 1e-4, seeds=range(1, 9), chain=chain)
+    rows += b_values(3000.0, 1.926e6, 3e-5, seeds=range(1, 7), chain=chain)
+    _b_summary(rows)
+    # (no b: null, not NaN, so that the file is JSON)
+    rows = [{k: None if v != v else v for k, v in r.items()} for r in rows]
+    Path(sys.argv[sys.argv.index("--b") + 1]).write_text(json.dumps(rows, indent=1) + "\n")
+elif __name__ == "__main__":
     rupture_map()
     resticking()
     comparison()
