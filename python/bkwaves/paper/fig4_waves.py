@@ -157,7 +157,35 @@ def claims_wave(quick: bool) -> list[Claim]:
 
 def chain_profile(u_plus, gamma, dx=0.05, n=2400):
     """u(x) of the direct chain (v = 0) when the front triggered at block 0 is 80% along;
-    returns z = x - x_front and u."""
+    returns z = x - x_front and u.
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front (dimensionless).
+    gamma : float
+        Viscous damping (dimensionless).
+    dx : float, default 0.05
+        Lattice spacing (dimensionless).
+    n : int, default 2400
+        Blocks of the chain.
+
+    Returns
+    -------
+    z : numpy.ndarray
+        Positions relative to the front (dimensionless x).
+    u : numpy.ndarray
+        The stress there (dimensionless).
+
+    Examples
+    --------
+    Ahead of the front the chain is still at u_+:
+
+    >>> from bkwaves.paper.fig4_waves import chain_profile
+    >>> z, u = chain_profile(0.6, 0.3, dx=0.1, n=300)
+    >>> float(u[z > 1].min()), float(u[z > 1].max())
+    (0.6, 0.6)
+    """
     from ..chain import Chain
     from ..params import Params
 

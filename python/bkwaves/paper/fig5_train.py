@@ -17,7 +17,21 @@ def fb_lmin(quick: bool):
     """Trains on rings just below and above L_min (eq. Lmin): one shock on a ramp of slope
     -v/c(u_a), u_a = u_c + 0.02 (u_+ = u_a on the first lap), the stress behind it u_a - v
     L/c(u_a) (not u_-(u_a): not the train). Creep rule "stop": a shock ends where u_+ falls
-    to u_c. Does the train persist?"""
+    to u_c. Does the train persist?
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter runs (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    dict
+        ``rows`` (per ring: its length L in dimensionless x, the creep stops, the laps
+        run and done, and for a persisting train u_+ with the value eq. (L) selects),
+        ``lmin`` (eq. Lmin, dimensionless x) and the ramp's top ``ua`` (dimensionless).
+        Cached in ``CACHE``.
+    """
     key = ("lmin", quick)
     if key not in CACHE:
         from ..free_boundary import FreeBoundary

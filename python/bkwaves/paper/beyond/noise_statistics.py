@@ -13,7 +13,21 @@ def noise_scan(quick: bool) -> dict:
     """Rupture statistics on a free boundary ring against the noise strength (constant
     law, :func:`bkwaves.noise_stats.statistics_vs_strength`), from a smooth start (the
     synchronised regime of Sec. V, all maxima a < a_max) and a sharp one (a >> a_max,
-    spatiotemporal chaos), with the same noise seed."""
+    spatiotemporal chaos), with the same noise seed.
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter runs (``bkwaves paper --quick``).
+
+    Returns
+    -------
+    dict
+        The ring's length ``L`` and grid spacing ``h`` (dimensionless x), the source
+        period ``T`` (units of sqrt(m/k_p)), ``periods`` and ``burn``, and per start
+        ("smooth", "sharp") what :func:`bkwaves.noise_stats.statistics_vs_strength`
+        returns. Cached in ``CACHE``.
+    """
     from ... import theory
     from ...config import _smooth_random
     from ...noise_stats import statistics_vs_strength
