@@ -125,7 +125,9 @@ def _public_names() -> dict[str, object]:
 NAMES = _public_names()
 
 #: Names still short of a full entry, with what they lack (D docstring, P parameters,
-#: R returns, E examples, U units). May only shrink.
+#: R returns, E examples, U units). May only shrink. What is left: the paper package's
+#: figures, claim groups and shared runs, each seconds to minutes of computation (too
+#: long for an example the doctests run; ``bkwaves paper --quick`` exercises them).
 KNOWN_GAPS: dict[str, str] = {
     "bkwaves.paper.beyond.disorder_speed.fig_disorder_speed": "E",
     "bkwaves.paper.beyond.noise_statistics.fig_noise_statistics": "E",
