@@ -267,7 +267,7 @@ class RunConfig:
 
     Examples
     --------
-        >>> import bkwaves as bk
+    >>> import bkwaves as bk
     >>> cfg = bk.config.parse_config({
     ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
     ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
@@ -781,7 +781,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
 
     Examples
     --------
-        >>> import bkwaves as bk
+    >>> import bkwaves as bk
     >>> cfg = bk.config.parse_config({
     ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
     ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
@@ -1319,7 +1319,7 @@ def initial_state(cfg: RunConfig) -> np.ndarray:
 
     Examples
     --------
-        >>> import bkwaves as bk
+    >>> import bkwaves as bk
     >>> cfg = bk.config.parse_config({
     ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
     ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},

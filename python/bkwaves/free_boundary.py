@@ -265,7 +265,7 @@ class FreeBoundaryResult:
     --------
     One maximum of u on a ring: a pair is born where u reaches 1 and sweeps the ring.
 
-        >>> import numpy as np
+    >>> import numpy as np
     >>> import bkwaves as bk
     >>> x = np.arange(200) * 0.2                           # a ring of length 40
     >>> fb = bk.FreeBoundary(bk.Params(gamma=0.3, v=1e-2, dx=1e-3), x,

@@ -443,7 +443,7 @@ class RunWriter:
 
     Examples
     --------
-        >>> import os, tempfile
+    >>> import os, tempfile
     >>> import bkwaves as bk
     >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
     >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
@@ -1379,7 +1379,7 @@ def finalize(path) -> Path:
 
     Examples
     --------
-        >>> import os, tempfile
+    >>> import os, tempfile
     >>> import bkwaves as bk
     >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
     >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})
@@ -1468,7 +1468,7 @@ def load_tables(path):
     Examples
     --------
     >>> import pandas as pd
-        >>> import os, tempfile
+    >>> import os, tempfile
     >>> import bkwaves as bk
     >>> out = os.path.join(tempfile.mkdtemp(), "run.nc")
     >>> w = bk.io.RunWriter(out, [0.0, 0.5, 1.0], {"u": ("1", "stress", "f8")})

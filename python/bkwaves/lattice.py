@@ -63,28 +63,28 @@ class LatticeResult(ChainResult):
 
     def first_slip_times(self, event: int | None = None) -> np.ndarray:
         """First slip time of every block, shape (ny, nx) (NaN if it did not slip),
-            optionally within one event: the arrival times of a rupture.
+        optionally within one event: the arrival times of a rupture.
 
-            Parameters
-            ----------
-            event : int, optional
-                Only the slips of this event (catalog row); default all.
+        Parameters
+        ----------
+        event : int, optional
+            Only the slips of this event (catalog row); default all.
 
-            Returns
-            -------
-            numpy.ndarray
-                Times in units of sqrt(m/k_p), shape (ny, nx).
+        Returns
+        -------
+        numpy.ndarray
+            Times in units of sqrt(m/k_p), shape (ny, nx).
 
-            Examples
-            --------
-            The kicked block slips first, its neighbours along x and along y (dx = dy) at
-            the same time:
+        Examples
+        --------
+        The kicked block slips first, its neighbours along x and along y (dx = dy) at
+        the same time:
 
         >>> import bkwaves as bk
-            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
-            >>> t = la.kick((20, 15), -2.0).run(t_end=1.0).first_slip_times()
-            >>> float(t[15, 20]), bool(t[15, 21] == t[16, 20] > 0)
-            (0.0, True)
+        >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+        >>> t = la.kick((20, 15), -2.0).run(t_end=1.0).first_slip_times()
+        >>> float(t[15, 20]), bool(t[15, 21] == t[16, 20] > 0)
+        (0.0, True)
         """
         nx, ny = self.shape
         out = np.full(nx * ny, np.nan)
@@ -95,25 +95,25 @@ class LatticeResult(ChainResult):
 
     def slip_map(self, event: int | None = None) -> np.ndarray:
         """Total slip of every block (finished slips), shape (ny, nx), optionally within
-            one event.
+        one event.
 
-            Parameters
-            ----------
-            event : int, optional
-                Only the slips of this event (catalog row); default all.
+        Parameters
+        ----------
+        event : int, optional
+            Only the slips of this event (catalog row); default all.
 
-            Returns
-            -------
-            numpy.ndarray
-                Slip (dimensionless, a change of u; 0 where none), shape (ny, nx).
+        Returns
+        -------
+        numpy.ndarray
+            Slip (dimensionless, a change of u; 0 where none), shape (ny, nx).
 
-            Examples
-            --------
+        Examples
+        --------
         >>> import bkwaves as bk
-            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
-            >>> s = la.kick((20, 15), -2.0).run(t_end=3.0).slip_map()
-            >>> s.shape, bool(s[15, 20] > 0), float(s[0, 0])
-            ((30, 40), True, 0.0)
+        >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+        >>> s = la.kick((20, 15), -2.0).run(t_end=3.0).slip_map()
+        >>> s.shape, bool(s[15, 20] > 0), float(s[0, 0])
+        ((30, 40), True, 0.0)
         """
         nx, ny = self.shape
         s = self.slips if event is None else self.slips[self.slips["event"] == event]
@@ -294,23 +294,23 @@ class Lattice(Chain):
     def save(self, path) -> None:
         """Write a checkpoint (as ``bkwaves.Chain.save``, of kind "lattice").
 
-            Parameters
-            ----------
-            path : str or pathlib.Path
-                The checkpoint file (npz).
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The checkpoint file (npz).
 
-            Examples
-            --------
-            >>> import os, tempfile
-            >>> import numpy as np
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import numpy as np
         >>> import bkwaves as bk
-            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
-            >>> _ = la.kick((20, 15), -2.0).run(t_end=0.5)
-            >>> path = os.path.join(tempfile.mkdtemp(), "lattice.npz")
-            >>> la.save(path)
-            >>> again = bk.Lattice.load(path)
-            >>> np.array_equal(la.run(t_end=1.0).u, again.run(t_end=1.0).u)
-            True
+        >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+        >>> _ = la.kick((20, 15), -2.0).run(t_end=0.5)
+        >>> path = os.path.join(tempfile.mkdtemp(), "lattice.npz")
+        >>> la.save(path)
+        >>> again = bk.Lattice.load(path)
+        >>> np.array_equal(la.run(t_end=1.0).u, again.run(t_end=1.0).u)
+        True
         """
         from . import _checkpoint
 
@@ -320,25 +320,25 @@ class Lattice(Chain):
     def load(path) -> Lattice:
         """Read a checkpoint written by ``save``.
 
-            Parameters
-            ----------
-            path : str or pathlib.Path
-                The checkpoint file.
+        Parameters
+        ----------
+        path : str or pathlib.Path
+            The checkpoint file.
 
-            Returns
-            -------
-            Lattice
-                The lattice as saved.
+        Returns
+        -------
+        Lattice
+            The lattice as saved.
 
-            Examples
-            --------
-            >>> import os, tempfile
+        Examples
+        --------
+        >>> import os, tempfile
         >>> import bkwaves as bk
-            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
-            >>> path = os.path.join(tempfile.mkdtemp(), "lattice.npz")
-            >>> la.save(path)
-            >>> bk.Lattice.load(path).shape
-            (40, 30)
+        >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+        >>> path = os.path.join(tempfile.mkdtemp(), "lattice.npz")
+        >>> la.save(path)
+        >>> bk.Lattice.load(path).shape
+        (40, 30)
         """
         from . import _checkpoint
 
@@ -348,32 +348,32 @@ class Lattice(Chain):
     # --- triggers --------------------------------------------------------------------
     def kick(self, block, du_t: float, t: float = 0.0) -> Lattice:
         """Schedule a kick (``bkwaves.Chain.kick``) of one block (i, j), of the blocks on
-            a line, ``{"line": ((i0, j0), (i1, j1))}``, or of those in a disc,
-            ``{"disc": ((i, j), radius)}`` (``blocks`` gives the set): each gets du_t at
-            time t.
+        a line, ``{"line": ((i0, j0), (i1, j1))}``, or of those in a disc,
+        ``{"disc": ((i, j), radius)}`` (``blocks`` gives the set): each gets du_t at
+        time t.
 
-            Parameters
-            ----------
-            block : tuple of int or dict
-                A block (i, j), a line or a disc (above).
-            du_t : float
-                The change of du/dt (dimensionless; negative: a forward kick).
-            t : float, default 0
-                When (>= the lattice's time), in units of sqrt(m/k_p).
+        Parameters
+        ----------
+        block : tuple of int or dict
+            A block (i, j), a line or a disc (above).
+        du_t : float
+            The change of du/dt (dimensionless; negative: a forward kick).
+        t : float, default 0
+            When (>= the lattice's time), in units of sqrt(m/k_p).
 
-            Returns
-            -------
-            Lattice
-                The lattice itself.
+        Returns
+        -------
+        Lattice
+            The lattice itself.
 
-            Examples
-            --------
+        Examples
+        --------
         >>> import bkwaves as bk
-            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
-            >>> res = la.kick({"line": ((0, 0), (0, 29))}, -2.0).run(t_end=2.0)
-            >>> t = res.first_slip_times()        # a planar front from the left edge
-            >>> bool((t[:, 10] == t[0, 10]).all())
-            True
+        >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+        >>> res = la.kick({"line": ((0, 0), (0, 29))}, -2.0).run(t_end=2.0)
+        >>> t = res.first_slip_times()        # a planar front from the left edge
+        >>> bool((t[:, 10] == t[0, 10]).all())
+        True
         """
         du_t = V.number("du_t", du_t, lo=-1e6, hi=1e6)
         t = V.number("t", t, lo=self.t)
@@ -418,30 +418,30 @@ class Lattice(Chain):
 
     def blocks(self, region) -> np.ndarray:
         """The blocks (i, j) of a trigger region, shape (m, 2), in block order (row after
-            row): a block (i, j); ``{"line": ((i0, j0), (i1, j1))}``, the blocks nearest to
-            the segment, one per step along its longer axis (a row, a column or a diagonal
-            exactly); ``{"disc": ((i, j), radius)}``, the blocks whose centres are within
-            ``radius`` of block (i, j)'s in (x, y) = (i dx, j dy) (radius in units of x, as
-            dx; a circle in the plane, an ellipse of axes radius/dx, radius/dy in blocks).
+        row): a block (i, j); ``{"line": ((i0, j0), (i1, j1))}``, the blocks nearest to
+        the segment, one per step along its longer axis (a row, a column or a diagonal
+        exactly); ``{"disc": ((i, j), radius)}``, the blocks whose centres are within
+        ``radius`` of block (i, j)'s in (x, y) = (i dx, j dy) (radius in units of x, as
+        dx; a circle in the plane, an ellipse of axes radius/dx, radius/dy in blocks).
 
-            Parameters
-            ----------
-            region : tuple of int or dict
-                A block, a line or a disc (radius dimensionless, the paper's x).
+        Parameters
+        ----------
+        region : tuple of int or dict
+            A block, a line or a disc (radius dimensionless, the paper's x).
 
-            Returns
-            -------
-            numpy.ndarray
-                The blocks' (i, j), shape (m, 2).
+        Returns
+        -------
+        numpy.ndarray
+            The blocks' (i, j), shape (m, 2).
 
-            Examples
-            --------
+        Examples
+        --------
         >>> import bkwaves as bk
-            >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
-            >>> la.blocks({"disc": ((20, 15), 0.1)}).tolist()      # radius dx: 4 neighbours
-            [[20, 14], [19, 15], [20, 15], [21, 15], [20, 16]]
-            >>> la.blocks({"line": ((0, 0), (3, 3))}).tolist()
-            [[0, 0], [1, 1], [2, 2], [3, 3]]
+        >>> la = bk.Lattice((40, 30), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.7)
+        >>> la.blocks({"disc": ((20, 15), 0.1)}).tolist()      # radius dx: 4 neighbours
+        [[20, 14], [19, 15], [20, 15], [21, 15], [20, 16]]
+        >>> la.blocks({"line": ((0, 0), (3, 3))}).tolist()
+        [[0, 0], [1, 1], [2, 2], [3, 3]]
         """
         k = np.asarray(self._region(region))
         nx = self.shape[0]

@@ -214,21 +214,21 @@ class Claim:
 
     def evidence_items(self) -> list[tuple[str, str, bool]]:
         """(role, check as text, holds) for every check behind the verdict, in the order
-            the verdict reads them.
+        the verdict reads them.
 
-            Returns
-            -------
-            list of tuple of (str, str, bool)
-                One per check.
+        Returns
+        -------
+        list of tuple of (str, str, bool)
+            One per check.
 
-            Examples
-            --------
+        Examples
+        --------
         >>> from bkwaves.report import Check, Claim, Report
-            >>> claim = Claim("c-small", "c1", "c ~ 1 + u_+^2/2 for small u_+", "1.18", "1.1808",
-            ...               [Check("c - 1", 0.1808, lo=1e-300)],
-            ...               paper_check=Check("|c - 1.18|", 0.0008, hi=0.005))
-            >>> claim.evidence_items()[1]
-            ('against the paper', '|c - 1.18| = 0.0008 <= 0.005', True)
+        >>> claim = Claim("c-small", "c1", "c ~ 1 + u_+^2/2 for small u_+", "1.18", "1.1808",
+        ...               [Check("c - 1", 0.1808, lo=1e-300)],
+        ...               paper_check=Check("|c - 1.18|", 0.0008, hi=0.005))
+        >>> claim.evidence_items()[1]
+        ('against the paper', '|c - 1.18| = 0.0008 <= 0.005', True)
         """
         out = []
         if self.applies:

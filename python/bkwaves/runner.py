@@ -186,24 +186,24 @@ class RunSummary:
     def to_dict(self) -> dict:
         """The summary as one flat dict (what ``bkwaves run --json`` prints).
 
-            Returns
-            -------
-            dict
-                The fields, ``extra`` merged in.
+        Returns
+        -------
+        dict
+            The fields, ``extra`` merged in.
 
-            Examples
-            --------
+        Examples
+        --------
         >>> import os, tempfile
-            >>> import bkwaves as bk
-            >>> cfg = bk.config.parse_config({
-            ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
-            ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
-            ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
-            ...     "run": {"t_end": 20.0}})
-            >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
-            >>> d = bk.runner.run(cfg, out).to_dict()
-            >>> d["t"], d["blocks"]
-            (20.0, 200)
+        >>> import bkwaves as bk
+        >>> cfg = bk.config.parse_config({
+        ...     "model": "chain", "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+        ...     "domain": {"blocks": 200}, "initial": {"kind": "uniform", "value": 0.6},
+        ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
+        ...     "run": {"t_end": 20.0}})
+        >>> out = os.path.join(tempfile.mkdtemp(), "front.nc")
+        >>> d = bk.runner.run(cfg, out).to_dict()
+        >>> d["t"], d["blocks"]
+        (20.0, 200)
         """
         return {
             "model": self.model,

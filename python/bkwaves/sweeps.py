@@ -276,7 +276,7 @@ class SweepSpec:
 
     Examples
     --------
-        >>> import bkwaves as bk
+    >>> import bkwaves as bk
     >>> spec = bk.sweeps.parse_sweep({"task": "speed", "axes": {
     ...     "u_plus": {"values": [0.6, 0.8]}, "dx": {"values": [0.0, 0.1]}}})
     >>> spec.shape, spec.dims
