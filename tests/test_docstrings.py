@@ -319,3 +319,23 @@ def test_reference_entry(qual):
             pytest.fail(f"{qual} lacks {lacks or 'nothing'} now: update KNOWN_GAPS")
         pytest.xfail(f"known gap ({lacks})")
     assert found == [], f"{qual}: " + "; ".join(found)
+
+
+def _misaligned_examples(doc: str) -> list[int]:
+    """Lines of a doctest block indented unlike the line before (docutils then ends the
+    block there and the documentation build, warnings as errors, fails)."""
+    lines = inspect.cleandoc(doc).split("\n")
+    out = []
+    for i in range(len(lines) - 1):
+        a, b = lines[i], lines[i + 1]
+        sa, sb = a.lstrip(), b.lstrip()
+        if sa.startswith(">>>") and sb.startswith((">>>", "...")):
+            if len(a) - len(sa) != len(b) - len(sb):
+                out.append(i + 2)
+    return out
+
+
+def test_doctest_blocks_are_aligned():
+    assert _misaligned_examples("A.\n\n    >>> 1\n  >>> 2\n") == [4]
+    bad = {q: n for q, o in NAMES.items() if (n := _misaligned_examples(o.__doc__ or ""))}
+    assert bad == {}, f"doctest lines indented unlike the line before: {bad}"
