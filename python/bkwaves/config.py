@@ -87,19 +87,18 @@ from typing import Any
 
 import numpy as np
 
-from . import _core
+from . import _core, models
 from . import _validate as V
 from . import friction as laws
 from ._core import ParameterError
-from .chain import BOUNDARIES as CHAIN_BOUNDARIES
 from .chain import PROPERTIES, TRIGGERS
 from .disorder import DISTRIBUTIONS, draw, property_seed
 from .params import Params
 
 __all__ = ["RunConfig", "load_config", "parse_config", "initial_state"]
 
-MODELS = ("chain", "free_boundary")
-BOUNDARIES = {"chain": CHAIN_BOUNDARIES, "free_boundary": ("free", "periodic")}
+MODELS = models.NAMES
+BOUNDARIES = {name: models.get(name).boundaries for name in MODELS}
 INITIAL_KINDS = ("uniform", "ramp", "random", "bumps", "file")
 TRIGGER_KINDS = TRIGGERS
 
@@ -443,10 +442,7 @@ class RunConfig:
         >>> cfg.x()[:3], len(cfg.x())
         (array([0. , 0.1, 0.2]), 200)
         """
-        if self.model == "chain":
-            return np.arange(self.blocks) * self.params.dx
-        end = self.length if self.boundary == "free" else self.length * (1 - 1 / self.grid)
-        return np.linspace(0.0, end, self.grid)
+        return models.get(self.model).x(self)
 
 
 def _friction(doc: dict) -> tuple[laws.Law, dict]:
@@ -528,17 +524,18 @@ def _params(doc: dict) -> Params:
         _err("friction", str(e))
 
 
-def _disorder(doc: dict, model: str) -> tuple:
+def _disorder(doc: dict, model: models.Model) -> tuple:
     """The [disorder] table as ((property, spec), ...): spec a float, a tuple of
-    floats or a dict {distribution, mean, spread}."""
+    floats or a dict {distribution, mean, spread} (or, where the model has them, a
+    smooth random field {mean, amplitude, correlation_length})."""
     if "disorder" not in doc:
         return ()
     t = _table(doc["disorder"], "disorder")
-    _keys(t, "disorder", PROPERTIES if model == "chain" else ("threshold",))
+    _keys(t, "disorder", model.disorder_keys)
     out = []
     for k, x in t.items():
         q = f"disorder.{k}"
-        if isinstance(x, dict) and model != "chain" and "correlation_length" in x:
+        if isinstance(x, dict) and model.correlated_disorder and "correlation_length" in x:
             _keys(x, q, ("mean", "amplitude", "correlation_length"), ("amplitude",))
             spec = {
                 "mean": _num(x, "mean", q, 1.0, lo=0.0, lo_open=True),
@@ -574,29 +571,25 @@ def _disorder(doc: dict, model: str) -> tuple:
     return tuple(out)
 
 
-def _noise(doc: dict, model: str, ts: float, ls: float, vs: float) -> dict | None:
-    """The [noise] table, dimensionless. Free boundary: rate per unit x' and t' (an SI
-    rate, 1/(m s), times ls ts); chain: rate per block and unit t' (1/s times ts) and the
-    kick speed in u_t units (m/s divided by vs)."""
+def _noise(doc: dict, model: models.Model, ts: float, ls: float, vs: float) -> dict | None:
+    """The [noise] table, dimensionless (``model.scale_noise``). Free boundary: rate per
+    unit x' and t' (an SI rate, 1/(m s), times ls ts); chain: rate per block and unit t'
+    (1/s times ts) and the kick speed in u_t units (m/s divided by vs)."""
     if "noise" not in doc:
         return None
     from . import noise as _noise_laws
 
-    noise = _noise_laws.check_noise(_table(doc["noise"], "noise"), model=model)
-    if model == "chain":
-        noise["rate"] *= ts
-        noise["kick"] /= vs
-    else:
-        noise["rate"] *= ls * ts
-    return noise
+    noise = _noise_laws.check_noise(_table(doc["noise"], "noise"), model=model.noise_kind)
+    return model.scale_noise(noise, ts, ls, vs)
 
 
-def _speed(doc: dict, model: str) -> dict | None:
+def _speed(doc: dict, model: models.Model) -> dict | None:
     """The [speed] table (free boundary): the front-speed law {u_plus, c}, validated."""
     if "speed" not in doc:
         return None
-    if model != "free_boundary":
-        _err("speed", "a front-speed law applies to the free_boundary model only")
+    if not model.speed_law:
+        with_speed = [n for n in models.NAMES if models.get(n).speed_law]
+        _err("speed", f"a front-speed law applies to the {' and '.join(with_speed)} model only")
     t = _table(doc["speed"], "speed")
     _keys(t, "speed", ("u_plus", "c"), ("u_plus", "c"))
     for k in ("u_plus", "c"):
@@ -626,7 +619,7 @@ def threshold_field(cfg: RunConfig, x: np.ndarray | None = None) -> np.ndarray |
     """The static threshold at the grid nodes of a free boundary config (None: uniform 1),
     from [disorder] threshold (drawn ones with the config's seed, the threshold's stream)."""
     spec = dict(cfg.disorder).get("threshold")
-    if cfg.model != "free_boundary" or spec is None:
+    if not models.get(cfg.model).threshold_field or spec is None:
         return None
     x = cfg.x() if x is None else x
     n = len(x)
@@ -685,12 +678,12 @@ def _u(t: dict, key: str, path: str, default=_REQUIRED) -> float:
     return _num(t, key, path, default, lo=-U_LIMIT, hi=U_LIMIT)
 
 
-def _initial(doc: dict, model: str) -> InitialSpec:
+def _initial(doc: dict, model: models.Model) -> InitialSpec:
     p = "initial"
     t = _table(doc.get("initial", {"kind": "uniform", "value": 0.0}), p)
     kind = _value(t, "kind", p, V.Spec("kind", "choice", choices=INITIAL_KINDS))
-    common = ("kind", "velocity") if model == "chain" else ("kind",)
-    velocity = _num(t, "velocity", p, 0.0, lo=-U_LIMIT, hi=U_LIMIT) if model == "chain" else 0.0
+    common = ("kind", "velocity") if model.initial_velocity else ("kind",)
+    velocity = _num(t, "velocity", p, 0.0, lo=-U_LIMIT, hi=U_LIMIT) if common[1:] else 0.0
     if kind == "uniform":
         _keys(t, p, (*common, "value"), ("value",))
         return InitialSpec(kind, value=_u(t, "value", p), velocity=velocity)
@@ -797,10 +790,11 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     doc = _table(doc, "(top level)")
     _keys(doc, "", TOP_KEYS, ("model",))
     model = _cfg(doc, "model", "")
+    entry = models.get(model)
     seed = _cfg(doc, "seed", "", None)
     title = _cfg(doc, "title", "", "")
     params = _params(doc)
-    if model == "free_boundary" and params.law.name != "coulomb":
+    if entry.coulomb_only and params.law.name != "coulomb":
         phys = doc.get("physical")
         key = "physical.V_f" if isinstance(phys, dict) and "V_f" in phys else "friction.law"
         _err(
@@ -811,25 +805,21 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         )
 
     d = _table(doc.get("domain", {}), "domain")
-    if model == "chain":
-        _keys(d, "domain", ("blocks", "boundary"), ("blocks",))
-        blocks = _cfg(d, "blocks", "domain")
-        length, grid = 0.0, 0
-    else:
-        _keys(d, "domain", ("length", "grid", "boundary"), ("length", "grid"))
-        length = _cfg(d, "length", "domain")
-        grid = _cfg(d, "grid", "domain")
-        blocks = 0
-    boundary = _cfg(d, "boundary", "domain", "free", choices=BOUNDARIES[model])
+    _keys(d, "domain", entry.domain_keys, entry.domain_required)
+    domain = entry.parse_domain(d, lambda t, key, *default: _cfg(t, key, "domain", *default))
+    blocks = domain.get("blocks", 0)
+    if "boundary" not in domain:
+        domain["boundary"] = _cfg(d, "boundary", "domain", "free", choices=entry.boundaries)
 
-    initial = _initial(doc, model)
+    initial = _initial(doc, entry)
     if initial.kind == "file" and base_dir is not None and not Path(initial.path).is_absolute():
         initial = InitialSpec("file", path=str(base_dir / initial.path), velocity=initial.velocity)
 
     triggers = []
     raw = doc.get("triggers", [])
-    if model != "chain" and raw:
-        _err("triggers", "triggers apply to the chain model only")
+    if not entry.triggers and raw:
+        with_triggers = [n for n in models.NAMES if models.get(n).triggers]
+        _err("triggers", f"triggers apply to the {' and '.join(with_triggers)} model only")
     if not isinstance(raw, list):
         _err("triggers", "expected an array of tables [[triggers]]")
     for i, tr in enumerate(raw):
@@ -865,7 +855,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         )
         if triggers[-1].velocity < 0 and not params.backward_slip:
             _err(f"{q}.velocity", _NO_BACKWARD)
-    if model == "chain" and initial.velocity < 0 and not params.backward_slip:
+    if entry.initial_velocity and initial.velocity < 0 and not params.backward_slip:
         _err("initial.velocity", _NO_BACKWARD)
 
     r = _table(doc.get("run", {}), "run")
@@ -880,8 +870,9 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     if t_end is None and max_events is None:
         _err("run", "give t_end, max_events or both")
     for key in CHAIN_RUN_KEYS:
-        if key in r and model != "chain":
-            _err(f"run.{key}", "applies to the chain model only")
+        if key in r and not entry.chain_run_keys:
+            with_keys = [n for n in models.NAMES if models.get(n).chain_run_keys]
+            _err(f"run.{key}", f"applies to the {' and '.join(with_keys)} model only")
     _check_integration(step, integrator, step_tolerance)
 
     o = _table(doc.get("output", {}), "output")
@@ -925,7 +916,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
             )
             for i, t in enumerate(triggers)
         ]
-        length /= ls
+        domain = entry.scale_domain(domain, ls)
         t_end = None if t_end is None else t_end / ts
         if max_event_duration is not None:
             max_event_duration /= ts
@@ -933,11 +924,8 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     cfg = RunConfig(
         model=model,
         params=params,
-        boundary=boundary,
         initial=initial,
-        blocks=blocks,
-        length=length,
-        grid=grid,
+        **domain,
         triggers=tuple(triggers),
         t_end=t_end,
         max_events=max_events,
@@ -952,23 +940,17 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         output_units=_cfg(o, "units", "output", "native"),
         seed=seed,
         title=title,
-        disorder=_scaled_disorder(_disorder(doc, model), ls),
-        noise=_noise(doc, model, ts, ls, vs),
-        speed=_speed(doc, model),
+        disorder=_scaled_disorder(_disorder(doc, entry), ls),
+        noise=_noise(doc, entry, ts, ls, vs),
+        speed=_speed(doc, entry),
         base_dir=base_dir,
     )
     # a random config without a seed gets a fresh one now: the drawn properties checked
     # here are the ones the run uses, and cfg.to_dict() records the seed
     cfg = cfg.seeded()
-    # (the free boundary's threshold field; the chain's noise follows per-block thresholds)
-    if (
-        cfg.model == "free_boundary"
-        and cfg.noise is not None
-        and dict(cfg.disorder).get("threshold") is not None
-    ):
-        _err("noise", "not implemented with a threshold field ([disorder] threshold)")
+    entry.check_keys(cfg)
     _check_field_lengths(cfg)  # (before a field is drawn: its size follows from them)
-    arrays = disorder_arrays(cfg) if cfg.model == "chain" else {"threshold": threshold_field(cfg)}
+    arrays = entry.property_arrays(cfg)
     for k, a in arrays.items() if cfg.disorder else ():
         if a is not None:
             a = np.atleast_1d(np.asarray(a, dtype=float))
@@ -985,7 +967,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
 
 #: The largest bound on the midpoint iteration's contraction factor the engine accepts
 #: (the core's MIDPOINT_CONTRACTION: its 200 passes then reach round-off).
-MIDPOINT_CONTRACTION = 0.8
+MIDPOINT_CONTRACTION = models.chain.MIDPOINT_CONTRACTION
 
 #: [run] keys of the chain model only.
 CHAIN_RUN_KEYS = ("max_event_slips", "max_event_duration", "step", "integrator", "step_tolerance")
@@ -1036,7 +1018,7 @@ def _check_field_lengths(cfg: RunConfig) -> None:
     """The correlation lengths of smooth random fields: at most MAX_CORRELATION_DOMAINS
     times the domain (a threshold field of correlation_length 1e8 allocated 8.9 GiB,
     1e300 overflowed inside numpy)."""
-    span = cfg.length if cfg.model != "chain" else cfg.blocks * cfg.params.dx
+    span = models.get(cfg.model).span(cfg)
     fields = [("initial.correlation_length", cfg.initial.correlation_length)]
     fields = fields if cfg.initial.kind == "random" else []
     for k, spec in cfg.disorder:
@@ -1055,85 +1037,20 @@ def _check_field_lengths(cfg: RunConfig) -> None:
 def _check_derived(cfg: RunConfig) -> None:
     """Quantities derived from several keys: finite, and meaningful for the model."""
     p = cfg.params
+    entry = models.get(cfg.model)
     if cfg.physical:
         u = p.units
         ls, ts = u.length_scale, u.time_scale
-        span = (cfg.blocks - 1) * p.dx * ls if cfg.model == "chain" else cfg.length * ls
+        span = entry.physical_span(cfg) * ls
         if not math.isfinite(span):
-            _err("physical.spacing", f"the chain spans {span} m: positions overflow")
+            _err("physical.spacing", f"the {cfg.model} spans {span} m: positions overflow")
         for key, value in (("run.t_end", cfg.t_end), ("output.snapshot_every", cfg.snapshot_every)):
             if value is not None and not (math.isfinite(value) and value > 0):
                 _err(key, f"is {value} time units sqrt(m/k_p) = {ts:.3g} s: out of range")
-        for key, value in (("domain.length", cfg.length),):
-            if cfg.model != "chain" and not (math.isfinite(value) and value > 0):
+        for key, value in entry.physical_lengths(cfg):
+            if not (math.isfinite(value) and value > 0):
                 _err(key, f"is {value} length units: out of range")
-    if cfg.model == "chain":
-        # RK4 stability of the chain's time step h = step dx (the engine's test, for
-        # alike Coulomb blocks): h (sqrt(1 + 4/dx^2) + 2 gamma) <= 2.5
-        step = cfg.chain_integration()["step"]
-        h = step * p.dx
-        sound = math.sqrt(1.0 + 4.0 / p.dx / p.dx)
-        if not math.isfinite(sound):  # (dx = 1e-310: the coupling 1/dx^2 overflows)
-            _err(
-                "params.dx" if not cfg.physical else "physical.k_c",
-                f"dx = {p.dx:.6g}: the coupling 1/dx^2 overflows; allowed dx >= 1e-150",
-            )
-        rate = sound + 2.0 * p.gamma
-        if h * rate > 2.5:
-            g_max = 0.5 * (2.5 / h - sound)
-            gamma_key = "params.gamma" if not cfg.physical else "physical.alpha"
-            if cfg.step is not None:
-                # the step the user chose is the one to lower
-                also = f" (or lower {gamma_key} to gamma <= {g_max:.6g})" if g_max > 0 else ""
-                _err(
-                    "run.step",
-                    f"step = {step:.6g} is too large for RK4 stability with gamma = "
-                    f"{p.gamma:.6g} and dx = {p.dx:.6g} (step dx (sqrt(1 + 4/dx^2) + 2 gamma) "
-                    f"<= 2.5): allowed 0 < step <= {2.5 / (p.dx * rate):.6g}{also}",
-                )
-            if g_max > 0:
-                _err(
-                    gamma_key,
-                    f"gamma = {p.gamma:.6g} is too strong a damping for the chain's time step "
-                    f"(RK4 stability at step = {step} dx): allowed gamma <= {g_max:.6g} "
-                    "(or a smaller run.step)",
-                )
-            key = "params.dx" if not cfg.physical else "physical.k_c"
-            _err(key, f"dx = {p.dx:.6g} is too large for the chain's time step")
-        # the midpoint rule's fixed-point solve must contract (the engine's test, for alike
-        # Coulomb blocks): (h/2)^2 (1 + 4/dx^2) + h gamma <= 0.8
-        if cfg.chain_integration()["integrator"] == "midpoint":
-            q = 0.25 * h * h * sound * sound + h * p.gamma
-            if q > MIDPOINT_CONTRACTION:
-                key = "run.step" if cfg.step is not None else "run.integrator"
-                _err(
-                    key,
-                    f"the midpoint integrator's fixed-point solve does not contract at step = "
-                    f"{step:.6g}, gamma = {p.gamma:.6g}, dx = {p.dx:.6g}: (h/2)^2 (1 + 4/dx^2) "
-                    f"+ h gamma = {q:.3g} > {MIDPOINT_CONTRACTION} (h = step dx); a smaller "
-                    "run.step, or run.integrator = 'rk4'",
-                )
-    if cfg.model == "free_boundary":
-        if p.gamma >= 1.0:
-            _err(
-                "params.gamma" if not cfg.physical else "physical.alpha",
-                f"gamma = {p.gamma:.6g}: the free boundary model needs 0 <= gamma < 1 (for "
-                "gamma >= 1 every wave creeps)",
-            )
-        if p.dx >= 1.0:
-            _err(
-                "params.dx" if not cfg.physical else "physical.k_c",
-                f"dx = {p.dx:.6g}: the free boundary model is the continuum limit, "
-                "allowed 0 < dx < 1",
-            )
-        if not cfg.length / (cfg.grid - 1) > 0:
-            _err("domain.length", "the grid spacing length/(grid - 1) underflows to 0")
-        from .free_boundary import check_grid
-
-        try:
-            check_grid("domain.length", cfg.length, cfg.length / (cfg.grid - 1), p.v)
-        except ParameterError as e:
-            raise ParameterError(f"{e} (domain.length with domain.grid)") from None
+    entry.check(cfg)
 
 
 def _to_doc(cfg: RunConfig) -> dict:
@@ -1156,10 +1073,7 @@ def _to_doc(cfg: RunConfig) -> dict:
         doc["speed"] = {k: list(v) for k, v in cfg.speed.items()}
     if cfg.disorder:
         doc["disorder"] = {k: list(x) if isinstance(x, tuple) else x for k, x in cfg.disorder}
-    if cfg.model == "chain":
-        doc["domain"] = {"blocks": cfg.blocks, "boundary": cfg.boundary}
-    else:
-        doc["domain"] = {"length": cfg.length, "grid": cfg.grid, "boundary": cfg.boundary}
+    doc["domain"] = models.get(cfg.model).domain_doc(cfg)
     s = cfg.initial
     ini: dict = {"kind": s.kind}
     if s.kind == "uniform":
@@ -1176,7 +1090,7 @@ def _to_doc(cfg: RunConfig) -> dict:
         )
     else:
         ini["path"] = s.path
-    if cfg.model == "chain":
+    if models.get(cfg.model).initial_velocity:
         ini["velocity"] = s.velocity
     doc["initial"] = ini
     if cfg.triggers:
@@ -1355,21 +1269,5 @@ def initial_state(cfg: RunConfig) -> np.ndarray:
     }[s.kind]
     if not np.all(np.isfinite(u)) or np.max(np.abs(u)) > U_LIMIT:
         _err(key, f"the initial state has values outside |u| <= {U_LIMIT:g} (or not finite)")
-    thr = threshold_field(cfg, x) if cfg.model == "free_boundary" else None
-    if cfg.model == "free_boundary" and thr is None and np.max(u) >= 1.0:
-        i = int(np.argmax(u))
-        _err(
-            key,
-            f"the initial state reaches u = {u[i]:.6g} >= 1 at x = {x[i]:.6g}: the free "
-            "boundary model needs u < 1 (the static threshold) everywhere (its field is the "
-            'stress of stuck blocks; a chain over the threshold slides at once: model = "chain" '
-            "runs it)",
-        )
-    if thr is not None and np.any(u >= thr):
-        i = int(np.argmax(u - thr))
-        _err(
-            key,
-            f"the initial state reaches u = {u[i]:.6g} >= the threshold {thr[i]:.6g} at "
-            f"x = {x[i]:.6g}: the free boundary model needs u < threshold everywhere",
-        )
+    models.get(cfg.model).check_initial(cfg, u, x, key)
     return u

@@ -53,6 +53,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import models
 from ._core import ParameterError
 
 __all__ = ["LIMITS", "Estimate", "LongRunWarning", "estimate", "check_sizes", "memory_bytes"]
@@ -186,12 +187,13 @@ def physical_memory() -> float:
 
 
 def memory_bytes(model: str, nodes: int) -> float:
-    """Engine memory for a chain of ``nodes`` blocks or a free-boundary grid of ``nodes``.
+    """Engine memory of ``nodes`` blocks or grid nodes of ``model`` (its registry entry
+    names the figure of ``LIMITS``: a chain block, a free-boundary grid node).
 
     Parameters
     ----------
-    model : {"chain", "free_boundary"}
-        The engine.
+    model : str
+        The model (one of ``bkwaves.models.NAMES``).
     nodes : int
         Blocks or grid nodes.
 
@@ -206,7 +208,7 @@ def memory_bytes(model: str, nodes: int) -> float:
     >>> bk.limits.memory_bytes("chain", 1000) == 1000 * bk.limits.LIMITS["chain_bytes_per_block"]
     True
     """
-    per = LIMITS["chain_bytes_per_block" if model == "chain" else "fb_bytes_per_node"]
+    per = LIMITS[models.get(model).bytes_per_node_key]
     return float(per) * nodes
 
 
@@ -407,17 +409,11 @@ def estimate(cfg, output: bool = True) -> Estimate:
     >>> e.snapshots, e.output_bytes
     (2, 6800.0)
     """
-    from . import _cost
 
     p = cfg.params
-    chain = cfg.model == "chain"
-    nodes = cfg.blocks if chain else cfg.grid
-    if chain:
-        work = _cost.chain_work(_chain_run(cfg, cfg.t_end, cfg.max_events))
-        count = work.block_steps
-    else:
-        work = _cost.fb_work(nodes, p.v, cfg.t_end, cfg.max_events, _fb_gap(cfg))
-        count = work.crossings
+    entry = models.get(cfg.model)
+    nodes = entry.nodes(cfg)
+    work, count, wall_of = entry.work(cfg)
     # (snapshot_every with t_end: the runner schedules every one up to t_end, also when
     # max_events may end the run sooner: t_end = 2**64 at every 50 allocated 2.6 EiB)
     span = cfg.t_end if cfg.t_end is not None and cfg.snapshot_every else work.horizon
@@ -426,13 +422,12 @@ def estimate(cfg, output: bool = True) -> Estimate:
     )
     if cfg.max_events is not None and cfg.snapshot_events is not None:
         snaps = cfg.max_events // cfg.snapshot_events + 1
-    fields = 17 if chain else 8  # chain: u, u_t (f8), sliding (i1)
-    out = float(snaps or 0) * nodes * fields
-    wall = (chain_wall if chain else fb_wall)(work, nodes, snaps, output)
+    out = float(snaps or 0) * nodes * entry.snapshot_bytes_per_node
+    wall = wall_of(work, nodes, snaps, output)
     # the engine, and the snapshots if the run held them all (its tables are streamed)
     mem = memory_bytes(cfg.model, nodes) + out
     notes = list(work.notes)
-    size = nodes if chain else cfg.length
+    size = entry.noise_size(cfg)
     candidates, noise_wall = noise_work(
         cfg.model, size, nodes, work.horizon, p.v, cfg.noise, work.sliding_fraction
     )
@@ -507,12 +502,13 @@ def noise_work(
     # near the threshold: frac
     # (chain: plus the blocks the noise itself sets sliding, each for ~pi: accepted
     # candidates at about n rate <G>)
+    blocks = models.get(model).noise_kind == "chain"
     own = n * noise["rate"] * g_mean * math.pi
-    busy = min(1.0, n * frac + own) if model == "chain" else frac
+    busy = min(1.0, n * frac + own) if blocks else frac
     per_g = size * noise["rate"] * t_span  # candidates per unit of the envelope G
     candidates = per_g * (busy * g_top + (1.0 - busy) * g_mean)
-    wall = candidates * LIMITS[f"{'chain' if model == 'chain' else 'fb'}_seconds_per_candidate"]
-    if model == "chain":
+    wall = candidates * LIMITS[f"{'chain' if blocks else 'fb'}_seconds_per_candidate"]
+    if blocks:
         # a candidate while blocks slide cuts a step short: one more step over the blocks
         # sliding then, whose block-time is frac n t_span
         if frac > 0:
@@ -530,9 +526,9 @@ def noise_key(noise: dict | None, model: str = "chain", units=None) -> str | Non
     g_top, _ = noise_envelope(noise)
     rate = f"noise.rate = {noise['rate']:.6g}"
     if units is not None:
-        per = "block" if model == "chain" else "unit length"
-        scale = units.time_scale * (1.0 if model == "chain" else units.length_scale)
-        si = "1/s" if model == "chain" else "1/(m s)"
+        entry = models.get(model)
+        per, si = entry.noise_per, entry.noise_si
+        scale = units.time_scale * units.length_scale**entry.noise_length_power
         rate = (
             f"noise.rate = {noise['rate'] / scale:.6g} {si} (= {noise['rate']:.3g} per {per} "
             "and time unit)"
@@ -665,9 +661,10 @@ def check_sizes(cfg) -> Estimate:
     ...
     bkwaves._core.ParameterError: domain.blocks = 100000000000: the engine state needs...
     """
-    chain = cfg.model == "chain"
-    check_memory("domain.blocks" if chain else "domain.grid", cfg.model, cfg.blocks or cfg.grid)
-    if cfg.model == "free_boundary" and cfg.params.v == 0 and cfg.t_end is None:
+    entry = models.get(cfg.model)
+    nodes = entry.nodes(cfg)
+    check_memory(entry.size_key, cfg.model, nodes)
+    if entry.events_need_loading and cfg.params.v == 0 and cfg.t_end is None:
         raise ParameterError(
             "run.max_events: with v = 0 nothing loads the field, so no event can start and "
             "the run would end at once with none; give run.t_end"
@@ -678,7 +675,6 @@ def check_sizes(cfg) -> Estimate:
         snap_key += " with run.t_end" if cfg.t_end is not None else " with run.max_events"
     else:
         snap_key = "output.snapshot_events with run.max_events"
-    nodes = cfg.blocks or cfg.grid
     # (refused only where the snapshot count is exact; an estimated one warns below)
     exact = cfg.t_end is not None if cfg.snapshot_every is not None else cfg.max_events
     if est.output_bytes > LIMITS["max_output_bytes"] and exact:
@@ -705,8 +701,8 @@ def check_sizes(cfg) -> Estimate:
             stacklevel=3,
         )
     check_memory_use(what, est.memory_bytes)
-    if cfg.t_end is None and not chain:  # (the chain's noise slips end on their own)
-        check_noise_events(what, cfg.length, cfg.length, cfg.noise)
+    if cfg.t_end is None:  # (the chain's noise slips end on their own: no check)
+        entry.check_noise_events(cfg, what)
     if cfg.t_end is None and cfg.snapshot_every is not None and est.horizon:
         wanted = est.horizon / cfg.snapshot_every
         if wanted > OPEN_SNAPSHOTS:
