@@ -106,6 +106,12 @@ LEGAL = {
     "v_f": [1e-9, 1e-6, 10.0, 1e6],
     "blocks": [2, 3, 16, 10**5, 10**7],
     "grid": [5, 6, 10**5, 10**7],
+    "shape": [[1, 2], [2, 1], [3, 3], [64, 64], [10**4, 10**4], [10**6, 10**6]],
+    "spacing": [1e-300, 1e-6, 0.5, 99.0, 1e6],
+    "dy": [1e-4, 0.05, 0.5, 1e6],
+    "line": [[[0, 0], [5, 5]], [[0, 0], [0, 0]], [[3, 0], [3, 7]]],
+    "disc": [[[2, 2], 0.0], [[2, 2], 0.3], [[0, 0], 1e9]],
+    "arrivals": [True, False],
     "length": [1e-6, 1e-3, 1e6, 1e12],
     "correlation_length": [1e-300, 1e-6, 1e3, 1e8, 1e300],
     "amplitude": [0.0, 1e-12, 0.99, 2.0, 1e6],
@@ -156,13 +162,14 @@ def _noise(rng, model):
     elif law == "table":
         t["u"] = [0.0, 0.5, 1.0]
         t["g"] = [0.0, 0.5, 1.0]
-    if model == "chain" and rng.random() < 0.5:
+    if model in ("chain", "lattice") and rng.random() < 0.5:
         t["kick"] = 0.05
     return t
 
 
 def _initial(rng, model, files):
-    kind = rng.choice(INITIAL)
+    planar = model in ("lattice", "free_boundary_2d")
+    kind = rng.choice(INITIAL if not planar else ("uniform", "ramp", "random", "file"))
     if kind == "uniform":
         t = {"kind": kind, "value": 0.6 if model == "chain" else 0.5}
     elif kind == "ramp":
@@ -173,13 +180,13 @@ def _initial(rng, model, files):
         t = {"kind": kind, "base": 0.4, "bumps": [{"center": 5.0, "width": 2.0, "height": 0.3}]}
     else:
         t = {"kind": kind, "path": str(files[rng.choice(sorted(files))])}
-    if model == "chain" and rng.random() < 0.2:
+    if model in ("chain", "lattice") and rng.random() < 0.2:
         t["velocity"] = rng.choice([0.0, 0.5])
     return t
 
 
 def _config(rng, files) -> dict:
-    model = rng.choice(["chain", "chain", "free_boundary"])
+    model = rng.choice(["chain", "chain", "free_boundary", "lattice", "free_boundary_2d"])
     doc: dict = {"model": model, "title": "hostile"}
     if rng.random() < 0.5:
         doc["seed"] = rng.randrange(100)
@@ -206,6 +213,51 @@ def _config(rng, files) -> dict:
             doc["triggers"] = [{"time": 0.0, "block": 0, "kind": rng.choice(["kick", "release"])}]
             if doc["triggers"][0]["kind"] == "kick":
                 doc["triggers"][0]["velocity"] = 2.0
+    elif model == "lattice":
+        doc["params"] = {"gamma": 0.3, "v": rng.choice([0.0, 1e-3]), "dx": 0.1}
+        nx, ny = rng.choice([(10, 8), (20, 20), (5, 40)])
+        b = ["free", "fixed", "periodic"]
+        doc["domain"] = {
+            "shape": [nx, ny],
+            "boundary": rng.choice(b) if rng.random() < 0.5 else [rng.choice(b), rng.choice(b)],
+        }
+        if rng.random() < 0.3:
+            doc["domain"]["dy"] = rng.choice([0.1, 0.15])
+        if rng.random() < 0.3:
+            prop = rng.choice(["threshold", "mass", "loader"])
+            doc["disorder"] = {
+                prop: rng.choice(
+                    [
+                        {"distribution": "uniform", "mean": 1.0, "spread": 0.1},
+                        {"mean": 1.0, "amplitude": 0.05, "correlation_length": 0.3},
+                    ]
+                )
+            }
+        if rng.random() < 0.6:
+            place = rng.choice(
+                [
+                    {"block": [0, 0]},
+                    {"line": [[0, 0], [nx - 1, 0]]},
+                    {"disc": [[nx // 2, ny // 2], 0.2]},
+                ]
+            )
+            doc["triggers"] = [{"time": 0.0, **place, "kind": rng.choice(["kick", "release"])}]
+            if doc["triggers"][0]["kind"] == "kick":
+                doc["triggers"][0]["velocity"] = 2.0
+    elif model == "free_boundary_2d":
+        doc["params"] = {"gamma": 0.3, "v": 1e-2, "dx": 1e-3}
+        b = ["free", "periodic"]
+        doc["domain"] = {
+            "shape": rng.choice([[16, 16], [40, 24]]),
+            "spacing": rng.choice([0.5, 1.0]),
+            "boundary": rng.choice(b) if rng.random() < 0.5 else [rng.choice(b), rng.choice(b)],
+        }
+        if rng.random() < 0.3:
+            doc["speed"] = {"u_plus": [0.5, 0.6, 0.7], "c": [1.15, 1.25, 1.4]}
+        if rng.random() < 0.3:
+            doc["disorder"] = {
+                "threshold": {"mean": 1.0, "amplitude": 0.05, "correlation_length": 3.0}
+            }
     else:
         doc["params"] = {"gamma": 0.3, "v": 1e-2, "dx": 1e-3}
         doc["domain"] = {"length": 40.0, "grid": 201, "boundary": rng.choice(["free", "periodic"])}
@@ -216,25 +268,28 @@ def _config(rng, files) -> dict:
                 "threshold": {"mean": 1.0, "amplitude": 0.05, "correlation_length": 10.0}
             }
     doc["initial"] = _initial(rng, model, files)
-    if rng.random() < 0.3 and "disorder" not in doc or model == "chain" and rng.random() < 0.2:
+    blocks = model in ("chain", "lattice")
+    if rng.random() < 0.3 and "disorder" not in doc or blocks and rng.random() < 0.2:
         doc["noise"] = _noise(rng, model)
     run = {}
     if rng.random() < 0.8:
-        run["t_end"] = 5.0 if model == "chain" else 200.0
+        run["t_end"] = 5.0 if blocks else 200.0
     if not run or rng.random() < 0.3:
         run["max_events"] = 2
-    if model == "chain" and rng.random() < 0.2:
+    if blocks and rng.random() < 0.2:
         key = rng.choice(["step", "integrator", "max_event_slips", "max_event_duration"])
         run[key] = {"step": 0.02, "integrator": "midpoint", "max_event_slips": 10**5,
                     "max_event_duration": 1e3}[key]  # fmt: skip
     doc["run"] = run
     out = {}
     if rng.random() < 0.6:
-        out["snapshot_every"] = 1.0 if model == "chain" else 50.0
+        out["snapshot_every"] = 1.0 if blocks else 50.0
     elif rng.random() < 0.5:
         out["snapshot_events"] = 1
     if rng.random() < 0.3:
         out["units"] = rng.choice(["native", "dimensionless"])
+    if model in ("lattice", "free_boundary_2d") and rng.random() < 0.3:
+        out["arrivals"] = True
     doc["output"] = out
     # the hostile part: 0 to 3 leaves set, deleted or added
     changed = []

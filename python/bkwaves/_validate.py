@@ -322,10 +322,12 @@ _RUN_STEP_TOLERANCE = dataclasses.replace(
     'docs/chain.md, "Step-size control"); default none: the fixed step',
 )
 
+from ._models import NAMES as MODEL_NAMES  # noqa: E402 - (after the tables it reuses)
+
 #: Config keys: top level, [domain], [run], [output], [[triggers]].
 CONFIG = {
     "": table(
-        Spec("model", "choice", choices=("chain", "free_boundary")),
+        Spec("model", "choice", choices=MODEL_NAMES, doc="the run model (bkwaves._models)"),
         Spec("seed", "int", lo=0, hi=2**63 - 1, doc="seed of random initial states"),
         Spec("title", "text", doc="free text"),
         Spec(
@@ -347,10 +349,35 @@ CONFIG = {
         ),  # fmt: skip
         Spec("grid", "int", lo=5, doc="free boundary: grid nodes"),
         Spec(
+            "shape",
+            "int",
+            lo=1,
+            doc="lattice, free_boundary_2d: [nx, ny], blocks (grid nodes) along x and y, "
+            "each as allowed here (free_boundary_2d: >= 3)",
+        ),  # fmt: skip
+        Spec(
+            "dy",
+            "real",
+            lo=0.0,
+            lo_open=True,
+            hi=1e6,
+            doc="lattice: spacing across, sqrt(k_p/k_y) (dimensionless; default params.dx)",
+        ),  # fmt: skip
+        Spec(
+            "spacing",
+            "real",
+            lo=0.0,
+            lo_open=True,
+            unit="x' (m with [physical])",
+            doc="free_boundary_2d: grid spacing h (along x and y)",
+        ),  # fmt: skip
+        Spec(
             "boundary",
             "choice",
             choices=("free", "fixed", "periodic"),
-            doc="chain: free, fixed, periodic; free boundary: free, periodic",
+            doc="chain: free, fixed, periodic; free boundary: free, periodic; lattice: one of "
+            "the chain's or [along x, along y]; free_boundary_2d: free, periodic or "
+            "[along x, along y]",
         ),  # fmt: skip
     ),
     "run": table(
@@ -394,6 +421,12 @@ CONFIG = {
         ),  # fmt: skip
         Spec("snapshot_events", "int", lo=1, doc="a snapshot every k events"),
         Spec("units", "choice", choices=("native", "dimensionless")),
+        Spec(
+            "arrivals",
+            "bool",
+            doc="lattice, free_boundary_2d: write the arrivals table, the arrival (first "
+            "slip) time of every node in every event or rupture (default false)",
+        ),  # fmt: skip
     ),
     "noise": table(
         Spec(
@@ -439,7 +472,7 @@ CONFIG = {
     ),
     "triggers": table(
         Spec("time", "real", lo=0.0, unit="t' (s with [physical])", doc="when"),
-        Spec("block", "int", lo=0, doc="which block (0-based, < blocks)"),
+        Spec("block", "int", lo=0, doc="which block (0-based, < blocks; lattice: [i, j])"),
         Spec("kind", "choice", choices=("kick", "release")),
         Spec(
             "velocity",

@@ -390,7 +390,13 @@ def report(out) -> dict:
         "events": st["n_events"],
         "events_running": 0 if events is None else len(events) - st["n_events"],
         "ruptures": st["n_ruptures"],
-        "moment": {"units": units, "definition": MOMENT_DEFINITION},
+        "moment": {
+            "units": units,
+            # (the catalog's own: a planar model's is int slip dA)
+            "definition": (cat.attrs.get("descriptions", {}) if cat is not None else {}).get(
+                "moment", MOMENT_DEFINITION
+            ),
+        },
         "magnitude": {
             "min": _finite(st["magnitude_min"]),
             "max": _finite(st["magnitude_max"]),

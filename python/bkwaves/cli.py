@@ -490,10 +490,11 @@ def run(args) -> int | None:
     runaway = summary.extra.get("stop") == "long_event"
     if not args.json_out:
         state = "stopped (an event does not end)" if runaway else "done"
+        ruptures = summary.extra.get("ruptures", 0)
+        counts = [_count(summary.events, "event")] if summary.events is not None else []
+        counts += [_count(ruptures, "rupture")] if ruptures is not None else []
         _echo(
-            f"{summary.model}: {state} at t = {_time_text(summary)}, "
-            f"{_count(summary.events, 'event')}, "
-            f"{_count(summary.extra.get('ruptures', 0), 'rupture')}, "
+            f"{summary.model}: {state} at t = {_time_text(summary)}, {', '.join(counts)}, "
             f"{_count(summary.snapshots, 'snapshot')}, {summary.wall_s:.2f} s -> {summary.out}"
         )
     if runaway:
@@ -509,8 +510,11 @@ def run(args) -> int | None:
 RUN = Command(
     "run",
     run,
-    "Run a chain or free-boundary simulation described by CONFIG.toml.",
-    """Run a chain or free-boundary simulation described by CONFIG.toml.
+    "Run a simulation described by CONFIG.toml (chain, free_boundary, lattice, free_boundary_2d).",
+    """Run a simulation described by CONFIG.toml: its model = "chain", "free_boundary",
+    "lattice" (blocks on a plane, [domain] shape = [nx, ny]) or "free_boundary_2d" (the
+    free boundary problem in the plane, [domain] shape and spacing); planar snapshots have
+    dims (t, y, x) and `bkwaves plot` draws their maps.
 
     Snapshots go to OUT (NetCDF or Zarr by suffix); the event catalog and trajectories to
     OUT.events.parquet/.csv and OUT.slips/shocks.parquet. Until the run is complete they are

@@ -1,4 +1,4 @@
-"""Run configurations: one TOML schema for chain and free-boundary runs.
+"""Run configurations: one TOML schema for every run model (``bkwaves._models``).
 
 Every key is checked when the file is read: unknown keys, wrong types and out-of-range
 values raise :class:`bkwaves.ParameterError` with the key's path (``initial.kind``) and
@@ -6,7 +6,8 @@ the allowed values. See ``examples/`` for one file per use case.
 
 Schema (all sections optional except those marked)::
 
-    model = "chain" | "free_boundary"          # required
+    model = "chain" | "free_boundary" | "lattice" | "free_boundary_2d"   # required: one entry
+                                               # of bkwaves._models: what it takes below
     seed = 0                                   # random initial states, [disorder], [noise]
                                                # (none given: a fresh seed is drawn when
                                                # something is random, and recorded)
@@ -48,7 +49,9 @@ Schema (all sections optional except those marked)::
                 renormalised c_eff of a disordered medium; default: c = 1/sqrt(1 - u^2)
                 (bk.free_boundary.speed_table, docs/free_boundary.md)
 
-    [domain]    blocks (chain) | length + grid (free boundary), boundary
+    [domain]    blocks (chain) | length + grid (free boundary) |
+                shape = [nx, ny], dy (lattice) | shape, spacing (free_boundary_2d),
+                boundary (planar models: one name or [along x, along y])
 
     [initial]   kind = "uniform" (value) | "ramp" (start, end) |
                 "random" (mean, amplitude, correlation_length) |
@@ -58,7 +61,7 @@ Schema (all sections optional except those marked)::
                                   the ground; 0 = all stuck)
 
     [[triggers]] time, block, kind = "kick" (velocity: forward speed added, default 1) |
-                 "release"   (chain only)
+                 "release"   (chain; lattice: block = [i, j])
 
     [run]       t_end and/or max_events; chain: max_event_slips, max_event_duration
                 (runaway bounds of one event; see docs/usage.md); step (time step /
@@ -66,7 +69,8 @@ Schema (all sections optional except those marked)::
                 step_tolerance (rk4 step-size control; default none: the fixed step),
                 as bkwaves.Chain takes them (docs/chain.md, "Algorithm")
     [output]    path, snapshot_every (time) or snapshot_events (every k events),
-                units = "native" | "dimensionless"
+                units = "native" | "dimensionless", arrivals (planar models: the
+                arrival time of every node in every event or rupture, a table)
 
 Units: with [params] everything is dimensionless (the paper's x', t', u). With [physical]
 times (t_end, snapshot_every, trigger times) are in seconds, lengths (domain.length, bump
@@ -87,7 +91,7 @@ from typing import Any
 
 import numpy as np
 
-from . import _core, models
+from . import _core, _models
 from . import _validate as V
 from . import friction as laws
 from ._core import ParameterError
@@ -97,14 +101,22 @@ from .params import Params
 
 __all__ = ["RunConfig", "load_config", "parse_config", "initial_state"]
 
-MODELS = models.NAMES
-BOUNDARIES = {name: models.get(name).boundaries for name in MODELS}
+MODELS = _models.NAMES
+BOUNDARIES = {name: _models.get(name).boundaries for name in MODELS}
 INITIAL_KINDS = ("uniform", "ramp", "random", "bumps", "file")
 TRIGGER_KINDS = TRIGGERS
 
 
 def _err(path: str, msg: str):
     raise ParameterError(f"{path}: {msg}")
+
+
+def _models_with(attr: str) -> str:
+    """The models whose entry has ``attr``, in words: "the chain model only (and the
+    lattice model)"."""
+    names = [n for n in _models.NAMES if getattr(_models.get(n), attr)]
+    rest = f" (and the {', '.join(names[1:])} model{'s' if len(names) > 2 else ''})"
+    return f"the {names[0]} model only" + (rest if names[1:] else "")
 
 
 def _table(d: Any, path: str) -> dict:
@@ -198,7 +210,7 @@ class InitialSpec:
 @dataclass(frozen=True)
 class Trigger:
     time: float
-    block: int
+    block: int | tuple[int, int]  # a chain's block, a lattice's (i, j)
     kind: str
     velocity: float = 0.0
 
@@ -217,8 +229,8 @@ class RunConfig:
         The engine.
     params : bkwaves.Params
         gamma, v, dx, beta (dimensionless).
-    boundary : str
-        The boundary condition.
+    boundary : str or tuple of str
+        The boundary condition (a planar model's: (along x, along y)).
     initial : InitialSpec
         The initial state (``[initial]``).
     blocks : int, default 0
@@ -227,6 +239,12 @@ class RunConfig:
         Length of a free boundary domain (dimensionless x).
     grid : int, default 0
         Nodes of a free boundary grid.
+    shape : tuple of int, default ()
+        A planar model's (nx, ny): blocks or grid nodes along x and y.
+    dy : float, optional
+        The lattice's spacing across, sqrt(k_p/k_y) (dimensionless; None: dx).
+    spacing : float, default 0
+        The planar free boundary grid's node spacing h (dimensionless x).
     triggers : tuple of Trigger, default ()
         Kicks and releases (times in units of sqrt(m/k_p)).
     t_end : float, optional
@@ -251,6 +269,8 @@ class RunConfig:
         A snapshot every this many events.
     output_units : {"native", "physical"}, default "native"
         Units of the outputs.
+    arrivals : bool, default False
+        A planar model writes the arrivals table (``[output] arrivals``).
     seed : int, optional
         The seed of every random draw.
     title : str, default ""
@@ -278,11 +298,14 @@ class RunConfig:
 
     model: str
     params: Params
-    boundary: str
+    boundary: str | tuple[str, str]  # a planar model's: (along x, along y)
     initial: InitialSpec
     blocks: int = 0
     length: float = 0.0
     grid: int = 0
+    shape: tuple[int, int] | tuple = ()  # a planar model's (nx, ny)
+    dy: float | None = None  # the lattice's spacing across (None: dx)
+    spacing: float = 0.0  # the planar free boundary's grid spacing
     triggers: tuple[Trigger, ...] = ()
     t_end: float | None = None
     max_events: int | None = None
@@ -295,6 +318,7 @@ class RunConfig:
     snapshot_every: float | None = None
     snapshot_events: int | None = None
     output_units: str = "native"
+    arrivals: bool = False
     seed: int | None = None
     title: str = ""
     disorder: tuple = ()
@@ -442,7 +466,7 @@ class RunConfig:
         >>> cfg.x()[:3], len(cfg.x())
         (array([0. , 0.1, 0.2]), 200)
         """
-        return models.get(self.model).x(self)
+        return _models.get(self.model).x(self)
 
 
 def _friction(doc: dict) -> tuple[laws.Law, dict]:
@@ -524,7 +548,7 @@ def _params(doc: dict) -> Params:
         _err("friction", str(e))
 
 
-def _disorder(doc: dict, model: models.Model) -> tuple:
+def _disorder(doc: dict, model: _models.Model) -> tuple:
     """The [disorder] table as ((property, spec), ...): spec a float, a tuple of
     floats or a dict {distribution, mean, spread} (or, where the model has them, a
     smooth random field {mean, amplitude, correlation_length})."""
@@ -571,7 +595,7 @@ def _disorder(doc: dict, model: models.Model) -> tuple:
     return tuple(out)
 
 
-def _noise(doc: dict, model: models.Model, ts: float, ls: float, vs: float) -> dict | None:
+def _noise(doc: dict, model: _models.Model, ts: float, ls: float, vs: float) -> dict | None:
     """The [noise] table, dimensionless (``model.scale_noise``). Free boundary: rate per
     unit x' and t' (an SI rate, 1/(m s), times ls ts); chain: rate per block and unit t'
     (1/s times ts) and the kick speed in u_t units (m/s divided by vs)."""
@@ -583,13 +607,12 @@ def _noise(doc: dict, model: models.Model, ts: float, ls: float, vs: float) -> d
     return model.scale_noise(noise, ts, ls, vs)
 
 
-def _speed(doc: dict, model: models.Model) -> dict | None:
+def _speed(doc: dict, model: _models.Model) -> dict | None:
     """The [speed] table (free boundary): the front-speed law {u_plus, c}, validated."""
     if "speed" not in doc:
         return None
     if not model.speed_law:
-        with_speed = [n for n in models.NAMES if models.get(n).speed_law]
-        _err("speed", f"a front-speed law applies to the {' and '.join(with_speed)} model only")
+        _err("speed", f"a front-speed law applies to {_models_with('speed_law')}")
     t = _table(doc["speed"], "speed")
     _keys(t, "speed", ("u_plus", "c"), ("u_plus", "c"))
     for k in ("u_plus", "c"):
@@ -619,7 +642,7 @@ def threshold_field(cfg: RunConfig, x: np.ndarray | None = None) -> np.ndarray |
     """The static threshold at the grid nodes of a free boundary config (None: uniform 1),
     from [disorder] threshold (drawn ones with the config's seed, the threshold's stream)."""
     spec = dict(cfg.disorder).get("threshold")
-    if not models.get(cfg.model).threshold_field or spec is None:
+    if not _models.get(cfg.model).threshold_field or spec is None:
         return None
     x = cfg.x() if x is None else x
     n = len(x)
@@ -678,10 +701,10 @@ def _u(t: dict, key: str, path: str, default=_REQUIRED) -> float:
     return _num(t, key, path, default, lo=-U_LIMIT, hi=U_LIMIT)
 
 
-def _initial(doc: dict, model: models.Model) -> InitialSpec:
+def _initial(doc: dict, model: _models.Model) -> InitialSpec:
     p = "initial"
     t = _table(doc.get("initial", {"kind": "uniform", "value": 0.0}), p)
-    kind = _value(t, "kind", p, V.Spec("kind", "choice", choices=INITIAL_KINDS))
+    kind = _value(t, "kind", p, V.Spec("kind", "choice", choices=model.initial_kinds))
     common = ("kind", "velocity") if model.initial_velocity else ("kind",)
     velocity = _num(t, "velocity", p, 0.0, lo=-U_LIMIT, hi=U_LIMIT) if common[1:] else 0.0
     if kind == "uniform":
@@ -790,10 +813,20 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     doc = _table(doc, "(top level)")
     _keys(doc, "", TOP_KEYS, ("model",))
     model = _cfg(doc, "model", "")
-    entry = models.get(model)
+    entry = _models.get(model)
     seed = _cfg(doc, "seed", "", None)
     title = _cfg(doc, "title", "", "")
     params = _params(doc)
+    if entry.coulomb_only:
+        for where in ("params", "friction"):
+            t = doc.get(where)
+            if isinstance(t, dict) and "beta" in t and params.beta != math.inf:
+                _err(
+                    f"{where}.beta",
+                    f"invalid beta = {t['beta']}: the {model} model has no backward slip "
+                    "(its fronts leave u_-(u_+) behind and nothing slips backward): allowed "
+                    "beta = inf or no beta (a finite beta applies to the chain and lattice)",
+                )
     if entry.coulomb_only and params.law.name != "coulomb":
         phys = doc.get("physical")
         key = "physical.V_f" if isinstance(phys, dict) and "V_f" in phys else "friction.law"
@@ -807,7 +840,6 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     d = _table(doc.get("domain", {}), "domain")
     _keys(d, "domain", entry.domain_keys, entry.domain_required)
     domain = entry.parse_domain(d, lambda t, key, *default: _cfg(t, key, "domain", *default))
-    blocks = domain.get("blocks", 0)
     if "boundary" not in domain:
         domain["boundary"] = _cfg(d, "boundary", "domain", "free", choices=entry.boundaries)
 
@@ -818,21 +850,17 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     triggers = []
     raw = doc.get("triggers", [])
     if not entry.triggers and raw:
-        with_triggers = [n for n in models.NAMES if models.get(n).triggers]
-        _err("triggers", f"triggers apply to the {' and '.join(with_triggers)} model only")
+        _err("triggers", f"triggers apply to {_models_with('triggers')}")
     if not isinstance(raw, list):
         _err("triggers", "expected an array of tables [[triggers]]")
     for i, tr in enumerate(raw):
         q = f"triggers[{i}]"
         tr = _table(tr, q)
         kind = _value(tr, "kind", q, V.CONFIG["triggers"]["kind"])
-        allowed = (
-            ("time", "block", "kind", "velocity") if kind == "kick" else ("time", "block", "kind")
-        )
-        _keys(tr, q, allowed, ("block",))
-        block = _value(tr, "block", q, V.CONFIG["triggers"]["block"])
-        if block >= blocks:
-            _err(f"{q}.block", f"invalid block = {block}: allowed 0 <= block < {blocks}")
+        places = entry.trigger_places
+        allowed = ("time", *places, "kind", *(("velocity",) if kind == "kick" else ()))
+        _keys(tr, q, allowed, places if len(places) == 1 else ())
+        block = entry.trigger_block(tr, q, domain)
         triggers.append(
             Trigger(
                 time=_value(tr, "time", q, V.CONFIG["triggers"]["time"], 0.0),
@@ -871,14 +899,15 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         _err("run", "give t_end, max_events or both")
     for key in CHAIN_RUN_KEYS:
         if key in r and not entry.chain_run_keys:
-            with_keys = [n for n in models.NAMES if models.get(n).chain_run_keys]
-            _err(f"run.{key}", f"applies to the {' and '.join(with_keys)} model only")
+            _err(f"run.{key}", f"applies to {_models_with('chain_run_keys')}")
     _check_integration(step, integrator, step_tolerance)
 
     o = _table(doc.get("output", {}), "output")
     _keys(o, "output", tuple(V.CONFIG["output"]))
     if "snapshot_every" in o and "snapshot_events" in o:
         _err("output", "give at most one of snapshot_every or snapshot_events")
+    if "arrivals" in o and not entry.arrivals:
+        _err("output.arrivals", f"applies to {_models_with('arrivals')}")
     out_path = _cfg(o, "path", "output", None)
     if out_path is not None and not out_path:
         _err("output.path", "expected a file name, got ''")
@@ -938,6 +967,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         snapshot_every=None if snapshot_every is None else snapshot_every / ts,
         snapshot_events=_cfg(o, "snapshot_events", "output", None),
         output_units=_cfg(o, "units", "output", "native"),
+        arrivals=_cfg(o, "arrivals", "output", False),
         seed=seed,
         title=title,
         disorder=_scaled_disorder(_disorder(doc, entry), ls),
@@ -948,6 +978,10 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     # a random config without a seed gets a fresh one now: the drawn properties checked
     # here are the ones the run uses, and cfg.to_dict() records the seed
     cfg = cfg.seeded()
+    from .limits import check_memory
+
+    # (before any field of the domain's size is drawn)
+    check_memory(entry.size_key, model, entry.nodes(cfg), entry.size_text(cfg))
     entry.check_keys(cfg)
     _check_field_lengths(cfg)  # (before a field is drawn: its size follows from them)
     arrays = entry.property_arrays(cfg)
@@ -967,7 +1001,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
 
 #: The largest bound on the midpoint iteration's contraction factor the engine accepts
 #: (the core's MIDPOINT_CONTRACTION: its 200 passes then reach round-off).
-MIDPOINT_CONTRACTION = models.chain.MIDPOINT_CONTRACTION
+MIDPOINT_CONTRACTION = _models.chain.MIDPOINT_CONTRACTION
 
 #: [run] keys of the chain model only.
 CHAIN_RUN_KEYS = ("max_event_slips", "max_event_duration", "step", "integrator", "step_tolerance")
@@ -1018,7 +1052,7 @@ def _check_field_lengths(cfg: RunConfig) -> None:
     """The correlation lengths of smooth random fields: at most MAX_CORRELATION_DOMAINS
     times the domain (a threshold field of correlation_length 1e8 allocated 8.9 GiB,
     1e300 overflowed inside numpy)."""
-    span = models.get(cfg.model).span(cfg)
+    span = _models.get(cfg.model).span(cfg)
     fields = [("initial.correlation_length", cfg.initial.correlation_length)]
     fields = fields if cfg.initial.kind == "random" else []
     for k, spec in cfg.disorder:
@@ -1037,7 +1071,7 @@ def _check_field_lengths(cfg: RunConfig) -> None:
 def _check_derived(cfg: RunConfig) -> None:
     """Quantities derived from several keys: finite, and meaningful for the model."""
     p = cfg.params
-    entry = models.get(cfg.model)
+    entry = _models.get(cfg.model)
     if cfg.physical:
         u = p.units
         ls, ts = u.length_scale, u.time_scale
@@ -1073,7 +1107,7 @@ def _to_doc(cfg: RunConfig) -> dict:
         doc["speed"] = {k: list(v) for k, v in cfg.speed.items()}
     if cfg.disorder:
         doc["disorder"] = {k: list(x) if isinstance(x, tuple) else x for k, x in cfg.disorder}
-    doc["domain"] = models.get(cfg.model).domain_doc(cfg)
+    doc["domain"] = _models.get(cfg.model).domain_doc(cfg)
     s = cfg.initial
     ini: dict = {"kind": s.kind}
     if s.kind == "uniform":
@@ -1090,12 +1124,16 @@ def _to_doc(cfg: RunConfig) -> dict:
         )
     else:
         ini["path"] = s.path
-    if models.get(cfg.model).initial_velocity:
+    if _models.get(cfg.model).initial_velocity:
         ini["velocity"] = s.velocity
     doc["initial"] = ini
     if cfg.triggers:
         doc["triggers"] = [
-            {"time": t.time, "block": t.block, "kind": t.kind}
+            {
+                "time": t.time,
+                **_models.get(cfg.model).trigger_doc(t.block),
+                "kind": t.kind,
+            }
             | ({"velocity": t.velocity} if t.kind == "kick" else {})
             for t in cfg.triggers
         ]
@@ -1119,6 +1157,8 @@ def _to_doc(cfg: RunConfig) -> dict:
         out["snapshot_every"] = cfg.snapshot_every
     if cfg.snapshot_events is not None:
         out["snapshot_events"] = cfg.snapshot_events
+    if cfg.arrivals:
+        out["arrivals"] = True
     doc["output"] = out
     return doc
 
@@ -1219,7 +1259,8 @@ def _smooth_random(x: np.ndarray, corr: float, rng: np.random.Generator, periodi
 
 
 def initial_state(cfg: RunConfig) -> np.ndarray:
-    """The initial u at the nodes ``cfg.x()`` (dimensionless).
+    """The initial u at the nodes ``cfg.x()`` (dimensionless; a planar model's shaped
+    (ny, nx)).
 
     Parameters
     ----------
@@ -1229,7 +1270,7 @@ def initial_state(cfg: RunConfig) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        u at the nodes (dimensionless).
+        u at the nodes (dimensionless; shaped (ny, nx) on a plane).
 
     Examples
     --------
@@ -1242,6 +1283,11 @@ def initial_state(cfg: RunConfig) -> np.ndarray:
     >>> bk.config.initial_state(cfg)[:3]
     array([0.6, 0.6, 0.6])
     """
+    return _models.get(cfg.model).initial_state(cfg)
+
+
+def initial_line(cfg: RunConfig) -> np.ndarray:
+    """The initial u of a model on a line, at the nodes ``cfg.x()``."""
     x = cfg.x()
     s = cfg.initial
     if s.kind == "uniform":
@@ -1269,5 +1315,5 @@ def initial_state(cfg: RunConfig) -> np.ndarray:
     }[s.kind]
     if not np.all(np.isfinite(u)) or np.max(np.abs(u)) > U_LIMIT:
         _err(key, f"the initial state has values outside |u| <= {U_LIMIT:g} (or not finite)")
-    models.get(cfg.model).check_initial(cfg, u, x, key)
+    _models.get(cfg.model).check_initial(cfg, u, x, key)
     return u

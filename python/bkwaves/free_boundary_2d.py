@@ -660,9 +660,15 @@ class FreeBoundary2D:
         10.0
         """
         from . import _checkpoint
-        from ._checkpoint import params_from_record, restore_engine
 
         meta, arrays = _checkpoint.read(path, "free_boundary_2d", "FreeBoundary2D.save")
+        return FreeBoundary2D._from_record(meta, arrays, path)
+
+    @staticmethod
+    def _from_record(meta: dict, arrays: dict, source) -> FreeBoundary2D:
+        """The engine of a record (:meth:`_record`, read from ``source``)."""
+        from ._checkpoint import params_from_record, restore_engine
+
         fb = FreeBoundary2D.__new__(FreeBoundary2D)
         fb.params = params_from_record(meta["params"])
         fb.nx, fb.ny = (int(n) for n in meta["shape"])
@@ -680,7 +686,7 @@ class FreeBoundary2D:
         u0 = np.zeros((fb.ny, fb.nx)) if fb.threshold is None else 0.5 * fb.threshold
         fb._engine = fb._new_engine(u0)
         fb._set_noise()
-        restore_engine(fb._engine, arrays, path)
+        restore_engine(fb._engine, arrays, source)
         fb._snap_t = [float(t) for t in arrays["snap_t"]]
         fb._snap_u = [np.array(u) for u in arrays["snap_u"]]
         fb._snap_live = [int(n) for n in arrays["snap_live"]]

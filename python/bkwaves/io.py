@@ -397,7 +397,8 @@ def _read_marker(partial: Path) -> dict | None:
 
 
 class RunWriter:
-    """Append snapshots of fields on a fixed grid ``x`` and tables of rows, in blocks.
+    """Append snapshots of fields on a fixed grid ``x`` (and ``y``: a planar grid, the
+    fields' dims then (t, y, x)) and tables of rows, in blocks.
 
     ``variables`` maps names to ``(units, long_name, dtype)`` or ``(units, long_name,
     dtype, {more attributes})``; ``coord_units`` gives the units of ``x`` and ``t`` and
@@ -424,6 +425,9 @@ class RunWriter:
         default).
     variables : dict
         Name -> ``(units, long_name, dtype[, attrs])``.
+    y : array_like, optional
+        Positions across of a planar grid (dimensionless or m): the fields' dims are then
+        (t, y, x).
     attrs : dict, optional
         Global attributes.
     coord_units : tuple of str, default ("1", "1")
@@ -461,6 +465,7 @@ class RunWriter:
         x,
         variables: dict,
         *,
+        y=None,
         attrs: dict | None = None,
         coord_units: tuple[str, str] = ("1", "1"),
         coord_attrs: tuple[dict, dict] = ({}, {}),
@@ -473,6 +478,10 @@ class RunWriter:
         self.path = _check_path(path)
         self.partial = partial_path(self.path)
         self.x = np.asarray(x, dtype=float)
+        self.y = None if y is None else np.asarray(y, dtype=float)
+        # the dims of a snapshot field and the shape of one record
+        self.space = ("x",) if self.y is None else ("y", "x")
+        self.record_shape = (len(self.x),) if self.y is None else (len(self.y), len(self.x))
         self.variables = {}
         for name, spec in variables.items():
             units, long_name, dtype, *more = spec
@@ -646,31 +655,19 @@ class RunWriter:
     def _dataset(self, t, fields):
         import xarray as xr
 
+        coords = {"t": ("t", np.asarray(t, dtype=float), self._coord_attrs("t"))}
+        for name in self.space:
+            coords[name] = (name, getattr(self, name), self._coord_attrs(name))
         return xr.Dataset(
             {
                 name: (
-                    ("t", "x"),
+                    ("t", *self.space),
                     np.asarray(fields[name], dtype=dt),
                     {"units": u, "long_name": ln, **more},
                 )
                 for name, (u, ln, dt, more) in self.variables.items()
             },
-            coords={
-                "t": (
-                    "t",
-                    np.asarray(t, dtype=float),
-                    {"units": self.t_units, "long_name": "time", **self.t_attrs},
-                ),
-                "x": (
-                    "x",
-                    self.x,
-                    {
-                        "units": self.x_units,
-                        "long_name": "position along the chain",
-                        **self.x_attrs,
-                    },
-                ),
-            },
+            coords=coords,
             attrs=self.attrs,
         )
 
@@ -687,13 +684,16 @@ class RunWriter:
         bio = io.BytesIO()
         with h5netcdf.File(bio, "w") as f:
             f.attrs.update(self.attrs)
-            f.dimensions = {"t": len(t), "x": len(self.x)}
-            for name, data in (("t", np.asarray(t, dtype=float)), ("x", self.x)):
+            f.dimensions = {"t": len(t), **{k: len(getattr(self, k)) for k in self.space}}
+            coords = [("t", np.asarray(t, dtype=float))] + [
+                (k, getattr(self, k)) for k in self.space
+            ]
+            for name, data in coords:
                 v = f.create_variable(name, (name,), "f8", data=data)
                 v.attrs.update(self._coord_attrs(name))
             for name, (u, ln, dt, more) in self.variables.items():
                 data = np.asarray(fields[name], dtype=dt)
-                v = f.create_variable(name, ("t", "x"), dt, data=data)
+                v = f.create_variable(name, ("t", *self.space), dt, data=data)
                 v.attrs.update({"units": u, "long_name": ln, **more})
         return bio.getvalue()
 
@@ -704,7 +704,7 @@ class RunWriter:
         and a signal must not wait for it."""
         import zarr
 
-        nx = len(self.x)
+        nx = int(np.prod(self.record_shape))
         row = max(1, nx * max(dt.itemsize for _, _, dt, _ in self.variables.values()))
         chunk_t = int(min(max(1, (1 << 20) // row), 4096))
         g = zarr.open_group(str(self._zarr_store), mode="w", zarr_format=3)
@@ -728,15 +728,21 @@ class RunWriter:
                 a[...] = data
 
         array("t", ("t",), (0,), (4096,), "f8", self._coord_attrs("t"))
-        array("x", ("x",), (nx,), (max(nx, 1),), "f8", self._coord_attrs("x"), self.x)
+        for k in self.space:
+            c = getattr(self, k)
+            array(k, (k,), (len(c),), (max(len(c), 1),), "f8", self._coord_attrs(k), c)
+        shape = self.record_shape
         for name, (u, ln, dt, more) in self.variables.items():
             attrs = {"units": u, "long_name": ln, **more}
-            array(name, ("t", "x"), (0, nx), (chunk_t, nx), dt, attrs)
+            array(name, ("t", *self.space), (0, *shape), (chunk_t, *shape), dt, attrs)
 
     def _coord_attrs(self, name: str) -> dict:
         if name == "t":
             return {"units": self.t_units, "long_name": "time", **self.t_attrs}
-        return {"units": self.x_units, "long_name": "position along the chain", **self.x_attrs}
+        if name == "y":
+            return {"units": self.x_units, "long_name": "position across", **self.x_attrs}
+        along = "position along the chain" if self.y is None else "position along the slip"
+        return {"units": self.x_units, "long_name": along, **self.x_attrs}
 
     # --- appending ---------------------------------------------------------------------
 
@@ -788,9 +794,8 @@ class RunWriter:
         if missing:
             raise ParameterError(f"snapshot misses variables {sorted(missing)}")
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        nx = len(self.x)
         for name, (_, _, dt, _) in self.variables.items():
-            a = np.asarray(fields[name], dtype=dt).reshape(len(t), nx)
+            a = np.asarray(fields[name], dtype=dt).reshape(len(t), *self.record_shape)
             self._buf[name].append(a)
             self._buf_bytes += a.nbytes
         self._buf_t.extend(t.tolist())
@@ -920,7 +925,8 @@ class RunWriter:
     @property
     def record_bytes(self) -> int:
         """Bytes of one snapshot in memory (the fields and its time)."""
-        return 8 + len(self.x) * sum(dt.itemsize for _, _, dt, _ in self.variables.values())
+        nodes = int(np.prod(self.record_shape))
+        return 8 + nodes * sum(dt.itemsize for _, _, dt, _ in self.variables.values())
 
     @property
     def records(self) -> int:
@@ -1203,7 +1209,8 @@ def _copy_nc(src: Path, k: int | None = None, dst=None, merged: bool = False):
         f.attrs.update(dict(s.attrs))
         nt = s.dimensions["t"].size
         k = nt if k is None else min(k, nt)
-        f.dimensions = {"t": None if merged else k, "x": s.dimensions["x"].size}
+        space = {d: s.dimensions[d].size for d in s.dimensions if d != "t"}
+        f.dimensions = {"t": None if merged else k, **space}
         if merged:
             f.resize_dimension("t", k)
         for name, var in s.variables.items():
@@ -1213,6 +1220,14 @@ def _copy_nc(src: Path, k: int | None = None, dst=None, merged: bool = False):
                 item = var.dtype.itemsize
                 if len(var.dimensions) == 2:
                     kw["chunks"] = nc_chunks(s.dimensions["x"].size, item)
+                elif len(var.dimensions) == 3:  # (t, y, x): whole records where they fit
+                    ny, nx = (space[d] for d in var.dimensions[1:])
+                    record = ny * nx * item
+                    if record <= NC_CHUNK_BYTES:
+                        kw["chunks"] = (max(1, min(4096, NC_CHUNK_BYTES // record)), ny, nx)
+                    else:  # else rows of x (pieces of a row)
+                        _, cx = nc_chunks(nx, item)
+                        kw["chunks"] = (1, max(1, min(ny, NC_CHUNK_BYTES // (cx * item))), cx)
                 else:
                     kw["chunks"] = (max(1, min(4096, NC_CHUNK_BYTES // item)),)
             v = f.create_variable(name, var.dimensions, var.dtype, **kw)
@@ -1426,7 +1441,8 @@ def load(path):
     dataset : xarray.Dataset
         The snapshots, with the config, version, seed and units in its attributes.
     catalog : pandas.DataFrame or None
-        The event catalog (None if the run wrote none), its column units in
+        The event catalog (None if the run wrote none; the ruptures of a
+        ``free_boundary_2d`` run, whose events are its ruptures), its column units in
         ``catalog.attrs["units"]``.
 
     Examples
@@ -1445,7 +1461,8 @@ def load(path):
     (('t', 'x'), 2)
     """
     ds, tables = load_tables(path)
-    return ds, tables.get("events")
+    # (a planar free boundary run's events are its ruptures: it writes those only)
+    return ds, tables.get("events", tables.get("ruptures"))
 
 
 def load_tables(path):
@@ -1580,5 +1597,5 @@ def _open_zarr(store: Path, out: Path):
         )
         values = a[:n] if dims and dims[0] == "t" else a[:]
         attrs = {k: v for k, v in a.attrs.items() if k != "_ARRAY_DIMENSIONS"}
-        (coords if name in ("t", "x") else data)[name] = (dims, values, attrs)
+        (coords if name in ("t", "x", "y") else data)[name] = (dims, values, attrs)
     return xr.Dataset(data, coords=coords, attrs=dict(g.attrs))

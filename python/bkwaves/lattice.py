@@ -26,7 +26,14 @@ import numpy as np
 from . import _validate as V
 from .chain import DEFAULT_STEP, INTEGRATORS, UNITS, Chain, ChainResult
 
-__all__ = ["Lattice", "LatticeResult", "PlanarFront", "Rupture", "front", "rupture"]
+__all__ = [
+    "Lattice",
+    "LatticeResult",
+    "PlanarFront",
+    "Rupture",
+    "front",
+    "rupture",
+]
 
 
 @dataclass
@@ -121,6 +128,41 @@ class LatticeResult(ChainResult):
         out = np.zeros(nx * ny)
         out[total.index.to_numpy()] = np.nan_to_num(total.to_numpy())
         return out.reshape(ny, nx)
+
+
+#: What the moment of an event on the lattice is.
+PLANAR_MOMENT = (
+    "the event's moment: the integral of slip over the area, dx dy times the sum of its "
+    "blocks' slips"
+)
+
+
+def _planar_slips(s, nx: int, dx: float, dy: float):
+    """The chain engine's slip records of a lattice of ``nx`` columns with each block's
+    column i, row j and position (x, y) = (i dx, j dy) (block k = i + nx j)."""
+    i, j = s["block"] % nx, s["block"] // nx
+    s["x"] = i * dx
+    s.insert(3, "y", j * dy)
+    s.insert(2, "i", i)
+    s.insert(3, "j", j)
+    return s
+
+
+def _planar_catalog(cat, nx: int, dx: float, dy: float, moment_scale: float):
+    """The chain engine's event catalog of a lattice of ``nx`` columns: the hypocentre
+    (i, j, x, y) of each event (its nucleation block), its area (blocks slipped x dx dy),
+    and its moment times ``moment_scale`` (the engine sums block slips: dx dy for int
+    slip dA; dy for a chain catalog whose moment is int slip dx already); the chain's
+    first and last block dropped (no extent along a line)."""
+    c = cat.drop(columns=["first_block", "last_block"])
+    c["moment"] = c["moment"] * moment_scale
+    hi, hj = c["nucleation"] % nx, c["nucleation"] // nx
+    c.insert(4, "hypocentre_i", hi)
+    c.insert(5, "hypocentre_j", hj)
+    c.insert(6, "hypocentre_x", hi * dx)
+    c.insert(7, "hypocentre_y", hj * dy)
+    c["area"] = c["n_blocks"] * dx * dy
+    return c
 
 
 def _pair(name, value, allowed) -> tuple:
@@ -525,31 +567,16 @@ class Lattice(Chain):
         boundary = f"{self.boundary} x {self.boundary_y}"
 
         def slips():
-            s = chain_slips()
-            i, j = s["block"] % nx, s["block"] // nx
-            s["x"] = i * dx
-            s.insert(3, "y", j * dy)
-            s.insert(2, "i", i)
-            s.insert(3, "j", j)
+            s = _planar_slips(chain_slips(), nx, dx, dy)
             s.attrs["units"]["y"] = UNITS["x"]
             return s
 
         def catalog():
             cat = chain_catalog()
-            c = cat.drop(columns=["first_block", "last_block"])
-            c.attrs = {k: dict(v) for k, v in cat.attrs.items()}
             # the chain's moment is int slip dx; the plane's is int slip dA = dx dy sum
-            c["moment"] = c["moment"] * dy
-            c.attrs.setdefault("descriptions", {})["moment"] = (
-                "the event's moment: the integral of slip over the area, dx dy times the sum "
-                "of its blocks' slips"
-            )
-            hi, hj = c["nucleation"] % nx, c["nucleation"] // nx
-            c.insert(4, "hypocentre_i", hi)
-            c.insert(5, "hypocentre_j", hj)
-            c.insert(6, "hypocentre_x", hi * dx)
-            c.insert(7, "hypocentre_y", hj * dy)
-            c["area"] = c["n_blocks"] * dx * dy
+            c = _planar_catalog(cat, nx, dx, dy, moment_scale=dy)
+            c.attrs = {k: dict(v) for k, v in cat.attrs.items()}
+            c.attrs.setdefault("descriptions", {})["moment"] = PLANAR_MOMENT
             c.attrs["units"] = c.attrs.get("units", {}) | {
                 "hypocentre_x": UNITS["x"],
                 "hypocentre_y": UNITS["x"],

@@ -53,7 +53,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import models
+from . import _models
 from ._core import ParameterError
 
 __all__ = ["LIMITS", "Estimate", "LongRunWarning", "estimate", "check_sizes", "memory_bytes"]
@@ -193,7 +193,7 @@ def memory_bytes(model: str, nodes: int) -> float:
     Parameters
     ----------
     model : str
-        The model (one of ``bkwaves.models.NAMES``).
+        The model (one of ``bkwaves._models.NAMES``).
     nodes : int
         Blocks or grid nodes.
 
@@ -208,17 +208,19 @@ def memory_bytes(model: str, nodes: int) -> float:
     >>> bk.limits.memory_bytes("chain", 1000) == 1000 * bk.limits.LIMITS["chain_bytes_per_block"]
     True
     """
-    per = LIMITS[models.get(model).bytes_per_node_key]
+    per = LIMITS[_models.get(model).bytes_per_node_key]
     return float(per) * nodes
 
 
-def check_memory(name: str, model: str, nodes: int) -> None:
-    """Refuse a chain or grid whose engine state cannot fit in this machine's RAM."""
+def check_memory(name: str, model: str, nodes: int, shown: str | None = None) -> None:
+    """Refuse a chain or grid whose engine state cannot fit in this machine's RAM
+    (``shown``: the value of the key ``name``, default ``nodes``)."""
     need = memory_bytes(model, nodes)
     have = physical_memory()
     if need > have:
         raise ParameterError(
-            f"{name} = {nodes}: the engine state needs about {_bytes(need)}, more than the "
+            f"{name} = {nodes if shown is None else shown}: the engine state needs about "
+            f"{_bytes(need)}, more than the "
             f"{_bytes(have)} of RAM of this machine"
         )
 
@@ -411,7 +413,7 @@ def estimate(cfg, output: bool = True) -> Estimate:
     """
 
     p = cfg.params
-    entry = models.get(cfg.model)
+    entry = _models.get(cfg.model)
     nodes = entry.nodes(cfg)
     work, count, wall_of = entry.work(cfg)
     # (snapshot_every with t_end: the runner schedules every one up to t_end, also when
@@ -502,7 +504,7 @@ def noise_work(
     # near the threshold: frac
     # (chain: plus the blocks the noise itself sets sliding, each for ~pi: accepted
     # candidates at about n rate <G>)
-    blocks = models.get(model).noise_kind == "chain"
+    blocks = _models.get(model).noise_kind == "chain"
     own = n * noise["rate"] * g_mean * math.pi
     busy = min(1.0, n * frac + own) if blocks else frac
     per_g = size * noise["rate"] * t_span  # candidates per unit of the envelope G
@@ -526,7 +528,7 @@ def noise_key(noise: dict | None, model: str = "chain", units=None) -> str | Non
     g_top, _ = noise_envelope(noise)
     rate = f"noise.rate = {noise['rate']:.6g}"
     if units is not None:
-        entry = models.get(model)
+        entry = _models.get(model)
         per, si = entry.noise_per, entry.noise_si
         scale = units.time_scale * units.length_scale**entry.noise_length_power
         rate = (
@@ -661,9 +663,9 @@ def check_sizes(cfg) -> Estimate:
     ...
     bkwaves._core.ParameterError: domain.blocks = 100000000000: the engine state needs...
     """
-    entry = models.get(cfg.model)
+    entry = _models.get(cfg.model)
     nodes = entry.nodes(cfg)
-    check_memory(entry.size_key, cfg.model, nodes)
+    check_memory(entry.size_key, cfg.model, nodes, entry.size_text(cfg))
     if entry.events_need_loading and cfg.params.v == 0 and cfg.t_end is None:
         raise ParameterError(
             "run.max_events: with v = 0 nothing loads the field, so no event can start and "

@@ -533,7 +533,29 @@ def size_frequency(sizes, ax=None, label: str = "event size"):
     ax.set_title(_b_title(stats.gutenberg_richter(s)), fontsize=9)
     ax.set_xlabel(label)
     ax.set_ylabel("fraction of events >= size")
+    if s.size and np.log10(s.max() / s.min()) < 2.0:  # (wider: matplotlib labels none)
+        _sparse_minor_labels(ax.xaxis)
     return ax
+
+
+def _sparse_minor_labels(axis) -> None:
+    """On a log axis spanning about a decade matplotlib labels the minor ticks 2 to 9
+    times a power of ten, and side by side along x they overlap (3 x 10^1, 4 x 10^1):
+    label only those at 2 and 5 times a power of ten."""
+    from matplotlib.ticker import FuncFormatter
+
+    def label(x, pos=None):
+        if not x > 0:
+            return ""
+        e = int(np.floor(np.log10(x) + 1e-9))
+        m = x / 10.0**e
+        return (
+            rf"${round(m)}\times10^{{{e}}}$"
+            if abs(m - round(m)) < 1e-6 and round(m) in (2, 5)
+            else ""
+        )
+
+    axis.set_minor_formatter(FuncFormatter(label))
 
 
 @_styled
@@ -650,15 +672,21 @@ def plot_run(out, outdir=None, fmt: str = "png") -> list[Path]:
     stem = out.name.rsplit(".", 1)[0]
     written = []
     events = tables.get("events")
+    if "y" in ds.dims:  # a planar run: maps (bkwaves._plot_plane)
+        from ._plot_plane import plot_plane
+
+        written += plot_plane(ds, tables, outdir, stem, fmt, run_title(ds.attrs))
     for var in ds.data_vars:
         if set(ds[var].dims) == {"t", "x"} and ds.sizes["t"] > 1:
             if _constant(ds[var].values):
                 continue  # e.g. no block sliding at any snapshot: a blank panel says nothing
             ax = spacetime(ds, var, events=events)
             written.append(save(ax, outdir / f"{stem}_spacetime_{var}.{fmt}"))
-    if "u" in ds:
+    if "u" in ds and "y" not in ds.dims:
         written.append(save(profiles(ds, "u"), outdir / f"{stem}_profiles.{fmt}"))
     for name, df in tables.items():
+        if "y" in df.columns:
+            continue  # a planar run's tables: its maps above
         if {"x", "t"} <= set(df.columns):
             by = next((c for c in ("front", "shock", "event", "id") if c in df.columns), None)
             ax = trajectories(df, by=by)

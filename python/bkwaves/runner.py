@@ -38,11 +38,11 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__, models
+from . import __version__, _models
+from ._models.chain import chain_from_config
 from .catalog import DESCRIPTIONS, MOMENT_SCALE, MOMENT_SI
 from .config import RunConfig
 from .io import NO_SPACE, OutputError, RunWriter, human_bytes, partial_path
-from .models.chain import chain_from_config
 
 __all__ = [
     "OutputFull",
@@ -364,7 +364,7 @@ def _attrs(cfg: RunConfig, units: _Units) -> dict:
         "seed": cfg.seed if cfg.random or cfg.seed is not None else "",
         "config": json.dumps(cfg.to_dict(), default=str),
         "params": json.dumps({k: v for k, v in p.to_dict().items() if k != "units"}),
-        "friction": p.friction if models.get(cfg.model).discrete else "",
+        "friction": p.friction if _models.get(cfg.model).discrete else "",
         "friction_law": json.dumps({"law": p.law.name, **p.law_values()}),
         "physical_units": json.dumps(p.units.__dict__) if p.units is not None else "",
         "units_system": units.name,
@@ -459,7 +459,7 @@ def run(
         stop_request.raising = False
         if stop_request.requested:  # (before anything is written: nothing to keep)
             raise RunNotStarted(stop_request.signal or signal.SIGINT)
-        model = models.get(cfg.model)
+        model = _models.get(cfg.model)
         summary = model.run(cfg, out, progress, overwrite, flush_every, chunk, ctl)
         if not summary.interrupted and stop_request.requested:
             # a signal after the output was published: it is complete; said, not lost
@@ -599,8 +599,10 @@ class _MemoryWriter:
         self._rows: dict = {}
         self._attrs: dict = {}
 
-    def start(self, x, variables, attrs, coord_units):
+    def start(self, x, variables, attrs, coord_units, y=None):
         self.x, self.variables, self.attrs, self.coord_units = x, variables, attrs, coord_units
+        self.y = y
+        self.record_shape = (len(x),) if y is None else (len(y), len(x))
 
     @property
     def records(self) -> int:
@@ -614,7 +616,8 @@ class _MemoryWriter:
         if self.keep_snapshots:
             self.times.extend(t.tolist())
             for k, v in fields.items():
-                self.fields.setdefault(k, []).append(np.array(v, copy=True).reshape(len(t), -1))
+                rows = np.array(v, copy=True).reshape(len(t), *self.record_shape)
+                self.fields.setdefault(k, []).append(rows)
         self.count += len(t)
 
     def append_rows(self, name, df, units=None, csv=None, scales=None, descriptions=None):
@@ -645,26 +648,27 @@ class _MemoryWriter:
         self.closed = True
 
     def dataset(self):
-        """The snapshots as an xarray Dataset (dims t, x), as bk.load would read them."""
+        """The snapshots as an xarray Dataset (dims t, x; t, y, x on a plane), as bk.load
+        would read them."""
         import xarray as xr
 
         x_units, t_units = self.coord_units
+        space = ("x",) if self.y is None else ("y", "x")
         data = {}
         for k, rows in self.fields.items():
             units, long_name, dtype, *_ = self.variables[k]
             data[k] = (
-                ("t", "x"),
+                ("t", *space),
                 np.concatenate(rows).astype(dtype),
                 {"units": units, "long_name": long_name},
             )
-        return xr.Dataset(
-            data,
-            coords={
-                "t": ("t", np.asarray(self.times), {"units": t_units}),
-                "x": ("x", np.asarray(self.x), {"units": x_units}),
-            },
-            attrs=self.attrs,
-        )
+        coords = {
+            "t": ("t", np.asarray(self.times), {"units": t_units}),
+            "x": ("x", np.asarray(self.x), {"units": x_units}),
+        }
+        if self.y is not None:
+            coords["y"] = ("y", np.asarray(self.y), {"units": x_units})
+        return xr.Dataset(data, coords=coords, attrs=self.attrs)
 
 
 @dataclass
@@ -894,14 +898,26 @@ class _Control:
 
 
 def _open_writer(
-    out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows, engine_attrs=None
+    out,
+    cfg,
+    units,
+    x,
+    variables,
+    ctl,
+    overwrite,
+    flush_every,
+    resume_rows,
+    engine_attrs=None,
+    y=None,
 ):
     """The output writer (None without an output); when resuming it continues after the
     records and table rows the checkpoint counts. ``engine_attrs``: the engine's own
-    attributes (the chain's step, integrator and step_tolerance)."""
+    attributes (the chain's step, integrator and step_tolerance); ``y``: the positions
+    across of a planar model (its snapshots then have dims t, y, x)."""
     attrs = {**_attrs(cfg, units), **(engine_attrs or {})}
+    y = None if y is None else units.x(y)
     if ctl.memory is not None:  # run_result: everything kept in memory
-        ctl.memory.start(units.x(x), variables, attrs, units.coord_units())
+        ctl.memory.start(units.x(x), variables, attrs, units.coord_units(), y=y)
         return ctl.memory
     if not out:
         return None
@@ -909,6 +925,7 @@ def _open_writer(
         out,
         units.x(x),
         variables,
+        y=y,
         attrs=attrs,
         coord_units=units.coord_units(),
         coord_attrs=units.coord_attrs(),
@@ -1035,7 +1052,7 @@ def _write_ruptures(writer, units, rup) -> None:
     """Write the ruptures table in the output units (the magnitude of the moment there)."""
     from .stats import moment_magnitude
 
-    if writer is None:
+    if writer is None or rup is None:
         return
     rup, ru, rs = units.convert_table(
         rup, times=("t_start", "t_end", "duration"), xs=("x_start", "swept"), moments=("moment",)

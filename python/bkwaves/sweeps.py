@@ -196,7 +196,7 @@ TASKS: dict[str, Task] = {
     "speed": Task("speed", "front speed c (bk.front_speed)", _speed, _speed_check),
     "wave": Task("wave", "traveling wave of App. B (bk.traveling_wave)", _wave, _wave_check),
     "tip": Task("tip", "the tip problem solved numerically (bk.tip_solve)", _tip, _tip_check),
-    "run": Task("run", "a chain or free-boundary run (bk.run): its summary", _run, _run_check),
+    "run": Task("run", "a run of any model (bk.run): its summary", _run, _run_check),
 }
 
 

@@ -1,7 +1,7 @@
 """The one-dimensional free boundary model (``model = "free_boundary"``):
 bkwaves.FreeBoundary run from a config.
 
-Its entry in the model registry (``bkwaves.models``): [domain] length, grid and
+Its entry in the model registry (``bkwaves._models``): [domain] length, grid and
 boundary, a threshold field ([disorder] threshold), a [speed] law, noise per unit length;
 outputs u on the grid, the events, shocks and ruptures tables.
 """

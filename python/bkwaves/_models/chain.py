@@ -1,6 +1,6 @@
 """The chain model (``model = "chain"``): bkwaves.Chain run from a config.
 
-Its entry in the model registry (``bkwaves.models``): [domain] blocks and boundary,
+Its entry in the model registry (``bkwaves._models``): [domain] blocks and boundary,
 per-block [disorder] (threshold, mass, loader, coupling), triggers, an initial velocity,
 the chain's integration keys of [run], noise per block; outputs u, u_t and sliding on
 the blocks, the events, slips and ruptures tables.
@@ -89,12 +89,12 @@ def _check_resumed_integration(cfg, chain, path) -> None:
             )
 
 
-def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
+def _run_chain(model, cfg, out, progress, overwrite, flush_every, chunk, ctl):
+    """The run of a model on the chain's engine (the chain, the lattice): ``model``'s
+    hooks build or restore the engine and shape the grid and the tables."""
     from ..chain import (
         CHUNK_WALL,
         CHUNK_WORK,
-        Chain,
-        default_max_event_duration,
         default_max_event_slips,
         runaway_message,
     )
@@ -113,25 +113,25 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
 
     p = cfg.params
     if ctl.resuming:
-        chain = Chain._from_record(*ctl.state["engine"], ctl.state["path"])
+        chain = model.engine_class()._from_record(*ctl.state["engine"], ctl.state["path"])
         _check_resumed_integration(cfg, chain, ctl.state["path"])
     else:
-        chain = chain_from_config(cfg)
+        chain = model.build(cfg)
         times = _snapshot_times(cfg)
         if cfg.snapshot_events and (times.size == 0 or times[0] > chain.t):
             # every-k-events snapshots start with the initial state, like timed ones
             times = np.concatenate([[chain.t], times])
         chain._engine.add_snapshots(times, int(cfg.snapshot_events or 0))
     eng = chain._engine
-    slip_limit = cfg.max_event_slips or default_max_event_slips(cfg.blocks)
-    duration_limit = cfg.max_event_duration or default_max_event_duration(cfg.blocks, p.dx)
+    slip_limit = cfg.max_event_slips or default_max_event_slips(model.nodes(cfg))
+    duration_limit = cfg.max_event_duration or model.default_max_event_duration(cfg)
     eng.set_run_limits(slip_limit, duration_limit, CHUNK_WORK)
     eng.set_chunk_wall(CHUNK_WALL)
     if ctl.resuming:
         # snapshots a checkpoint of an earlier version still holds were all written
         eng.take_snapshots()
     units = _Units(cfg)
-    x = np.arange(cfg.blocks) * p.dx
+    x, y = model.x(cfg), model.y(cfg)
     rate_units, rate_attrs = units.rate_spec()
     variables = {
         "u": ("1", "stress u (0: kinetic level, 1: static threshold)", "f8"),
@@ -150,7 +150,8 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         overwrite,
         flush_every,
         resume_rows,
-        chain.integration_attrs(),
+        {**chain.integration_attrs(), **model.grid_attrs(cfg)},
+        y=y,
     )
     t_stop = cfg.t_end if cfg.t_end is not None else 1e300
     max_events = cfg.max_events if cfg.max_events is not None else 2**62
@@ -169,17 +170,16 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         if len(cat) or not final:  # (at the end: the table even when it is empty)
             cat["duration"] = cat["t_end"] - cat["t_start"]
             cat["complete"] = _complete(k, len(cat), eng.events_finished)
-            cat["moment"] = cat["moment"] * p.dx  # int slip dx (the core sums block slips)
-            cat, cu, cs = units.convert_table(
-                cat, times=("t_start", "t_end", "duration"), moments=("moment",)
-            )
-            writer.append_rows("events", cat, cu, scales=cs, descriptions=_described(cat))
+            cat = model.event_columns(cfg, cat)
+            cat, cu, cs = model.convert_events(units, cat)
+            described = {**_described(cat), **model.event_descriptions()}
+            writer.append_rows("events", cat, cu, scales=cs, descriptions=described)
         k = writer.table_rows("slips")
         sl = _frame(eng.slips(k, eng.slips_final if final else None))
         if len(sl) or not final:
-            sl.insert(2, "x", sl["block"] * p.dx)
+            sl = model.slip_columns(cfg, sl)
             sl, su, ss = units.convert_table(
-                sl, times=("t_start", "t_end"), xs=("x",), slips=("slip",)
+                sl, times=("t_start", "t_end"), xs=("x", "y"), slips=("slip",)
             )
             writer.append_rows("slips", sl, su, csv=False, scales=ss)
         # the snapshots last: a commit they trigger writes their catalog rows first
@@ -207,11 +207,13 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
                 ctl.save(chain, writer)
         interrupted = not finished
         bar.close()
-        rup = ruptures(cfg, eng)
+        rup = model.ruptures(cfg, eng)
 
         def give_all():
             give(final=False)
             _write_ruptures(writer, units, rup)
+            if cfg.arrivals and writer is not None:
+                _write_arrivals(writer, units, model.arrivals_table(cfg, eng))
             if writer is not None and writer.records == 0:
                 # no snapshot was asked for: the state at the end, as the free boundary
                 # run writes it (an output always holds a state; a resumed run drops it)
@@ -225,8 +227,8 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
 
         interrupted = _finish(writer, ctl, chain, None, give_all, interrupted)
     extra = {
-        "blocks": cfg.blocks,
-        "ruptures": len(rup),
+        "blocks": model.nodes(cfg),
+        "ruptures": None if rup is None else len(rup),
         "counters": chain._counters(),
         "signal": ctl.signal_name() if interrupted else None,
         "stop": stop,
@@ -237,7 +239,7 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
             chain, slip_limit, duration_limit, ("run.max_event_slips", "run.max_event_duration")
         )
     return RunSummary(
-        model="chain",
+        model=cfg.model,
         out=str(out) if out else None,
         t=float(units.t(chain.t)),
         events=int(eng.events_finished),
@@ -247,6 +249,12 @@ def _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         units=units.name,
         extra=extra,
     )
+
+
+def _write_arrivals(writer, units, table) -> None:
+    """Write the arrivals table (event or rupture, i, j, x, y, t) in the output units."""
+    table, tu, ts = units.convert_table(table, times=("t",), xs=("x", "y"))
+    writer.append_rows("arrivals", table, tu, csv=False, scales=ts)
 
 
 def ruptures(cfg, eng):
@@ -267,21 +275,22 @@ def ruptures(cfg, eng):
 MIDPOINT_CONTRACTION = 0.8
 
 
-def check_step(cfg, dx: float, what: str = "the chain") -> None:
-    """RK4 stability and the midpoint rule's contraction of the chain's time step h =
+def check_step(
+    cfg, dx: float, coupling: float, shown: str = "1 + 4/dx^2", what: str = "the chain"
+) -> None:
+    """RK4 stability and the midpoint rule's contraction of the engine's time step h =
     step dx for alike Coulomb blocks (the engine's tests), named by the key to change.
-    ``dx``: the smallest spacing (the lattice's min(dx, dy)); the coupling 1/dx^2 counts
-    once per axis (``what``: the chain or the lattice)."""
+    ``dx``: the smallest spacing (the lattice's min(dx, dy)); ``coupling``: the springs'
+    share of the fastest rate squared (``shown``), 4/dx^2 on a chain, 4/dx^2 + 4/dy^2 on
+    a lattice; ``what``: the chain or the lattice."""
     from ..config import _err
 
     p = cfg.params
-    axes = 2 if what == "the lattice" else 1
     # RK4 stability of the chain's time step h = step dx (the engine's test, for
     # alike Coulomb blocks): h (sqrt(1 + 4/dx^2) + 2 gamma) <= 2.5
     step = cfg.chain_integration()["step"]
     h = step * dx
-    sound = math.sqrt(1.0 + 4.0 * axes / dx / dx)
-    shown = "1 + 4/dx^2" if axes == 1 else "1 + 8/dx^2"
+    sound = math.sqrt(1.0 + coupling)
     if not math.isfinite(sound):  # (dx = 1e-310: the coupling 1/dx^2 overflows)
         _err(
             "params.dx" if not cfg.physical else "physical.k_c",
@@ -352,7 +361,8 @@ class ChainModel(Model):
         return disorder_arrays(cfg)
 
     def check(self, cfg):
-        check_step(cfg, cfg.params.dx)
+        dx = cfg.params.dx
+        check_step(cfg, dx, 4.0 / dx / dx)
 
     def x(self, cfg):
         return np.arange(cfg.blocks) * cfg.params.dx
@@ -367,7 +377,52 @@ class ChainModel(Model):
         return cfg.blocks * cfg.params.dx
 
     def run(self, cfg, out, progress, overwrite, flush_every, chunk, ctl):
-        return _run_chain(cfg, out, progress, overwrite, flush_every, chunk, ctl)
+        return _run_chain(self, cfg, out, progress, overwrite, flush_every, chunk, ctl)
+
+    # --- the run's hooks (the lattice overrides them) -----------------------------------
+    def engine_class(self):
+        from ..chain import Chain
+
+        return Chain
+
+    def build(self, cfg):
+        """The engine at t = 0 (``chain_from_config``)."""
+        return chain_from_config(cfg)
+
+    def y(self, cfg):
+        """Positions across (None: a line)."""
+        return None
+
+    def grid_attrs(self, cfg) -> dict:
+        """Global attributes of the output describing the grid."""
+        return {}
+
+    def default_max_event_duration(self, cfg) -> float:
+        from ..chain import default_max_event_duration
+
+        return default_max_event_duration(cfg.blocks, cfg.params.dx)
+
+    def event_columns(self, cfg, cat):
+        """The engine's catalog as the output's events table (dimensionless)."""
+        cat["moment"] = cat["moment"] * cfg.params.dx  # int slip dx (the core sums slips)
+        return cat
+
+    def convert_events(self, units, cat):
+        return units.convert_table(cat, times=("t_start", "t_end", "duration"), moments=("moment",))
+
+    def event_descriptions(self) -> dict:
+        """Definitions of the events table's columns besides the shared ones
+        (``bkwaves.catalog.DESCRIPTIONS``)."""
+        return {}
+
+    def slip_columns(self, cfg, sl):
+        """The engine's slips as the output's slips table (dimensionless)."""
+        sl.insert(2, "x", sl["block"] * cfg.params.dx)
+        return sl
+
+    def ruptures(self, cfg, eng):
+        """The ruptures table (None: the model has none)."""
+        return ruptures(cfg, eng)
 
     def work(self, cfg):
         from .. import _cost

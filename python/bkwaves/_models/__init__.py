@@ -27,7 +27,7 @@ from .._core import ParameterError
 __all__ = ["NAMES", "Model", "get"]
 
 #: The models a config's ``model`` key can name (module names of this package).
-NAMES = ("chain", "free_boundary")
+NAMES = ("chain", "free_boundary", "lattice", "free_boundary_2d")
 
 _LOADED: dict = {}
 
@@ -88,6 +88,10 @@ class Model:
     bytes_per_node_key: str = ""
     #: bytes per node of one snapshot record
     snapshot_bytes_per_node: int = 8
+    #: [output] arrivals: the arrival (first slip) times of every rupture as a table
+    arrivals: bool = False
+    #: the [initial] kinds it takes
+    initial_kinds: tuple[str, ...] = ("uniform", "ramp", "random", "bumps", "file")
     #: what `bkwaves run --help` says about it
     summary: str = ""
 
@@ -120,6 +124,35 @@ class Model:
     def check(self, cfg) -> None:
         """Checks of quantities derived from several keys (after the keys)."""
 
+    def trigger_block(self, tr: dict, where: str, domain: dict):
+        """The block of the trigger table ``tr`` (``where``: its key path), checked
+        against the [domain] fields ``domain``."""
+        from .. import _validate as V
+        from ..config import _err, _value
+
+        block = _value(tr, "block", where, V.CONFIG["triggers"]["block"])
+        n = self.domain_nodes(domain)
+        if block >= n:
+            _err(f"{where}.block", f"invalid block = {block}: allowed 0 <= block < {n}")
+        return block
+
+    #: the keys of a [[triggers]] table that place it (exactly one is given)
+    trigger_places: tuple[str, ...] = ("block",)
+
+    def trigger_doc(self, block) -> dict:
+        """The place of a trigger as its table's keys (RunConfig.to_dict)."""
+        return {"block": block}
+
+    def domain_nodes(self, domain: dict) -> int:
+        """Blocks of the [domain] fields ``domain``."""
+        return domain.get("blocks", 0)
+
+    def initial_state(self, cfg):
+        """The initial u at the nodes (dimensionless)."""
+        from ..config import initial_line
+
+        return initial_line(cfg)
+
     def check_initial(self, cfg, u, x, key: str) -> None:
         """Checks of the initial state ``u`` at the nodes ``x`` (``key``: the [initial]
         keys that made it)."""
@@ -144,6 +177,10 @@ class Model:
     def nodes(self, cfg) -> int:
         """Blocks or grid nodes."""
         raise NotImplementedError
+
+    def size_text(self, cfg) -> str:
+        """The size key's value in words (``size_key``)."""
+        return str(self.nodes(cfg))
 
     def span(self, cfg) -> float:
         """The domain's extent along x (dimensionless length)."""

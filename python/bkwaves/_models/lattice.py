@@ -1,0 +1,419 @@
+"""The lattice model (``model = "lattice"``): bkwaves.Lattice run from a config.
+
+Its entry in the model registry (``bkwaves._models``): the chain's engine on a grid
+(the chain model's run with the lattice's hooks). TOML:
+
+- [domain] ``shape = [nx, ny]`` (blocks along x and y), ``dy`` (the spacing across,
+  dimensionless sqrt(k_p/k_y); default params.dx), ``boundary``: one of free, fixed,
+  periodic for both axes, or ``[along x, along y]``;
+- [initial] uniform, ramp (along x), random (a smooth random field in the plane,
+  ``bkwaves.disorder.smooth_field``, its correlation length in units of x), file (.npy
+  of shape (ny, nx), or nx ny values row after row); ``velocity`` as the chain's;
+- [disorder] threshold, mass, loader: a number, nx ny values (row after row), a drawn
+  {distribution, mean, spread} per block or a smooth random field {mean, amplitude,
+  correlation_length}; the coupling springs are uniform;
+- [[triggers]] at ``block = [i, j]``, on a line ``line = [[i0, j0], [i1, j1]]`` or a
+  disc ``disc = [[i, j], radius]`` (``bk.Lattice.blocks``); [noise] per block as the
+  chain's; [run] as the chain's;
+- [output] ``arrivals = true``: the arrivals table, the first slip time of every block
+  in every event (event, i, j, x, y, t).
+
+Outputs: snapshots u, u_t, sliding with dims (t, y, x); the events table with each
+event's hypocentre (i, j, x, y), area and moment (int slip dA); the slips table with
+i, j, x, y. No ruptures table (the chain's splits events along a line): `bkwaves stats`
+reads the events.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from ..chain import BOUNDARIES
+from .chain import ChainModel, check_step
+
+#: The per-block properties a lattice takes (its coupling springs are uniform).
+PROPERTIES = ("threshold", "mass", "loader")
+
+
+def _pair_of(value, where: str, allowed: tuple[str, ...]) -> tuple[str, str]:
+    from .. import _validate as V
+    from ..config import _err
+
+    pair = [value, value] if isinstance(value, str) else value
+    ok = isinstance(pair, list) and len(pair) == 2 and all(isinstance(b, str) for b in pair)
+    if not ok or any(b not in allowed for b in pair):
+        names = ", ".join(allowed)
+        _err(where, f"expected one of {names}, or [along x, along y] of them; got {V._show(value)}")
+    return tuple(pair)
+
+
+def _shape(d: dict, lo: int) -> tuple[int, int]:
+    from .. import _validate as V
+    from ..config import _err, _value
+
+    raw = d["shape"]
+    if not (isinstance(raw, list) and len(raw) == 2):
+        _err("domain.shape", f"expected [nx, ny], two integers >= {lo}; got {V._show(raw)}")
+    spec = V.CONFIG["domain"]["shape"]
+    nx, ny = (
+        _value({f"shape[{k}]": n}, f"shape[{k}]", "domain", spec, lo=lo) for k, n in enumerate(raw)
+    )
+    if nx * ny < 2:
+        _err("domain.shape", f"invalid shape = [{nx}, {ny}]: allowed at least 2 blocks")
+    return int(nx), int(ny)
+
+
+def planar_field(cfg, corr: float, seed, x, y, periodic) -> np.ndarray:
+    """A smooth random field on the planar grid (x, y), shaped (ny, nx)
+    (``bkwaves.disorder.smooth_field``: zero mean, largest |value| 1, Gaussian
+    correlation of length ``corr`` in the plane; periodic along a periodic axis)."""
+    from ..disorder import smooth_field
+
+    hx = float(x[1] - x[0]) if len(x) > 1 else 1.0
+    hy = float(y[1] - y[0]) if len(y) > 1 else hx
+    return smooth_field(
+        (len(y), len(x)), (hy, hx), corr, periodic=(periodic[1], periodic[0]), seed=seed
+    )
+
+
+def planar_initial(cfg, x, y, periodic) -> np.ndarray:
+    """The initial u of a planar model on the nodes (x, y) (shaped (ny, nx)):
+    uniform, ramp along x, a smooth random field, or a file (an (ny, nx) .npy array, or
+    nx ny values row after row)."""
+    from ..config import U_LIMIT, _err, _read_initial_file
+
+    nx, ny = len(x), len(y)
+    s = cfg.initial
+    if s.kind == "uniform":
+        u = np.full((ny, nx), s.value)
+    elif s.kind == "ramp":
+        span = x[-1] - x[0] if nx > 1 else 1.0
+        u = np.broadcast_to(s.start + (s.end - s.start) * (x - x[0]) / span, (ny, nx)).copy()
+    elif s.kind == "random":
+        u = s.mean + s.amplitude * planar_field(cfg, s.correlation_length, cfg.seed, x, y, periodic)
+    else:
+        path = Path(s.path)
+        if path.suffix == ".npy":
+            try:
+                shape = np.load(path, mmap_mode="r", allow_pickle=False).shape
+            except (OSError, ValueError):
+                shape = None  # (the reader below says why)
+            if shape is not None and len(shape) == 2 and shape != (ny, nx):
+                _err(
+                    "initial.path",
+                    f"{path} holds an array of shape {shape}; expected (ny, nx) = {(ny, nx)}",
+                )
+        u = _read_initial_file(path, nx * ny).reshape(ny, nx)
+    key = {
+        "uniform": "initial.value",
+        "ramp": "initial.start/end",
+        "random": "initial.mean/amplitude",
+        "file": "initial.path",
+    }[s.kind]
+    if not np.all(np.isfinite(u)) or np.max(np.abs(u)) > U_LIMIT:
+        _err(key, f"the initial state has values outside |u| <= {U_LIMIT:g} (or not finite)")
+    return u
+
+
+def planar_property(cfg, k: str, spec, x, y, periodic):
+    """One [disorder] property on a planar grid: a scalar or an (ny, nx) array."""
+    from .._core import ParameterError
+    from ..config import _err
+    from ..disorder import draw, property_seed
+
+    nx, ny = len(x), len(y)
+    seed = property_seed(cfg.seed, k)
+    if isinstance(spec, dict) and "correlation_length" in spec:
+        field = planar_field(cfg, spec["correlation_length"], seed, x, y, periodic)
+        return spec["mean"] + spec["amplitude"] * field
+    if isinstance(spec, dict):
+        try:
+            a = draw(
+                spec["distribution"], nx * ny, mean=spec["mean"], spread=spec["spread"], seed=seed
+            )
+        except ParameterError as e:
+            _err(f"disorder.{k}", str(e))
+        return np.asarray(a).reshape(ny, nx)
+    if isinstance(spec, tuple):
+        if len(spec) != nx * ny:
+            _err(f"disorder.{k}", f"{len(spec)} values; expected nx ny = {nx * ny} (row after row)")
+        return np.array(spec).reshape(ny, nx)
+    return float(spec)
+
+
+class LatticeModel(ChainModel):
+    name = "lattice"
+    boundaries = BOUNDARIES
+    domain_keys = ("shape", "dy", "boundary")
+    domain_required = ("shape",)
+    size_key = "domain.shape"
+    disorder_keys = PROPERTIES
+    correlated_disorder = True
+    initial_kinds = ("uniform", "ramp", "random", "file")
+    arrivals = True
+    summary = "a lattice of blocks in the plane (bkwaves.Lattice)"
+
+    # --- config --------------------------------------------------------------------------
+    def parse_domain(self, d, cfg_value):
+        shape = _shape(d, 1)
+        dy = cfg_value(d, "dy", None)
+        boundary = _pair_of(d.get("boundary", "free"), "domain.boundary", self.boundaries)
+        return {"shape": shape, "dy": dy, "boundary": boundary}
+
+    def domain_doc(self, cfg):
+        doc = {"shape": list(cfg.shape), "boundary": list(cfg.boundary)}
+        if cfg.dy is not None:
+            doc["dy"] = cfg.dy
+        return doc
+
+    def domain_nodes(self, domain):
+        nx, ny = domain["shape"]
+        return nx * ny
+
+    trigger_places = ("block", "line", "disc")
+
+    def trigger_block(self, tr, where, domain):
+        """A block ``[i, j]``, a line ``[[i0, j0], [i1, j1]]`` or a disc ``[[i, j],
+        radius]`` (radius in units of x, as dx: ``bk.Lattice.blocks``), as (i, j),
+        ("line", (i0, j0), (i1, j1)) or ("disc", (i, j), radius)."""
+        from .. import _validate as V
+        from ..config import _err
+
+        nx, ny = domain["shape"]
+        given = [k for k in self.trigger_places if k in tr]
+        if len(given) != 1:
+            _err(
+                where,
+                "give one of block = [i, j], line = [[i0, j0], [i1, j1]] or "
+                "disc = [[i, j], radius]",
+            )
+        (place,) = given
+        raw = tr[place]
+
+        def block(b, key):
+            ok = isinstance(b, list) and len(b) == 2
+            ok = ok and all(V._is_int(k) and not isinstance(k, bool) for k in b)
+            if not ok or not (0 <= b[0] < nx and 0 <= b[1] < ny):
+                _err(
+                    f"{where}.{key}",
+                    f"invalid block = {V._show(b)}: allowed [i, j] with 0 <= i < {nx}, "
+                    f"0 <= j < {ny}",
+                )
+            return (int(b[0]), int(b[1]))
+
+        if place == "block":
+            return block(raw, "block")
+        if not (isinstance(raw, list) and len(raw) == 2):
+            want = "[[i0, j0], [i1, j1]]" if place == "line" else "[[i, j], radius]"
+            _err(f"{where}.{place}", f"expected {want}, got {V._show(raw)}")
+        if place == "line":
+            return ("line", block(raw[0], "line[0]"), block(raw[1], "line[1]"))
+        r = raw[1]
+        if isinstance(r, bool) or not isinstance(r, int | float) or not 0 <= r <= 1e9:
+            _err(
+                f"{where}.disc[1]",
+                f"invalid radius = {V._show(r)}: allowed 0 <= radius <= 1e9 (units of x, as dx)",
+            )
+        return ("disc", block(raw[0], "disc[0]"), float(r))
+
+    def trigger_doc(self, block) -> dict:
+        if isinstance(block, tuple) and block and block[0] == "line":
+            return {"line": [list(block[1]), list(block[2])]}
+        if isinstance(block, tuple) and block and block[0] == "disc":
+            return {"disc": [list(block[1]), block[2]]}
+        return {"block": list(block)}
+
+    @staticmethod
+    def region(block):
+        """A trigger's place as bk.Lattice.kick takes it."""
+        if isinstance(block[0], str):
+            kind, *spec = block
+            return {kind: tuple(spec)}
+        return block
+
+    def _dy(self, cfg) -> float:
+        return cfg.params.dx if cfg.dy is None else cfg.dy
+
+    def _periodic(self, cfg) -> tuple[bool, bool]:
+        return tuple(b == "periodic" for b in cfg.boundary)
+
+    def property_arrays(self, cfg):
+        out = dict.fromkeys(PROPERTIES)
+        x, y = self.x(cfg), self.y(cfg)
+        for k, spec in cfg.disorder:
+            out[k] = planar_property(cfg, k, spec, x, y, self._periodic(cfg))
+        return out
+
+    def initial_state(self, cfg):
+        return planar_initial(cfg, self.x(cfg), self.y(cfg), self._periodic(cfg))
+
+    def check(self, cfg):
+        dx, dy = cfg.params.dx, self._dy(cfg)
+        check_step(
+            cfg, min(dx, dy), 4.0 / dx / dx + 4.0 / dy / dy, "1 + 4/dx^2 + 4/dy^2", "the lattice"
+        )
+
+    # --- grid ----------------------------------------------------------------------------
+    def x(self, cfg):
+        return np.arange(cfg.shape[0]) * cfg.params.dx
+
+    def y(self, cfg):
+        return np.arange(cfg.shape[1]) * self._dy(cfg)
+
+    def nodes(self, cfg):
+        return cfg.shape[0] * cfg.shape[1]
+
+    def size_text(self, cfg):
+        nx, ny = cfg.shape
+        return f"[{nx}, {ny}] ({nx * ny} blocks)"
+
+    def span(self, cfg):
+        return max(cfg.shape[0] * cfg.params.dx, cfg.shape[1] * self._dy(cfg))
+
+    def physical_span(self, cfg):
+        return max((cfg.shape[0] - 1) * cfg.params.dx, (cfg.shape[1] - 1) * self._dy(cfg))
+
+    def grid_attrs(self, cfg):
+        return {"shape": list(cfg.shape), "dy": self._dy(cfg), "boundary": " x ".join(cfg.boundary)}
+
+    # --- run hooks -------------------------------------------------------------------------
+    def engine_class(self):
+        from ..lattice import Lattice
+
+        return Lattice
+
+    def build(self, cfg):
+        from ..lattice import Lattice
+
+        p = cfg.params
+        la = Lattice(
+            cfg.shape,
+            p,
+            u0=self.initial_state(cfg),
+            u_t0=None if cfg.initial.velocity == 0.0 else p.v - cfg.initial.velocity,
+            dy=cfg.dy,
+            boundary=cfg.boundary,
+            seed=cfg.seed,
+            noise=cfg.noise,
+            **cfg.chain_integration(),
+            **self.property_arrays(cfg),
+        )
+        for tr in cfg.triggers:
+            if tr.kind == "kick":
+                la.kick(self.region(tr.block), -tr.velocity, tr.time)
+            else:
+                la.release(self.region(tr.block), tr.time)
+        return la
+
+    def default_max_event_duration(self, cfg):
+        # 100 sound crossings of the longer side (the chain's bound)
+        return 100.0 * (self.span(cfg) + 1.0)
+
+    def event_columns(self, cfg, cat):
+        from ..lattice import _planar_catalog
+
+        dx = cfg.params.dx
+        return _planar_catalog(
+            cat, cfg.shape[0], dx, self._dy(cfg), moment_scale=dx * self._dy(cfg)
+        )
+
+    def convert_events(self, units, cat):
+        from ..lattice import PLANAR_MOMENT
+        from ..runner import _SCALES
+
+        cat, cu, cs = units.convert_table(
+            cat,
+            times=("t_start", "t_end", "duration"),
+            xs=("hypocentre_x", "hypocentre_y"),
+            moments=("moment",),
+        )
+        if units.si:  # int slip dA: slip (m) times an area (m^2)
+            cat["moment"] = units.x(cat["moment"].to_numpy())
+            cat["area"] = units.x(units.x(cat["area"].to_numpy()))
+            cu.update(moment="m3", area="m2")
+        else:
+            cu["area"] = "1"
+            cs["area"] = f"(x')^2: blocks slipped x dx dy, {_SCALES['x']}"
+            cs["moment"] = f"{PLANAR_MOMENT}; slip in units of (f_r - f_s)/k_p, lengths x'"
+        return cat, cu, cs
+
+    def event_descriptions(self):
+        from ..lattice import PLANAR_MOMENT
+
+        return {
+            "moment": PLANAR_MOMENT,
+            "area": "the area that slipped: the event's blocks times dx dy",
+            "hypocentre_i": "column of the block that slipped first (x = i dx)",
+            "hypocentre_j": "row of the block that slipped first (y = j dy)",
+        }
+
+    def slip_columns(self, cfg, sl):
+        from ..lattice import _planar_slips
+
+        sl.insert(2, "x", 0.0)
+        return _planar_slips(sl, cfg.shape[0], cfg.params.dx, self._dy(cfg))
+
+    def ruptures(self, cfg, eng):
+        return None
+
+    def arrivals_table(self, cfg, eng):
+        """The first slip time of every block in every event (event, i, j, x, y, t),
+        dimensionless, from the engine's whole record of slips."""
+        import pandas as pd
+
+        from ..runner import _frame
+
+        sl = _frame(eng.slips())
+        if not len(sl):
+            return pd.DataFrame({k: [] for k in ("event", "i", "j", "x", "y", "t")})
+        first = sl.groupby(["event", "block"], as_index=False)["t_start"].min()
+        nx = cfg.shape[0]
+        i, j = first["block"] % nx, first["block"] // nx
+        return pd.DataFrame(
+            {
+                "event": first["event"],
+                "i": i,
+                "j": j,
+                "x": i * cfg.params.dx,
+                "y": j * self._dy(cfg),
+                "t": first["t_start"],
+            }
+        )
+
+    # --- cost --------------------------------------------------------------------------
+    def work(self, cfg):
+        """The chain's estimate of one row of nx blocks, times ny rows: every block of a
+        rupture slides for about w/c as in a chain (a planar front is the chain at dx,
+        docs/lattice.md), the steps and their time are those of one row."""
+        from .. import _cost
+        from ..config import InitialSpec
+        from ..limits import _chain_run, chain_wall
+
+        nx, ny = cfg.shape
+        ini = cfg.initial
+        if ini.kind == "file":  # (a row of the file: its largest and its mean)
+            try:
+                u = self.initial_state(cfg)
+                ini = InitialSpec("ramp", start=float(np.mean(u)), end=float(np.max(u)))
+            except Exception:  # noqa: BLE001 - an estimate: the run says what is wrong
+                ini = InitialSpec("uniform", value=1.0)
+        row = dataclasses.replace(
+            cfg,
+            model="chain",
+            blocks=nx,
+            shape=(),
+            dy=None,
+            boundary=cfg.boundary[0],
+            initial=ini,
+            disorder=(),
+        )
+        work = _cost.chain_work(_chain_run(row, cfg.t_end, cfg.max_events))
+        work.block_steps *= ny
+        work.slips *= ny
+        return work, work.block_steps, chain_wall
+
+
+MODEL = LatticeModel()

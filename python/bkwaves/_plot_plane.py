@@ -1,0 +1,227 @@
+"""Pictures of a planar run (`bkwaves plot` on an output with dims (t, y, x)): the slip
+map, the arrival-time contours of the largest rupture, the catalog on a map and the
+stress at the last snapshot (the frequency-magnitude plot is ``bkwaves.plot``'s).
+
+The tables they read: a lattice's slips (i, j, slip) and events (hypocentre_x/y, area),
+its arrivals (event, x, y, t) when written; a planar free boundary run's ruptures
+(x_start, y_start, area) and arrivals (rupture, x, y, t), and its snapshots (the slip of
+a rupture is u_+ - u_-: the stress dropped under the loading, u(0) + v t - u(t)).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+
+def _unit(df, col) -> str:
+    u = str((df.attrs.get("units", {}) if df is not None else {}).get(col, "") or "")
+    return f" [{u}]" if u and u != "1" else ""
+
+
+def _coord_unit(ds) -> str:
+    u = str(ds["x"].attrs.get("units", "") or "")
+    return f" [{u}]" if u and u != "1" else ""
+
+
+def _map_axes(ds, figsize=(6.0, 4.6)):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=figsize, layout="constrained")
+    ax.set_xlabel("x (along the slip)" + _coord_unit(ds))
+    ax.set_ylabel("y (across)" + _coord_unit(ds))
+    ax.set_aspect("equal")
+    return fig, ax
+
+
+def _grid_of(ds, df, value, fill=np.nan) -> np.ndarray:
+    """The column ``value`` of rows (x, y) of ``df`` on the grid of ``ds`` (ny, nx)."""
+    x, y = ds["x"].values, ds["y"].values
+    out = np.full((len(y), len(x)), fill, dtype=float)
+    i = np.clip(
+        np.searchsorted(x, df["x"].to_numpy(dtype=float) - 1e-9 * max(1.0, np.ptp(x))),
+        0,
+        len(x) - 1,
+    )
+    j = np.clip(
+        np.searchsorted(y, df["y"].to_numpy(dtype=float) - 1e-9 * max(1.0, np.ptp(y))),
+        0,
+        len(y) - 1,
+    )
+    out[j, i] = df[value].to_numpy(dtype=float)
+    return out
+
+
+def _slip(ds, tables):
+    """(slip (ny, nx), units): the lattice's total finished slip per block, or the free
+    boundary's stress dropped over the run, u(0) + v (t - t_0) - u(t)."""
+    sl = tables.get("slips")
+    if sl is not None and {"x", "y", "slip"} <= set(sl.columns):
+        done = sl[np.isfinite(sl["slip"].to_numpy(dtype=float))]
+        total = done.groupby(["x", "y"], as_index=False)["slip"].sum()
+        return _grid_of(ds, total, "slip", 0.0), _unit(sl, "slip")
+    if "u" not in ds or ds.sizes["t"] < 2:
+        return None, ""
+    try:
+        v = float(json.loads(ds.attrs.get("params", "{}")).get("v", 0.0))
+    except (TypeError, ValueError):
+        v = 0.0
+    t = ds["t"].values
+    if str(ds["t"].attrs.get("units", "1")) not in ("1", ""):
+        return None, ""  # (SI times: v is dimensionless; left out)
+    u0, u1 = ds["u"].isel(t=0).values, ds["u"].isel(t=-1).values
+    return u0 + v * (t[-1] - t[0]) - u1, " (stress dropped, (f_r - f_s)/k_p)"
+
+
+def slip_map(ds, tables, title: str):
+    slip, unit = _slip(ds, tables)
+    if slip is None:
+        return None
+    fig, ax = _map_axes(ds)
+    x, y = ds["x"].values, ds["y"].values
+    from .plot import _edges
+
+    mesh = ax.pcolormesh(_edges(x), _edges(y), slip, cmap="viridis", shading="flat")
+    cb = fig.colorbar(mesh, ax=ax)
+    cb.set_label("slip over the run" + unit)
+    ax.set_title(title + "\nslip map", fontsize=8)
+    return ax
+
+
+def _largest(cat):
+    if cat is None or not len(cat) or "moment" not in cat:
+        return None
+    ok = cat["complete"].to_numpy(dtype=bool) if "complete" in cat else np.ones(len(cat), bool)
+    pick = cat[ok] if ok.any() else cat
+    m = pick["moment"].to_numpy(dtype=float)
+    if not np.isfinite(m).any():
+        return None
+    return pick.iloc[int(np.nanargmax(m))]
+
+
+def arrival_map(ds, tables, title: str):
+    """Arrival (first slip) times of the largest event or rupture: filled contours, the
+    contour lines labelled, its hypocentre marked."""
+    what = "ruptures" if "ruptures" in tables else "events"
+    cat = tables.get(what)
+    row = _largest(cat)
+    if row is None:
+        return None
+    key = "id" if what == "ruptures" else "event"
+    arr = tables.get("arrivals")
+    if arr is not None and len(arr):
+        col = "rupture" if "rupture" in arr else "event"
+        one = arr[arr[col] == row[key]]
+        t_unit = _unit(arr, "t")
+    else:
+        sl = tables.get("slips")
+        if sl is None or not {"x", "y", "t_start"} <= set(sl.columns):
+            return None
+        one = sl[sl["event"] == row[key]].groupby(["x", "y"], as_index=False)["t_start"].min()
+        one = one.rename(columns={"t_start": "t"})
+        t_unit = _unit(sl, "t_start")
+    if len(one) < 4:
+        return None
+    grid = _grid_of(ds, one, "t")
+    fig, ax = _map_axes(ds)
+    x, y = ds["x"].values, ds["y"].values
+    levels = np.linspace(np.nanmin(grid), np.nanmax(grid), 12)
+    if not levels[-1] > levels[0]:
+        return None
+    filled = ax.contourf(x, y, np.ma.masked_invalid(grid), levels=levels, cmap="magma_r")
+    lines = ax.contour(
+        x, y, np.ma.masked_invalid(grid), levels=levels[1:-1:2], colors="k", linewidths=0.6
+    )
+    ax.clabel(lines, fontsize=6, fmt="%.3g")
+    cb = fig.colorbar(filled, ax=ax)
+    cb.set_label("arrival time" + t_unit)
+    hx, hy = _hypocentre(row)
+    if hx is not None:
+        ax.plot([hx], [hy], "*", color="C0", mec="w", ms=11, ls="none", label="hypocentre")
+        ax.legend(fontsize=7, loc="upper right")
+    ax.set_xlim(x[0], x[-1])
+    ax.set_ylim(y[0], y[-1])
+    name = "rupture" if what == "ruptures" else "event"
+    ax.set_title(
+        title + f"\narrival times of the largest {name} ({name} {int(row[key])})", fontsize=8
+    )
+    return ax
+
+
+def _hypocentre(row):
+    for a, b in (("hypocentre_x", "hypocentre_y"), ("x_start", "y_start")):
+        if a in row and b in row:
+            return float(row[a]), float(row[b])
+    return None, None
+
+
+def catalog_map(ds, tables, title: str):
+    """The catalog on a map: each event's (rupture's) hypocentre, its area as the marker
+    size and its start time as the colour."""
+    what = "ruptures" if "ruptures" in tables else "events"
+    cat = tables.get(what)
+    if cat is None or not len(cat):
+        return None
+    xs = "hypocentre_x" if "hypocentre_x" in cat else "x_start"
+    ys = "hypocentre_y" if "hypocentre_y" in cat else "y_start"
+    if xs not in cat or ys not in cat:
+        return None
+    fig, ax = _map_axes(ds)
+    x, y = ds["x"].values, ds["y"].values
+    area = cat["area"].to_numpy(dtype=float) if "area" in cat else np.ones(len(cat))
+    big = np.nanmax(area) if np.isfinite(area).any() and np.nanmax(area) > 0 else 1.0
+    size = 8 + 160 * np.sqrt(np.nan_to_num(area) / big)
+    sc = ax.scatter(
+        cat[xs], cat[ys], s=size, c=cat["t_start"], cmap="viridis", edgecolors="k", linewidths=0.4
+    )
+    cb = fig.colorbar(sc, ax=ax)
+    cb.set_label("start time" + _unit(cat, "t_start"))
+    ax.set_xlim(*_pad(x))
+    ax.set_ylim(*_pad(y))
+    ax.set_title(
+        title + f"\n{len(cat)} {what[:-1] if len(cat) == 1 else what}: hypocentres, marker "
+        "area ~ slipped area",
+        fontsize=8,
+    )
+    return ax
+
+
+def _pad(c):
+    c = np.asarray(c, dtype=float)
+    h = (c[1] - c[0]) if c.size > 1 else 0.5
+    return c[0] - h, c[-1] + h
+
+
+def stress_map(ds, title: str):
+    if "u" not in ds:
+        return None
+    fig, ax = _map_axes(ds)
+    from .plot import _edges
+
+    u = ds["u"].isel(t=-1).values
+    mesh = ax.pcolormesh(
+        _edges(ds["x"].values), _edges(ds["y"].values), u, cmap="RdBu_r", shading="flat"
+    )
+    cb = fig.colorbar(mesh, ax=ax)
+    cb.set_label("stress u (1: static threshold)")
+    t = float(ds["t"].values[-1])
+    ax.set_title(title + f"\nstress at the last snapshot, t = {t:.4g}", fontsize=8)
+    return ax
+
+
+def plot_plane(ds, tables, outdir: Path, stem: str, fmt: str, title: str) -> list[Path]:
+    """The pictures of a planar run (module docs), saved as ``{stem}_{kind}.{fmt}``."""
+    from .plot import save
+
+    written = []
+    for kind, ax in (
+        ("slip_map", slip_map(ds, tables, title)),
+        ("arrivals", arrival_map(ds, tables, title)),
+        ("catalog_map", catalog_map(ds, tables, title)),
+        ("stress", stress_map(ds, title)),
+    ):
+        if ax is not None:
+            written.append(save(ax, outdir / f"{stem}_{kind}.{fmt}"))
+    return written
