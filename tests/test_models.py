@@ -557,3 +557,29 @@ def test_free_boundary_2d_estimate_and_memory_limits():
     assert est.detail.crossings == pytest.approx(10 * 0.01 * (140.0 - 20.0) * 40 * 32, rel=0.01)
     with pytest.raises(bk.ParameterError, match=r"domain\.shape = \[1048576, 1048576\] \("):
         parse_config(_with(FB2D, "domain.shape", [2**20, 2**20]))
+
+
+def test_planar_initial_files_are_read_row_after_row(tmp_path):
+    """[initial] kind = "file" on a plane: an (ny, nx) .npy array, or nx ny values row
+    after row in a text file; an array of another shape is refused naming initial.path."""
+    u = 0.5 + 0.01 * np.arange(24 * 18).reshape(18, 24) / (24 * 18)
+    np.save(tmp_path / "u.npy", u)
+    np.savetxt(tmp_path / "u.txt", u.ravel())
+    np.save(tmp_path / "bad.npy", u.T.copy())
+    for name in ("u.npy", "u.txt"):
+        cfg = parse_config(
+            _with(LATTICE_RUPTURE, "initial", {"kind": "file", "path": str(tmp_path / name)})
+        )
+        np.testing.assert_array_equal(bk.config.initial_state(cfg), u)
+        fb = parse_config(
+            _with(
+                _with(FB2D, "initial", {"kind": "file", "path": str(tmp_path / name)}),
+                "domain.shape",
+                [24, 18],
+            )
+        )
+        np.testing.assert_array_equal(bk.config.initial_state(fb), u)
+    with pytest.raises(bk.ParameterError, match=r"^initial\.path: .* shape \(24, 18\); expected"):
+        bk.run(
+            _with(LATTICE_RUPTURE, "initial", {"kind": "file", "path": str(tmp_path / "bad.npy")})
+        )
