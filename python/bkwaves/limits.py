@@ -80,6 +80,10 @@ LIMITS = {
     "chain_seconds_per_block_step": 3.7e-9,
     "chain_seconds_per_step": 1.7e-7,
     "chain_seconds_per_slip": 5e-7,
+    # the lattice: one sliding block over one step (four neighbours, sliding blocks in
+    # short runs of a row): examples/lattice_rupture.toml, 3.4e7 block-steps in 1.35 s
+    # of CPU (bkwaves._models.lattice's estimate)
+    "lattice_seconds_per_block_step": 4e-8,
     # free boundary: shock-node crossings per second, and one event beyond its crossings
     "fb_crossings_per_s": 1e6,
     "fb_seconds_per_event": 4e-3,
@@ -273,6 +277,13 @@ def chain_wall(work, n: int, snapshots: int | None, output: bool) -> float:
         + work.slips * LIMITS["chain_seconds_per_slip"]
         + _snapshot_wall("chain", snapshots, n, output)
     )
+
+
+def lattice_wall(work, n: int, snapshots: int | None, output: bool) -> float:
+    """Wall seconds of a lattice run's work (the chain's, at the lattice's cost of a
+    block-step)."""
+    per = LIMITS["lattice_seconds_per_block_step"] - LIMITS["chain_seconds_per_block_step"]
+    return chain_wall(work, n, snapshots, output) + work.block_steps * per
 
 
 def fb_wall(work, grid: int, snapshots: int | None, output: bool) -> float:

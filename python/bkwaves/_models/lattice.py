@@ -385,12 +385,17 @@ class LatticeModel(ChainModel):
 
     # --- cost --------------------------------------------------------------------------
     def work(self, cfg):
-        """The chain's estimate of one row of nx blocks, times ny rows: every block of a
-        rupture slides for about w/c as in a chain (a planar front is the chain at dx,
-        docs/lattice.md), the steps and their time are those of one row."""
+        """The chain's estimate of one row of nx blocks, scaled to ny rows: every block of
+        a rupture slides for about w/c as in a chain (a planar front is the chain at dx,
+        docs/lattice.md): ny times the row's sliding block-time. The event location (each
+        slip and stick redoes a step over every block sliding then) is ny^2 times the
+        row's (ny times the switches, each over ny times the sliding blocks) and adds ny
+        times the row's located steps. The row's two parts are told apart by their
+        dependence on the step h: block-steps = S/h + R (R, the redone ones, does not
+        depend on h)."""
         from .. import _cost
         from ..config import InitialSpec
-        from ..limits import _chain_run, chain_wall
+        from ..limits import _chain_run, lattice_wall
 
         nx, ny = cfg.shape
         ini = cfg.initial
@@ -410,10 +415,18 @@ class LatticeModel(ChainModel):
             initial=ini,
             disorder=(),
         )
-        work = _cost.chain_work(_chain_run(row, cfg.t_end, cfg.max_events))
-        work.block_steps *= ny
+        run = _chain_run(row, cfg.t_end, cfg.max_events)
+        work = _cost.chain_work(run)
+        half = _cost.chain_work(dataclasses.replace(run, h=2.0 * run.h))
+        sliding = 2.0 * (work.block_steps - half.block_steps)  # S/h
+        redone = max(work.block_steps - sliding, 0.0)  # R
+        plain = 2.0 * (work.steps - half.steps)  # T_active/h
+        located = max(work.steps - plain, 0.0)
+        work.block_steps = ny * sliding + ny * ny * redone
+        work.steps = plain + ny * located
         work.slips *= ny
-        return work, work.block_steps, chain_wall
+        work.notes[0] = f"~{work.block_steps:.2g} block-steps in ~{work.steps:.2g} steps"
+        return work, work.block_steps, lattice_wall
 
 
 MODEL = LatticeModel()
