@@ -125,41 +125,10 @@ def _public_names() -> dict[str, object]:
 NAMES = _public_names()
 
 #: Names still short of a full entry, with what they lack (D docstring, P parameters,
-#: R returns, E examples, U units). May only shrink. What is left: the paper package's
-#: figures, claim groups and shared runs, each seconds to minutes of computation (too
-#: long for an example the doctests run; ``bkwaves paper --quick`` exercises them).
-KNOWN_GAPS: dict[str, str] = {
-    "bkwaves.paper.beyond.disorder_speed.fig_disorder_speed": "E",
-    "bkwaves.paper.beyond.noise_statistics.fig_noise_statistics": "E",
-    "bkwaves.paper.beyond.noise_statistics.noise_scan": "E",
-    "bkwaves.paper.beyond.vw_crossover.fig_vw_crossover": "E",
-    "bkwaves.paper.common.chain_fronts": "E",
-    "bkwaves.paper.common.fb_source": "E",
-    "bkwaves.paper.common.fb_train": "E",
-    "bkwaves.paper.common.fb_trains": "E",
-    "bkwaves.paper.common.long_catalogs": "E",
-    "bkwaves.paper.common.ring_births": "E",
-    "bkwaves.paper.common.sync_chaos": "E",
-    "bkwaves.paper.fig3_speed.claim_c1": "E",
-    "bkwaves.paper.fig3_speed.claim_c_above_one": "E",
-    "bkwaves.paper.fig3_speed.claim_dx": "E",
-    "bkwaves.paper.fig3_speed.claim_speed_interpolation": "E",
-    "bkwaves.paper.fig3_speed.claims_chain": "E",
-    "bkwaves.paper.fig3_speed.fig_speed": "E",
-    "bkwaves.paper.fig4_waves.claims_wave": "E",
-    "bkwaves.paper.fig4_waves.fig_waves": "E",
-    "bkwaves.paper.fig5_train.claims_trains": "E",
-    "bkwaves.paper.fig5_train.fb_lmin": "E",
-    "bkwaves.paper.fig5_train.fig_train": "E",
-    "bkwaves.paper.fig6_source.claims_free_boundary": "E",
-    "bkwaves.paper.fig6_source.fig_source": "E",
-    "bkwaves.paper.fig7_map.claims_patterns": "E",
-    "bkwaves.paper.fig7_map.fig_map": "E",
-    "bkwaves.paper.fig8_statistics.claims_statistics": "E",
-    "bkwaves.paper.fig8_statistics.fig_statistics": "E",
-    "bkwaves.paper.fig9_sync.claims_sync": "E",
-    "bkwaves.paper.fig9_sync.fig_sync": "E",
-}
+#: R returns, E examples, U units). May only shrink; empty now. The paper package's
+#: figure, claim and shared-run functions are registry plug-ins outside every
+#: ``__all__`` (each costs seconds to minutes; ``bkwaves paper --quick`` runs them).
+KNOWN_GAPS: dict[str, str] = {}
 
 # A parameter or return of one of these names is a physical quantity: its description
 # states its unit.

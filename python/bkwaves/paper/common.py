@@ -5,6 +5,9 @@ Every run of :func:`bkwaves.paper.reproduce` empties :data:`CACHE`; a computatio
 several figures or claims (a wave train on a ring, a source, the chain's fronts, the long
 catalogs, the synchronisation rings) is made once per run and kept there under its
 arguments. Figures beyond the paper import from here, never from the figure modules.
+The computations (``fb_train``, ``fb_trains``, ``fb_source``, ``chain_fronts``,
+``long_catalogs``, ``ring_births``, ``sync_chaos``) are for figure modules and stay outside
+``__all__``: each costs seconds to minutes, and their arguments follow the report.
 """
 
 from __future__ import annotations
@@ -25,14 +28,7 @@ __all__ = [
     "found",
     "rel",
     "selected_u_plus",
-    "fb_train",
     "train_summary",
-    "fb_source",
-    "fb_trains",
-    "chain_fronts",
-    "long_catalogs",
-    "ring_births",
-    "sync_chaos",
     "coarsening_exponent",
     "SYNC_RINGS",
     "SHARP_RING",

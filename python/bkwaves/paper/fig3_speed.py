@@ -4,6 +4,12 @@ answer, c > 1, convergence in dx, and the chain's fronts against the tip problem
 
 from __future__ import annotations
 
+#: Not an API: the drawing and claim functions below are plug-ins of the registry
+#: (:mod:`bkwaves.paper.figure`), called by :func:`bkwaves.paper.reproduce` and
+#: ``bkwaves paper``; each costs seconds to minutes of computation (docs/paper.md says how
+#: to add or change a figure).
+__all__: list[str] = []
+
 import math
 
 import numpy as np

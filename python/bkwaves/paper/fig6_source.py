@@ -3,6 +3,12 @@ the map (ap) measured at each birth, the period T and a > a_max."""
 
 from __future__ import annotations
 
+#: Not an API: the drawing and claim functions below are plug-ins of the registry
+#: (:mod:`bkwaves.paper.figure`), called by :func:`bkwaves.paper.reproduce` and
+#: ``bkwaves paper``; each costs seconds to minutes of computation (docs/paper.md says how
+#: to add or change a figure).
+__all__: list[str] = []
+
 import numpy as np
 
 from .. import theory

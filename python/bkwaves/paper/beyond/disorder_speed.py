@@ -4,6 +4,12 @@ defect (docs/disorder.md)."""
 
 from __future__ import annotations
 
+#: Not an API: the drawing and claim functions below are plug-ins of the registry
+#: (:mod:`bkwaves.paper.figure`), called by :func:`bkwaves.paper.reproduce` and
+#: ``bkwaves paper``; each costs seconds to minutes of computation (docs/paper.md says how
+#: to add or change a figure).
+__all__: list[str] = []
+
 import numpy as np
 
 from ..figure import register_figure
