@@ -160,19 +160,38 @@ def test_a_run_bounded_only_by_max_events_gets_an_estimate():
 
 def test_memory_and_output_size_are_foreseen(monkeypatch):
     """The issue's OOM: a 1e7-block front, a snapshot every 1.0 to t_end = 60 (61 x 1e7
-    blocks x 17 bytes = 9.7 GiB, held in memory beside the 4 GB engine) was killed at
-    23 GB with nothing written: the memory is warned (on a machine of 24 GiB), and to
-    t_end = 100 the output of 16 GiB too; one line each, before any work."""
+    blocks x 17 bytes = 9.7 GiB) was killed at 23 GB with nothing written. Snapshots are
+    now streamed to the output (measured peak 2.1 GB, docs/reliability.md): the estimate
+    holds at most stream_snapshot_copies of them, so no memory warning on a machine of
+    24 GiB, but one on a machine of 8 GiB (the engine and ten snapshots); kept in memory
+    (no output) all 61 count. The output size is every snapshot's values: to
+    t_end = 100, 101 snapshots, 16 GiB, warned. One line each, before any work."""
+    from bkwaves.limits import LIMITS, memory_bytes
+
     monkeypatch.setattr(bk.limits, "physical_memory", lambda: 24.0 * 2**30)
     doc = B._chain_doc(10**7, 0.0, t_end=60.0, dx=0.05, output={"snapshot_every": 1.0})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LongRunWarning)
+        cfg = parse_config(doc)
+    est = estimate(cfg)
+    one = 10**7 * 17
+    assert est.snapshots == 61 and est.output_bytes == 61 * one
+    engine = memory_bytes("chain", 10**7)
+    assert est.memory_bytes == engine + LIMITS["stream_snapshot_copies"] * one
+    held = estimate(cfg, output=False)
+    assert held.memory_bytes == engine + 61 * one
+    # a run with few snapshots holds them all, streamed or not
+    assert bk.limits.snapshot_memory(3 * one, one, True) == 3 * one
+    monkeypatch.setattr(bk.limits, "physical_memory", lambda: 8.0 * 2**30)
     with pytest.warns(LongRunWarning) as w:
-        est = estimate(parse_config(doc))
-    assert est.snapshots == 61 and est.output_bytes == 61 * 10**7 * 17
+        parse_config(doc)
     messages = [str(x.message) for x in w]
     assert any("in memory" in m and "GiB" in m for m in messages), messages
+    monkeypatch.setattr(bk.limits, "physical_memory", lambda: 24.0 * 2**30)
     doc["run"]["t_end"] = 100.0
     with pytest.warns(LongRunWarning) as w:
         parse_config(doc)
     messages = [str(x.message) for x in w]
     assert any("101 snapshots" in m and "of output" in m for m in messages), messages
+    assert not any("in memory" in m for m in messages), messages
     assert all("\n" not in m for m in messages)

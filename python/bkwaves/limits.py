@@ -14,6 +14,15 @@ development machine (benchmarks/bench_estimate.py; docs/benchmarks.md, "Run-cost
 estimate"). The estimate is an order of magnitude: within 10x of the measured cost on
 every example and on the cases of tests/test_estimate.py.
 
+Memory and output size: the engine (``chain_bytes_per_block``, ``fb_bytes_per_node``) and
+the snapshots. A run with an output streams them to disk: it holds at most
+``stream_snapshot_copies`` snapshots at once however many it writes (:func:`snapshot_memory`;
+a 1e7-block front with 61 snapshots peaked at 2.1 GB, docs/reliability.md); ``Chain.run``
+and ``bk.run(cfg, snapshots=True)`` without an output hold them all. The output size is
+every snapshot's values uncompressed (u, u_t and sliding: 17 bytes a block; the free
+boundary's u: 8 a node): a NetCDF file's size, an upper bound for a Zarr store, which
+compresses.
+
 Noise (a ``[noise]`` table; docs/noise.md, "The thinning envelope"): both engines draw
 candidates under the envelope G, the running maximum of g (g(1) = 1, so G(1) >= 1:
 more for a table peaking below the threshold). The chain's candidates fall at the
@@ -56,7 +65,15 @@ import numpy as np
 from . import _models
 from ._core import ParameterError
 
-__all__ = ["LIMITS", "Estimate", "LongRunWarning", "estimate", "check_sizes", "memory_bytes"]
+__all__ = [
+    "LIMITS",
+    "Estimate",
+    "LongRunWarning",
+    "estimate",
+    "check_sizes",
+    "memory_bytes",
+    "snapshot_memory",
+]
 
 #: Documented limits and calibration constants (change them to override). Costs are CPU
 #: seconds on one core of the development machine (benchmarks/bench_estimate.py).
@@ -87,6 +104,11 @@ LIMITS = {
     # free boundary: shock-node crossings per second, and one event beyond its crossings
     "fb_crossings_per_s": 1e6,
     "fb_seconds_per_event": 4e-3,
+    # snapshots streamed to an output (bkwaves run, bk.run(cfg, OUT)) are handed to the
+    # writer chunk by chunk and committed in blocks: the run holds at most this many
+    # snapshots at once, however many it writes (peak RSS above a one-snapshot run:
+    # 7.3 snapshots at 1e7 blocks to Zarr, 8.8 at 3e6 to NetCDF; docs/reliability.md)
+    "stream_snapshot_copies": 10,
     # a snapshot in memory: its fixed cost and one node's values (chain: u and u_t)
     "seconds_per_snapshot": 2e-5,
     "seconds_per_snapshot_node": 2e-8,
@@ -214,6 +236,15 @@ def memory_bytes(model: str, nodes: int) -> float:
     """
     per = LIMITS[_models.get(model).bytes_per_node_key]
     return float(per) * nodes
+
+
+def snapshot_memory(total: float, one: float, streamed: bool) -> float:
+    """Bytes a run's snapshots take in memory: all of them (``total`` bytes) when the run
+    keeps them; streamed to an output, at most ``LIMITS["stream_snapshot_copies"]``
+    snapshots of ``one`` bytes at once, however many are written."""
+    if not streamed:
+        return float(total)
+    return min(float(total), LIMITS["stream_snapshot_copies"] * float(one))
 
 
 def check_memory(name: str, model: str, nodes: int, shown: str | None = None) -> None:
@@ -435,10 +466,11 @@ def estimate(cfg, output: bool = True) -> Estimate:
     )
     if cfg.max_events is not None and cfg.snapshot_events is not None:
         snaps = cfg.max_events // cfg.snapshot_events + 1
-    out = float(snaps or 0) * nodes * entry.snapshot_bytes_per_node
+    one = nodes * entry.snapshot_bytes_per_node
+    out = float(snaps or 0) * one
     wall = wall_of(work, nodes, snaps, output)
-    # the engine, and the snapshots if the run held them all (its tables are streamed)
-    mem = memory_bytes(cfg.model, nodes) + out
+    # the engine, and the snapshots: streamed to the output, or all held without one
+    mem = memory_bytes(cfg.model, nodes) + snapshot_memory(out, one, output)
     notes = list(work.notes)
     size = entry.noise_size(cfg)
     candidates, noise_wall = noise_work(
