@@ -21,8 +21,16 @@ before any work. Classes:
 - traceback: any other exception (its type and first line are kept);
 - crash: the worker died by a signal;
 - hang: no answer within the bound, and no warning;
-- warned-long: a LongRunWarning before any work (estimated beyond a tenth of the bound).
-Wrong-but-silent results are not classified here (see docs/reliability.md).
+- warned-long: a LongRunWarning before any work (estimated beyond a tenth of the bound);
+- silent-wrong: finished without a warning, but not as asked (:func:`check_config_run`,
+  :func:`check_call`): a config's run that did not end at run.t_end (or ran past
+  run.max_events), misses or adds a snapshot of output.snapshot_every, whose first
+  snapshot is not its [initial] state, or whose attributes record other params, seed
+  or friction law than the config's; an API run without the snapshot times or the
+  t_end it was given.
+
+The worker dies with the campaign (PR_SET_PDEATHSIG on Linux, and it ends when its
+parent's pipe closes): killing the parent leaves no worker running.
 """
 
 from __future__ import annotations
@@ -400,6 +408,7 @@ def _api_table():
                 "mass",
                 "t_end",
                 "max_events",
+                "snapshots",
                 "block",
                 "du_t",
                 "seed",
@@ -574,6 +583,107 @@ def _named(msg: str, keys) -> bool:
     return bool(re.fullmatch(r"[A-Za-z_][\w.\[\]/]*:?", first))
 
 
+def check_config_run(cfg, doc: dict, summary, out: Path) -> str | None:
+    """What a config's finished run did otherwise than its config asked, read back from
+    its output (None: nothing). Expected values come from the config alone: snapshot
+    times t_k = k dt through t_end (the last within 1e-9 dt of t_end), the [initial]
+    state (drawn again with the seed the output records), params and friction law."""
+    import dataclasses
+
+    import numpy as np
+
+    import bkwaves as bk
+    from bkwaves.config import initial_state
+    from bkwaves.runner import _Units
+
+    scale = float(_Units(cfg).t(1.0))  # output time units per time unit
+    ds, _ = bk.load(out)
+    try:
+        t = np.asarray(ds.t.values, dtype=float) / scale
+        u_first = np.asarray(ds.u.values[0]) if t.size else None
+        attrs = dict(ds.attrs)
+    finally:
+        ds.close()
+    end = summary.t / scale
+    stop = summary.extra.get("stop")
+    found = []
+    if cfg.max_events is not None and summary.events > cfg.max_events:
+        found.append(f"{summary.events} events, run.max_events = {cfg.max_events}")
+    by_time = cfg.t_end is not None and (cfg.max_events is None or summary.events < cfg.max_events)
+    if by_time and stop in (None, "time") and not math.isclose(end, cfg.t_end, rel_tol=1e-9):
+        found.append(f"ended at t = {end!r}, run.t_end = {cfg.t_end!r}")
+    if cfg.snapshot_every is not None and cfg.t_end is not None:
+        dt = cfg.snapshot_every
+        last = min(cfg.t_end, end)
+        want = dt * np.arange(int(math.floor(last / dt + 1e-9)) + 1)
+        if math.isclose(last, cfg.t_end, rel_tol=1e-12):
+            want = np.minimum(want, cfg.t_end)
+        if t.size != want.size or not np.allclose(t, want, rtol=1e-9, atol=1e-9 * dt):
+            missing = sorted(
+                set(np.round(want / dt).astype(int)) - set(np.round(t / dt).astype(int))
+            )
+            found.append(
+                f"{t.size} snapshots, output.snapshot_every = {dt!r} to t = {last!r} asks "
+                f"{want.size} (k dt for k = 0..{want.size - 1}; missing k: {missing[:5]})"
+            )
+    if u_first is not None and t[0] == 0.0:
+        seed = attrs.get("seed")
+        seeded = dataclasses.replace(cfg, seed=int(seed)) if str(seed).strip() else cfg
+        u0 = initial_state(seeded)
+        if u0.shape != u_first.shape or not np.allclose(u_first, u0, rtol=1e-12, atol=1e-12):
+            found.append("the first snapshot is not the [initial] state")
+    params = json.loads(attrs.get("params", "{}"))
+    for key in ("gamma", "v", "dx"):
+        want_p = float(getattr(cfg.params, key))
+        if key not in params or not math.isclose(float(params[key]), want_p, rel_tol=1e-12):
+            found.append(f"attribute params.{key} = {params.get(key)!r}, config {want_p!r}")
+    law = (doc.get("friction") or {}).get("law", "coulomb") if cfg.model == "chain" else None
+    if isinstance(law, str):
+        recorded = json.loads(attrs.get("friction_law", "{}")).get("law")
+        if recorded != law:
+            found.append(f"attribute friction_law {recorded!r}, config friction.law {law!r}")
+    return "; ".join(found) or None
+
+
+def check_call(name: str, kw: dict, result) -> str | None:
+    """What an API run did otherwise than asked (None: nothing): ``Chain.run`` ends at
+    its t_end (unless stopped by events) with a snapshot at every requested time up to
+    it; ``FreeBoundary.run`` has a snapshot at every requested time up to its end."""
+    import numpy as np
+
+    if name not in ("Chain.run", "FreeBoundary.run") or result is None:
+        return None
+    found = []
+    if name == "Chain.run":
+        end = float(result.t)
+        t_end = kw.get("t_end", 3.0)
+        if result.stop == "time" and not math.isclose(end, float(t_end), rel_tol=1e-12):
+            found.append(f"ended at t = {end!r}, t_end = {t_end!r}")
+    else:
+        end = float(result.snapshots.t.values[-1]) if result.snapshots is not None else -math.inf
+    if "snapshots" in kw and kw["snapshots"] is not None:
+        asked = np.sort(np.atleast_1d(np.asarray(kw["snapshots"], dtype=float)).ravel())
+        asked = asked[asked <= end]
+        got = np.array([]) if result.snapshots is None else result.snapshots.t.values
+        absent = [a for a in asked if not np.any(np.isclose(got, a, rtol=1e-12, atol=0.0))]
+        if absent:
+            found.append(f"snapshots {absent[:3]} asked, not taken")
+    return "; ".join(found) or None
+
+
+def _die_with_parent() -> None:
+    """The worker ends when the campaign does (Linux: PR_SET_PDEATHSIG = SIGKILL)."""
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass  # elsewhere: the worker ends when its stdin (the parent's pipe) closes
+    if os.getppid() == 1:  # the parent died before the call above
+        os._exit(1)
+
+
 def worker(seed: int, timeout: float) -> None:
     """Read "kind index" lines, run each case, print one JSON result line per case."""
     import warnings
@@ -591,19 +701,30 @@ def worker(seed: int, timeout: float) -> None:
     for line in sys.stdin:
         kind, index = line.split()
         index = int(index)
+        if kind == "sleep":  # busy for INDEX seconds (tests that it dies with its parent)
+            time.sleep(index)
+            continue
         c = case(seed, kind, index, files, api)
         t0 = time.perf_counter()
         out = {"kind": kind, "index": index, "keys": [str(k) for k in c["keys"]]}
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
+            with warnings.catch_warnings(record=True) as warned:
+                warnings.simplefilter("always")
                 warnings.simplefilter("error", LongRunWarning)
                 if kind == "config":
                     cfg = parse_config(c["doc"], base_dir=tmp)
-                    run(cfg, tmp / f"c{index}.nc")
+                    path = tmp / f"c{index}.nc"
+                    s = run(cfg, path)
                 else:
-                    api[c["name"]][1](dict(c["kw"]))
+                    result = api[c["name"]][1](dict(c["kw"]))
             out["class"] = "ok"
+            if not warned:  # (a deviation announced by a warning is not silent)
+                if kind == "config":
+                    wrong = check_config_run(cfg, c["doc"], s, path)
+                else:
+                    wrong = check_call(c["name"], c["kw"], result)
+                if wrong:
+                    out["class"], out["msg"] = "silent-wrong", wrong[:300]
         except LongRunWarning as e:
             out["class"], out["msg"] = "warned-long", str(e)[:300]
         except errors as e:
@@ -699,7 +820,7 @@ def campaign(seed, n_configs, n_calls, timeout, only=None, log=None):
     return results
 
 
-CLASSES = ("ok", "error", "unnamed", "traceback", "crash", "hang", "warned-long")
+CLASSES = ("ok", "error", "unnamed", "traceback", "crash", "hang", "warned-long", "silent-wrong")
 
 
 def summary(results) -> dict:
@@ -722,12 +843,14 @@ def main(argv=None):
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.worker:
+        _die_with_parent()
         worker(args.seed, args.timeout)
         return
     t0 = time.time()
     results = campaign(args.seed, args.configs, args.calls, args.timeout, args.only, sys.stderr)
     s = summary(results)
-    findings = [r for r in results if r["class"] in ("unnamed", "traceback", "crash", "hang")]
+    bad = ("unnamed", "traceback", "crash", "hang", "silent-wrong")
+    findings = [r for r in results if r["class"] in bad]
     doc = {"seed": args.seed, "timeout": args.timeout, "summary": s, "findings": findings,
            "wall_s": round(time.time() - t0, 1)}  # fmt: skip
     if args.json:

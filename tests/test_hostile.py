@@ -2,6 +2,12 @@
 docs/reliability.md): runs that never ended, lengths without a range, and a fixed-seed
 slice of the campaign itself."""
 
+import dataclasses
+import os
+import signal
+import subprocess
+import sys
+import time
 import tomllib
 from pathlib import Path
 
@@ -68,7 +74,7 @@ def test_a_fixed_seed_slice_of_the_campaign_finds_nothing():
 
     results = hostile.campaign(seed=2027, n_configs=24, n_calls=24, timeout=20.0)
     s = hostile.summary(results)
-    bad = [r for r in results if r["class"] in ("unnamed", "traceback", "crash", "hang")]
+    bad = [r for r in results if r["class"] in hostile.CLASSES[2:6] + ("silent-wrong",)]
     assert not bad, bad
     assert s["config"]["total"] == 24 and s["call"]["total"] == 24
     assert s["config"]["ok"] > 0 and s["config"]["error"] > 0  # both kinds exercised
@@ -258,3 +264,79 @@ def test_second_seed_findings_are_clean_errors_or_warnings(monkeypatch):
         warnings.simplefilter("error", LongRunWarning)
         with pytest.raises(LongRunWarning, match="run.max_events = 2"):
             parse_config(doc)
+
+
+def _hostile():
+    sys.path.insert(0, str(Path(__file__).parents[1] / "benchmarks"))
+    import hostile
+
+    return hostile
+
+
+def test_the_campaign_sees_a_run_that_is_not_what_its_config_asked(tmp_path):
+    """The silent-wrong class: a run read back against its config finds nothing; against
+    a config that asks for what the run did not do (another snapshot cadence, a t_end it
+    did not reach, another initial value, another friction law or gamma) it says so."""
+    from bkwaves.runner import run
+
+    hostile = _hostile()
+    doc = {
+        "model": "chain",
+        "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+        "domain": {"blocks": 50},
+        "initial": {"kind": "uniform", "value": 0.6},
+        "triggers": [{"block": 0, "kind": "kick", "velocity": 2.0}],
+        "run": {"t_end": 0.3},
+        "output": {"snapshot_every": 0.1},  # 3 x 0.1 > 0.3: the case that lost t_end's
+    }
+    cfg = parse_config(doc)
+    out = tmp_path / "r.nc"
+    s = run(cfg, out)
+    assert hostile.check_config_run(cfg, doc, s, out) is None
+    other = {
+        "snapshot_every": dataclasses.replace(cfg, snapshot_every=0.05),
+        "t_end": dataclasses.replace(cfg, t_end=0.4),
+        "[initial]": dataclasses.replace(cfg, initial=dataclasses.replace(cfg.initial, value=0.61)),
+        "gamma": dataclasses.replace(cfg, params=bk.Params(gamma=0.31, v=0.0, dx=0.1)),
+    }
+    for what, c in other.items():
+        found = hostile.check_config_run(c, doc, s, out)
+        assert found and what in found, (what, found)
+    law = {**doc, "friction": {"law": "velocity_weakening"}}
+    assert "friction" in hostile.check_config_run(cfg, law, s, out)
+    # the API: a snapshot time asked and not taken
+    ch = bk.Chain(40, bk.Params(gamma=0.3, v=0.0, dx=0.1), u0=0.6).kick(0, -2.0)
+    r = ch.run(t_end=3.0, snapshots=[1.0, 2.0], progress=False)
+    assert hostile.check_call("Chain.run", {"snapshots": [1.0, 2.0]}, r) is None
+    assert "1.5" in hostile.check_call("Chain.run", {"snapshots": [1.0, 1.5]}, r)
+    assert "t_end" in hostile.check_call("Chain.run", {"t_end": 4.0}, r)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG: Linux")
+def test_the_campaign_worker_dies_with_the_campaign():
+    """SIGKILL to the campaign while its worker is busy (here: asked to sleep 60 s)
+    leaves no worker behind (it ran on, in a session of its own, until its case ended)."""
+    bench = str(Path(__file__).parents[1] / "benchmarks")
+    code = (
+        f"import sys; sys.path.insert(0, {bench!r}); import hostile\n"
+        "w = hostile._Worker(27, 20.0)\n"
+        "print(w.p.pid, flush=True)\n"
+        "w.ask('sleep', 60, 120.0)\n"
+    )
+    parent = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    worker = int(parent.stdout.readline())
+    time.sleep(3.0)  # the worker is up, asked to sleep
+    os.kill(parent.pid, signal.SIGKILL)
+    parent.wait()
+    deadline = time.time() + 20
+    while time.time() < deadline:
+        try:
+            state = Path(f"/proc/{worker}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except FileNotFoundError:
+            break
+        if state == "Z":  # dead, not yet reaped
+            break
+        time.sleep(0.05)
+    else:
+        os.kill(worker, signal.SIGKILL)
+        raise AssertionError("the worker outlived the campaign")
