@@ -273,6 +273,15 @@ def _hostile():
     return hostile
 
 
+@pytest.mark.parametrize("sizes", [[], [3.0]])
+def test_a_power_law_of_too_few_sizes_names_sizes(sizes):
+    """Campaign finding (seed 1127, call 910): power_law_exponent(sizes=[]) raised numpy's
+    'zero-size array to reduction operation minimum' ValueError."""
+    with pytest.raises(bk.ParameterError) as e:
+        bk.stats.power_law_exponent(sizes)
+    assert str(e.value).startswith("invalid sizes") and "at least 2" in str(e.value)
+
+
 def test_the_campaign_sees_a_run_that_is_not_what_its_config_asked(tmp_path):
     """The silent-wrong class: a run read back against its config finds nothing; against
     a config that asks for what the run did not do (another snapshot cadence, a t_end it

@@ -609,7 +609,9 @@ def power_law_exponent(sizes, s_min: float | None = None) -> tuple[float, float]
     >>> bool(abs(beta - 1) < 3 * err)
     True
     """
-    s = V.array("sizes", sizes, lo=0.0, lo_open=True)
+    s = V.array("sizes", sizes, lo=0.0, lo_open=True).ravel()
+    if s.size < 2:
+        V._fail("sizes", s.tolist(), "at least 2 sizes >= s_min")
     s_min = float(s.min()) if s_min is None else V.number("s_min", s_min, lo=0.0, lo_open=True)
     sel = s[s >= s_min]
     if sel.size < 2:

@@ -775,8 +775,12 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
 
     // ----- settling: events due now ---------------------------------------------------
 
-    /// Apply every switch due at the current time until none is left.
-    fn settle(&mut self) -> Result<()> {
+    /// Apply every switch due at the current time until none is left. With `wall`
+    /// (the start of a call bounded by [`Chain::set_chunk_wall`]) it stops between two
+    /// rounds once that time is spent and returns false: a cascade through a uniform
+    /// chain slips one more block a round, each round over every sliding block (n^2/2
+    /// an event); the next call settles on from the same state.
+    fn settle(&mut self, wall: Option<std::time::Instant>) -> Result<bool> {
         let t = self.t;
         let mut rounds = 0usize;
         loop {
@@ -848,11 +852,16 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             if done {
                 break;
             }
+            if let Some(started) = wall {
+                if self.wall_spent(rounds as u64, started) {
+                    return Ok(false);
+                }
+            }
         }
         if self.st.n_active == 0 {
             self.close_event();
         }
-        Ok(())
+        Ok(true)
     }
 
     fn close_event(&mut self) {
@@ -1168,9 +1177,16 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         let started = std::time::Instant::now();
         let mut passes = 0u32;
         let mut jumps = 0u64;
+        // switches applied at one instant (sources fired, threshold slips popped): a
+        // uniform chain's blocks slip one by one at the same time, each followed by a
+        // settle over the sliding runs (n^2/2 block visits an event), with no step
+        // between them: the wall bound is checked among them too
+        let mut acts = 0u64;
         loop {
             if self.need_check {
-                self.settle()?;
+                if !self.settle(Some(started))? {
+                    return Ok(Stop::Steps);
+                }
                 self.need_check = false;
             }
             if self.catalog.finished() >= target_events {
@@ -1187,6 +1203,10 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                     self.apply_trigger(tr, Cause::Source(kind));
                     self.need_check = true;
                 }
+                acts += 1;
+                if self.wall_spent(acts, started) {
+                    return Ok(Stop::Steps);
+                }
                 continue;
             }
             let tq = self.queue.peek().map_or(f64::INFINITY, |(t, _)| t);
@@ -1195,6 +1215,10 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 self.slip_at_threshold(p, 1);
                 self.refresh_around(p);
                 self.need_check = true;
+                acts += 1;
+                if self.wall_spent(acts, started) {
+                    return Ok(Stop::Steps);
+                }
                 continue;
             }
             if self.t >= t_end {
@@ -1240,6 +1264,16 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             steps += 1;
             self.integrate_step(t_next)?;
         }
+    }
+
+    /// Whether a call that has applied `acts` switches at one instant has used its wall
+    /// time ([`Chain::set_chunk_wall`]; checked every 8th: each is followed by a settle).
+    /// The state between two of them is a loop state like any other (`need_check` set,
+    /// checkpointed): the next call goes on exactly where this one stopped.
+    fn wall_spent(&self, acts: u64, started: std::time::Instant) -> bool {
+        self.chunk_wall.is_finite()
+            && acts % 8 == 0
+            && started.elapsed().as_secs_f64() >= self.chunk_wall
     }
 
     /// The first source due now (if any), else the earliest time a source acts.
