@@ -1154,8 +1154,14 @@ def _write_parquet_part(path: Path, table):
 
 
 def _open_nc(f: Path):
+    import h5py
     import xarray as xr
 
+    # every object opened once by h5py first: a damaged file fails here, cleanly (an
+    # h5netcdf File whose opening fails half-way raises again when it is collected,
+    # under "Exception ignored in", after the one-line error)
+    with h5py.File(f, "r") as h:
+        h.visititems(lambda name, obj: None)
     return xr.open_dataset(f, engine="h5netcdf")
 
 
