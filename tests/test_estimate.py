@@ -32,7 +32,7 @@ CHEAP = [
     "front_1e5",
     "chain_1e4_uniform_20_events",
 ]
-EXPENSIVE = ["front_1e6", "config_front_4e5"]
+EXPENSIVE = ["front_1e6", "config_front_4e5", "front_1e7", "chain_run_1e7"]
 
 
 @pytest.fixture(scope="module")

@@ -239,9 +239,34 @@ def memory_bytes(model: str, nodes: int) -> float:
 
 
 def snapshot_memory(total: float, one: float, streamed: bool) -> float:
-    """Bytes a run's snapshots take in memory: all of them (``total`` bytes) when the run
-    keeps them; streamed to an output, at most ``LIMITS["stream_snapshot_copies"]``
-    snapshots of ``one`` bytes at once, however many are written."""
+    """Bytes a run's snapshots take in memory: all of them when the run keeps them;
+    streamed to an output, at most ``LIMITS["stream_snapshot_copies"]`` snapshots at
+    once, however many are written.
+
+    Parameters
+    ----------
+    total : float
+        Bytes of all the run's snapshots.
+    one : float
+        Bytes of one snapshot.
+    streamed : bool
+        The snapshots go to an output as they are taken (``bkwaves run``,
+        ``bk.run(cfg, OUT)``); False: the run keeps them (``Chain.run``).
+
+    Returns
+    -------
+    float
+        Bytes.
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> one = 10**7 * 17  # u, u_t and sliding of 1e7 blocks
+    >>> bk.limits.snapshot_memory(61 * one, one, True) / one
+    10.0
+    >>> bk.limits.snapshot_memory(61 * one, one, False) / one
+    61.0
+    """
     if not streamed:
         return float(total)
     return min(float(total), LIMITS["stream_snapshot_copies"] * float(one))
