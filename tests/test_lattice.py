@@ -186,3 +186,42 @@ def test_a_disc_of_radius_zero_is_a_point_kick_and_a_disc_rupture_is_symmetric()
     for other in (t[::-1], t[:, ::-1], t.T):
         assert np.array_equal(np.isfinite(other), ok)
         assert np.max(np.abs(other[ok] - t[ok])) < 1e-11
+
+
+def test_per_bond_springs_shapes_checkpoints_and_errors(tmp_path):
+    # k_x: (ny, bonds of a row), k_y: (bonds of a column, nx); free x (nx - 1 bonds),
+    # periodic y (ny bonds); all ones is the uniform lattice bit for bit
+    nx, ny = 12, 9
+    p = bk.Params(gamma=0.45, v=1e-2, dx=0.2)
+    rng = np.random.default_rng(3)
+    u0 = 0.6 + 0.2 * rng.random((ny, nx))
+
+    def lattice(coupling):
+        la = bk.Lattice((nx, ny), p, u0=u0, boundary=("free", "periodic"), coupling=coupling)
+        return la.kick((3, 4), -2.0)
+
+    ones = (np.ones((ny, nx - 1)), np.ones((ny, nx)))
+    a = lattice(None).run(t_end=20.0, progress=False)
+    b = lattice(ones).run(t_end=20.0, progress=False)
+    assert (
+        np.array_equal(a.first_slip_times(), b.first_slip_times(), equal_nan=True)
+        and np.isfinite(a.first_slip_times()).sum() > 20
+    )
+    kx = 1.0 + 0.5 * rng.random((ny, nx - 1))
+    ky = 0.5 * rng.random((ny, nx))
+    la = lattice((kx, ky))
+    la.run(t_end=5.0, progress=False)
+    la.save(tmp_path / "la.npz")
+    back = bk.Lattice.load(tmp_path / "la.npz")
+    r1 = la.run(t_end=20.0, progress=False)
+    r2 = back.run(t_end=20.0, progress=False)
+    assert np.array_equal(la.u, back.u) and np.array_equal(r1.slip_map(), r2.slip_map())
+    assert not np.allclose(r1.slip_map(), b.slip_map())
+    with pytest.raises(bk.ParameterError, match=r"coupling\[0\]"):
+        lattice((np.ones((ny, nx)), 1.0))
+    with pytest.raises(bk.ParameterError, match=r"coupling\[1\]\[2, 5\]"):
+        bad = np.ones((ny, nx))
+        bad[2, 5] = -1.0
+        lattice((1.0, bad))
+    with pytest.raises(bk.ParameterError, match="coupling"):
+        lattice(2.0)

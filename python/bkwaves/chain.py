@@ -386,11 +386,8 @@ class Chain:
             V._fail("fixed", fixed, "a pair (left, right) of wall positions u_wall, or None")
         fixed = (V.number("fixed[0]", fixed[0]), V.number("fixed[1]", fixed[1]))
         self.fixed = fixed
-        bonds = {"free": self.n - 1, "fixed": self.n + 1, "periodic": self.n}.get(boundary)
         given = {"threshold": threshold, "mass": mass, "loader": loader, "coupling": coupling}
-        self.properties = {
-            k: _property(k, x, bonds if k == "coupling" else self.n) for k, x in given.items()
-        }
+        self.properties = {k: self._property(k, x, boundary) for k, x in given.items()}
         self._engine = _core.ChainEngine(
             u0,
             params.dx,
@@ -416,6 +413,11 @@ class Chain:
     def _geometry(self) -> dict:
         """The engine's layout beyond a line of blocks (the lattice adds its shape)."""
         return {}
+
+    def _property(self, name, value, boundary):
+        """A per-block property (``coupling``: per bond) as the engine takes it."""
+        bonds = {"free": self.n - 1, "fixed": self.n + 1, "periodic": self.n}.get(boundary)
+        return _property(name, value, bonds if name == "coupling" else self.n)
 
     def integration_attrs(self) -> dict:
         """The integration settings as output attributes: step, integrator and

@@ -165,6 +165,28 @@ def _planar_catalog(cat, nx: int, dx: float, dy: float, moment_scale: float):
     return c
 
 
+def _bonds(name, value, shape) -> np.ndarray | None:
+    """Per-bond springs (a scalar or an array of ``shape``) as the engine takes them, row
+    after row: None for all 1, finite values >= 0 (a zero bond cuts the lattice)."""
+    if value is None:
+        return None
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        V._fail(name, value, f"a scalar or an array of shape {shape}")
+    if a.ndim == 0:
+        if a == 1.0:
+            return None
+        a = np.full(shape, float(a))
+    if a.shape != tuple(shape):
+        V._fail(name, f"array of shape {a.shape}", f"a scalar or an array of shape {shape}")
+    bad = np.argwhere(~(np.isfinite(a) & (a >= 0)))
+    if bad.size:
+        at = tuple(int(x) for x in bad[0])
+        V._fail(f"{name}[{at[0]}, {at[1]}]", float(a[at]), "finite springs >= 0")
+    return np.ascontiguousarray(a.ravel(), dtype=float)
+
+
 def _pair(name, value, allowed) -> tuple:
     if isinstance(value, str):
         return (value, value)
@@ -201,7 +223,14 @@ class Lattice(Chain):
         As for ``bkwaves.Chain``.
     threshold, mass, loader : float or array_like, optional
         Per-block properties, a scalar or (ny, nx) values, in units of the reference
-        values of ``params`` (coupling springs are uniform).
+        values of ``params``.
+    coupling : tuple, optional
+        Per-bond springs (k_x, k_y) in units of the uniform ones (dimensionless; dx and
+        dy stay the spacings), each a scalar or an array: k_x shaped (ny, bonds of a row
+        along x), k_y (bonds of a column along y, nx). A line of n blocks has n - 1 bonds
+        between free sides (bond b joins blocks b and b + 1), n + 1 with walls (the first
+        joins the wall and block 0) and n periodic (the last joins block n - 1 and block
+        0); values >= 0 (a zero bond cuts the lattice).
 
     Examples
     --------
@@ -234,6 +263,7 @@ class Lattice(Chain):
         threshold=None,
         mass=None,
         loader=None,
+        coupling=None,
     ):
         if not (isinstance(shape, tuple | list) and len(shape) == 2):
             V._fail("shape", shape, "a pair (nx, ny) of block counts >= 1")
@@ -270,8 +300,27 @@ class Lattice(Chain):
             integrator=integrator,
             step_tolerance=step_tolerance,
             noise=noise,
+            coupling=coupling,
             **props,
         )
+        if self._coupling_y is not None:
+            self.properties["coupling_y"] = self._coupling_y
+
+    def _property(self, name, value, boundary):
+        """Per-block properties as the chain's; ``coupling`` a pair (k_x, k_y) of per-bond
+        springs: the engine's x bonds (returned) and y bonds (kept for ``_geometry``)."""
+        if name != "coupling":
+            return super()._property(name, value, boundary)
+        self._coupling_y = None
+        if value is None:
+            return None
+        if not (isinstance(value, tuple | list) and len(value) == 2):
+            V._fail("coupling", value, "a pair (k_x, k_y) of per-bond springs (or None)")
+        nx, ny = self.shape
+        count = {"free": -1, "fixed": 1, "periodic": 0}
+        kx = _bonds("coupling[0]", value[0], (ny, nx + count[boundary]))
+        self._coupling_y = _bonds("coupling[1]", value[1], (ny + count[self.boundary_y], nx))
+        return kx
 
     def _flat(self, name, value):
         """A scalar, or (ny, nx) values as the engine's block order (row after row)."""
@@ -290,6 +339,7 @@ class Lattice(Chain):
 
     def _geometry(self) -> dict:
         return {
+            "coupling_y": self._coupling_y,
             "shape": self.shape,
             "dy": self.dy,
             "boundary_y": self.boundary_y,
@@ -316,6 +366,17 @@ class Lattice(Chain):
             if f"property_{k}" in arrays
         }
         nx, ny = meta["shape"]
+        nx, ny = int(nx), int(ny)
+        bonds = [arrays.get(f"property_{k}") for k in ("coupling", "coupling_y")]
+        count = {"free": -1, "fixed": 1, "periodic": 0}
+        coupling = None
+        if any(b is not None for b in bonds):
+            kx, ky = (1.0 if b is None else np.asarray(b) for b in bonds)
+            if bonds[0] is not None:
+                kx = kx.reshape(ny, nx + count[meta["boundary"]])
+            if bonds[1] is not None:
+                ky = ky.reshape(ny + count[meta["boundary_y"]], nx)
+            coupling = (kx, ky)
         Lattice.__init__(
             self,
             (int(nx), int(ny)),
@@ -328,7 +389,8 @@ class Lattice(Chain):
             step_tolerance=meta.get("step_tolerance"),
             seed=meta["seed"],
             noise=meta.get("noise"),
-            **{k: np.asarray(x).reshape(int(ny), int(nx)) for k, x in props.items()},
+            coupling=coupling,
+            **{k: np.asarray(x).reshape(ny, nx) for k, x in props.items()},
         )
         restore_engine(self._engine, arrays, source)
         self._e0 = meta["e0"]
@@ -846,6 +908,10 @@ class Rupture:
         """The rupture's extent along x over its extent along y, in blocks, at time t
         (dy/dx for a circle in (x, y) = (i dx, j dy)).
 
+        The extent along an axis is where the front is at time t along that edge of the
+        quadrant: the blocks' arrival times interpolated linearly between blocks, in
+        blocks from the rupture's centre (half a block before block 0).
+
         Parameters
         ----------
         t : float
@@ -854,18 +920,32 @@ class Rupture:
         Returns
         -------
         float
-            The ratio (NaN before the rupture reached a block along y).
+            The ratio (NaN before the front has passed two blocks along each axis or
+            after it has left the quadrant).
 
         Examples
         --------
         >>> import bkwaves as bk
-        >>> float(bk.lattice.rupture(0.6, 0.3, 0.1, size=32, check=False).aspect(1.5))
+        >>> r = bk.lattice.rupture(0.6, 0.45, 0.2, size=16, check=False)
+        >>> round(r.aspect(1.5), 6)      # dx = dy: a symmetric rupture
         1.0
         """
         a = self.arrival
-        ni = np.count_nonzero(np.isfinite(a[0]) & (a[0] <= t))
-        nj = np.count_nonzero(np.isfinite(a[:, 0]) & (a[:, 0] <= t))
-        return ni / nj if nj else math.nan
+        ex = _front_at(a[0], t)
+        ey = _front_at(a[:, 0], t)
+        return ex / ey if ey > 0 else math.nan
+
+
+def _front_at(arrival: np.ndarray, t: float) -> float:
+    """Where the front along a row of blocks is at time t, in blocks from the centre
+    (block k at k + 1/2), the arrival times interpolated linearly; NaN outside the blocks
+    reached or where the arrival times do not increase."""
+    ok = np.isfinite(arrival)
+    n = arrival.size if ok.all() else int(np.argmin(ok))  # the reached prefix
+    arr = arrival[:n]
+    if n < 2 or not (arr[0] <= t <= arr[-1]) or np.any(np.diff(arr) <= 0):
+        return math.nan
+    return float(np.interp(t, arr, np.arange(n) + 0.5))
 
 
 def _profile(r: np.ndarray, t: np.ndarray) -> dict:

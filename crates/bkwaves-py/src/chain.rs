@@ -302,12 +302,14 @@ impl ChainEngine {
     /// parameters (dict); threshold, mass, loader (one per block) and coupling (one per
     /// bond: n - 1 free, n + 1 fixed, n periodic): per-block properties (None: all 1).
     /// shape=(nx, ny): the lattice instead (u0 and per-block arrays in block order, row
-    /// after row; `boundary` across x, `boundary_y` across y, spacing dy across).
+    /// after row; `boundary` across x, `boundary_y` across y, spacing dy across;
+    /// coupling: the x bonds row after row, coupling_y: the y bonds, a row of bonds
+    /// after another, each line's bonds as a chain's).
     #[new]
     #[pyo3(signature = (u0, dx, v, step, law="coulomb", friction=None, boundary="free",
                         fixed=(0.0, 0.0), u_t0=None, threshold=None, mass=None, loader=None,
                         coupling=None, shape=None, dy=None, boundary_y="free",
-                        fixed_y=(0.0, 0.0)))]
+                        fixed_y=(0.0, 0.0), coupling_y=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         u0: PyReadonlyArray1<'_, f64>,
@@ -327,6 +329,7 @@ impl ChainEngine {
         dy: Option<f64>,
         boundary_y: &str,
         fixed_y: (f64, f64),
+        coupling_y: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         let b = boundary::by_name(boundary, fixed).map_err(to_py)?;
         let by = boundary::by_name(boundary_y, fixed_y).map_err(to_py)?;
@@ -342,6 +345,7 @@ impl ChainEngine {
             mass: opt_vec(mass)?,
             loader: opt_vec(loader)?,
             coupling: opt_vec(coupling)?,
+            coupling_y: opt_vec(coupling_y)?,
         };
         let u0 = u0.as_slice()?;
         let w = match &u_t0 {

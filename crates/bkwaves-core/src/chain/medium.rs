@@ -18,6 +18,7 @@
 
 use super::geometry::{Geometry, Grid};
 use super::state::State;
+use crate::boundary::Ghost;
 use crate::error::{Error, Result};
 use crate::friction::Friction;
 
@@ -139,8 +140,12 @@ pub struct Properties {
     pub mass: Option<Vec<f64>>,
     /// Loader springs k_p,i > 0.
     pub loader: Option<Vec<f64>>,
-    /// Coupling springs k_c > 0, per bond.
+    /// Coupling springs k_c > 0, per bond (a lattice: its x bonds, k_x >= 0, row after
+    /// row, each row's bonds laid out as a chain's along x).
     pub coupling: Option<Vec<f64>>,
+    /// A lattice's y bonds k_y >= 0, a row of bonds after another, each column's bonds
+    /// laid out as a chain's along y (the chain: None).
+    pub coupling_y: Option<Vec<f64>>,
 }
 
 impl Properties {
@@ -150,6 +155,7 @@ impl Properties {
             && self.mass.is_none()
             && self.loader.is_none()
             && self.coupling.is_none()
+            && self.coupling_y.is_none()
     }
 }
 
@@ -205,6 +211,13 @@ impl PerBlock {
     /// Validated per-block values for n blocks with the given ends: an array of the wrong
     /// length or a bad value names the property and the block (or bond).
     pub fn new(props: &Properties, n: usize, ends: Ends) -> Result<PerBlock> {
+        if props.coupling_y.is_some() {
+            return Err(Error::Invalid {
+                name: "coupling_y".to_string(),
+                value: "given".to_string(),
+                allowed: "bonds across only in a lattice".to_string(),
+            });
+        }
         let threshold = per_block("threshold", &props.threshold, n, false)?;
         let loader = per_block("loader", &props.loader, n, false)?;
         let mass = per_block("mass", &props.mass, n, false)?;
@@ -251,18 +264,9 @@ impl PerBlock {
     }
 
     /// Validated per-block values of a lattice (threshold, mass, loader: one value per
-    /// block in block order, row after row; coupling springs uniform): a bad value names
-    /// the property and the block.
+    /// block in block order, row after row; `coupling`: the x bonds, `coupling_y`: the
+    /// y bonds, [`lattice_bonds`]): a bad value names the property and the block or bond.
     pub fn for_lattice(props: &Properties, grid: &Grid) -> Result<PerBlock> {
-        if props.coupling.is_some() {
-            return Err(Error::Invalid {
-                name: "coupling".to_string(),
-                value: "given".to_string(),
-                allowed: "uniform coupling springs in a lattice (per-bond values not \
-                          supported yet)"
-                    .to_string(),
-            });
-        }
         let n = grid.n();
         let spread = |a: Vec<f64>| {
             let mut out = vec![1.0; grid.cells()];
@@ -276,16 +280,118 @@ impl PerBlock {
         let mass = spread(per_block("mass", &props.mass, n, false)?);
         let inv_mass = mass.iter().map(|m| 1.0 / m).collect();
         let max_threshold = grid.blocks().map(|p| threshold[p]).fold(0.0, f64::max);
+        let (bond, bond_y) = lattice_bonds(props, grid)?;
         Ok(PerBlock {
             threshold,
             loader,
             mass,
             inv_mass,
-            bond: vec![1.0; grid.cells()],
-            bond_y: Some(vec![1.0; grid.cells()]),
+            bond,
+            bond_y: Some(bond_y),
             max_threshold,
         })
     }
+}
+
+/// How the ghosts of one side close the bonds of a line of blocks.
+fn ends_of(g: Ghost) -> Ends {
+    match g {
+        Ghost::Mirror => Ends::Free,
+        Ghost::Held(_) => Ends::Walls,
+        Ghost::Wrap => Ends::Ring,
+    }
+}
+
+/// The number of bonds of a line of n blocks and the padded index of the first one.
+fn bond_layout(n: usize, ends: Ends) -> (usize, usize) {
+    match ends {
+        Ends::Free => (n.saturating_sub(1), 2),
+        Ends::Walls => (n + 1, 1),
+        Ends::Ring => (n, 2),
+    }
+}
+
+/// The padded bond arrays (x: `Medium::bond`, y: `Medium::bond_y`) of a lattice from
+/// its per-bond springs: along x each row is a chain of nx blocks (nx - 1 bonds between
+/// free sides, nx + 1 with walls, nx periodic: bond i of a row joins blocks i and i + 1,
+/// or the wall and block 0 first with walls), given row after row (ny rows of them);
+/// along y each column is a chain of ny blocks laid out the same way, given as rows of
+/// bonds (bond row b holds the b-th bond of every column, nx values). Springs are
+/// finite and >= 0 (a zero bond cuts the lattice there); none given: all 1.
+pub fn lattice_bonds(props: &Properties, grid: &Grid) -> Result<(Vec<f64>, Vec<f64>)> {
+    let (nx, ny, s) = (grid.nx, grid.ny, grid.s);
+    let mut bx = vec![1.0; grid.cells()];
+    let mut by = vec![1.0; grid.cells()];
+    // (name, springs, blocks per line, lines, ends) of the x and the y bonds
+    let axes = [
+        (
+            "coupling",
+            props.coupling.as_deref(),
+            nx,
+            ny,
+            ends_of(grid.x.0),
+        ),
+        (
+            "coupling_y",
+            props.coupling_y.as_deref(),
+            ny,
+            nx,
+            ends_of(grid.y.0),
+        ),
+    ];
+    for (axis, (name, given, n, lines, ends)) in axes.into_iter().enumerate() {
+        let Some(vals) = given else { continue };
+        let (want, first) = bond_layout(n, ends);
+        if vals.len() != want * lines {
+            return Err(Error::Invalid {
+                name: name.to_string(),
+                value: format!("{} values", vals.len()),
+                allowed: format!(
+                    "one value per bond ({lines} lines of {want} bonds for {n} blocks with {} \
+                     sides: {})",
+                    match ends {
+                        Ends::Free => "free",
+                        Ends::Walls => "fixed",
+                        Ends::Ring => "periodic",
+                    },
+                    want * lines
+                ),
+            });
+        }
+        if let Some(k) = vals.iter().position(|&x| !(x.is_finite() && x >= 0.0)) {
+            return Err(Error::Invalid {
+                name: format!("{name}[{k}]"),
+                value: format!("{}", vals[k]),
+                allowed: format!("finite {name} >= 0"),
+            });
+        }
+        for line in 0..lines {
+            // padded position pp along the line (0..=n + 1) -> cell of the grid
+            let cell = |pp: usize| {
+                if axis == 0 {
+                    (line + 1) * s + pp
+                } else {
+                    pp * s + line + 1
+                }
+            };
+            let out = if axis == 0 { &mut bx } else { &mut by };
+            for b in 0..want {
+                // x: bond b of row `line` is vals[line * want + b]; y: bond b of column
+                // `line` is in bond row b, vals[b * nx + line]
+                let v = if axis == 0 {
+                    vals[line * want + b]
+                } else {
+                    vals[b * nx + line]
+                };
+                out[cell(first + b)] = v;
+            }
+            if ends == Ends::Ring {
+                // the closing bond seen from both ends
+                out[cell(1)] = out[cell(n + 1)];
+            }
+        }
+    }
+    Ok((bx, by))
 }
 
 impl Medium for PerBlock {
@@ -317,10 +423,16 @@ impl Medium for PerBlock {
         self.max_threshold
     }
     fn fingerprint(&self) -> Vec<f64> {
-        [&self.threshold, &self.loader, &self.mass, &self.bond]
+        let mut f: Vec<f64> = [&self.threshold, &self.loader, &self.mass, &self.bond]
             .iter()
             .flat_map(|a| a.iter().copied())
-            .collect()
+            .collect();
+        // a lattice's bonds across, when not all 1 (the fingerprints of lattices with
+        // uniform springs stay those they were)
+        if let Some(by) = self.bond_y.as_ref().filter(|b| b.iter().any(|&x| x != 1.0)) {
+            f.extend_from_slice(by);
+        }
+        f
     }
 }
 

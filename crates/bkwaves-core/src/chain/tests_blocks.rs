@@ -175,6 +175,7 @@ fn alike_blocks_given_as_arrays_are_the_uniform_engine_bit_for_bit() {
             mass: Some(vec![1.0; n]),
             loader: Some(vec![1.0; n]),
             coupling: Some(vec![1.0; bonds]),
+            coupling_y: None,
         };
         let u0 = smooth(n, 3, 0.6, 0.15);
         let fr = Coulomb::new(0.3, 0.5).unwrap();
@@ -354,6 +355,7 @@ fn energy_books_of_a_disordered_chain_close_to_round_off_with_midpoint() {
             mass: Some(smooth(n, 2, 1.0, 0.3)),
             loader: Some(smooth(n, 3, 1.0, 0.3)),
             coupling: Some(smooth(bonds, 4, 1.0, 0.3)),
+            coupling_y: None,
         };
         let mut res = Vec::new();
         for method in [integrator::Method::Midpoint, integrator::Method::Rk4] {

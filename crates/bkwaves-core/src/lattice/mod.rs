@@ -76,3 +76,5 @@ impl<F: Friction, M: Medium> Engine<Grid, F, M> {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_bonds;

@@ -1,0 +1,391 @@
+//! The lattice engine against the real limit (issue 25; docs/benchmarks.md).
+//!
+//! 1. The reference: the bare RK4 five-point stencil over an m x m grid of sliding blocks
+//!    (every block sliding forward, Coulomb friction, beta = inf; one fused pass per
+//!    stage, two stage buffers), as baseline x86-64 code and as AVX2 code (the engine
+//!    picks the widest code its CPU runs); the best is the reference.
+//! 2. The engine: an expanding rupture from a point (u_+ = 0.6, gamma = 0.45, dx = dy =
+//!    0.05, v = 0) on a quadrant of `size` x `size` blocks with free edges (mirror
+//!    planes), kicked at its corner and stopped when the front has crossed 90 % of it:
+//!    sliding-block updates per CPU second, as a ratio to the reference over m^2 = the
+//!    engine's mean number of sliding blocks, measured in the same round.
+//! 3. Memory: the memory allocated (VmData) by building a lattice of n x n blocks, per
+//!    block, and the resident memory (VmRSS) it adds: a page of a zeroed array is resident
+//!    only once written, so the resident figure grows to the allocated one as a rupture
+//!    crosses the lattice (`--full` runs one across it and reports the peak).
+//!
+//! All times are CPU times of the work (the machine is shared).
+//!
+//! cargo run --release -- [--repeat R] [--size L] [--memory N1,N2,..] [--full N,dx,gamma]
+
+use bkwaves_core::boundary::Free;
+use bkwaves_core::chain::medium::Uniform;
+use bkwaves_core::chain::{ChainConfig, Trigger, TriggerKind};
+use bkwaves_core::friction::Coulomb;
+use bkwaves_core::lattice::{Lattice, LatticeSpec};
+
+/// CPU time of this process in seconds (CLOCK_PROCESS_CPUTIME_ID). Linux.
+fn cpu_seconds() -> f64 {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    extern "C" {
+        fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
+    }
+    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
+    let mut ts = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec into the struct we own.
+    let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime");
+    ts.sec as f64 + 1e-9 * ts.nsec as f64
+}
+
+/// A memory figure of this process in bytes from /proc/self/status: "VmRSS" (resident)
+/// or "VmData" (allocated: the heap and anonymous mappings, touched or not).
+fn status_bytes(key: &str) -> f64 {
+    let s = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    s.lines()
+        .find(|l| l.starts_with(key))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|k| k.parse::<f64>().ok())
+        .map_or(f64::NAN, |k| 1024.0 * k)
+}
+
+const U_PLUS: f64 = 0.6;
+const GAMMA: f64 = 0.45;
+const DX: f64 = 0.05;
+const STEP: f64 = 0.05;
+
+/// The bare stencil: m x m sliding blocks in (m + 2)^2 padded cells, the border held.
+struct Reference {
+    m: usize,
+    k: f64,
+    g2: f64,
+    h: f64,
+    /// u, w, then the RK4 sums (ku, kw) and two stage buffers (su, sw), (tu, tw).
+    b: [Vec<f64>; 8],
+}
+
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn stage(
+    m: usize,
+    cu: &[f64],
+    cw: &[f64],
+    u0: &[f64],
+    w0: &[f64],
+    ku: &mut [f64],
+    kw: &mut [f64],
+    nu: &mut [f64],
+    nw: &mut [f64],
+    k: f64,
+    g2: f64,
+    wt: f64,
+    cn: f64,
+    first: bool,
+) {
+    let s = m + 2;
+    for j in 1..=m {
+        let a = j * s + 1;
+        let b = a + m;
+        let (l, c, r) = (&cu[a - 1..b - 1], &cu[a..b], &cu[a + 1..b + 1]);
+        let (d, up) = (&cu[a - s..b - s], &cu[a + s..b + s]);
+        let (w, u0, w0) = (&cw[a..b], &u0[a..b], &w0[a..b]);
+        let (ku, kw) = (&mut ku[a..b], &mut kw[a..b]);
+        let (nu, nw) = (&mut nu[a..b], &mut nw[a..b]);
+        for i in 0..m {
+            let acc = (l[i] + r[i] - 2.0 * c[i]) * k + (d[i] + up[i] - 2.0 * c[i]) * k - c[i]
+                + g2 * (0.0 - w[i]);
+            if first {
+                ku[i] = wt * w[i];
+                kw[i] = wt * acc;
+            } else {
+                ku[i] += wt * w[i];
+                kw[i] += wt * acc;
+            }
+            nu[i] = u0[i] + cn * w[i];
+            nw[i] = w0[i] + cn * acc;
+        }
+    }
+}
+
+impl Reference {
+    fn new(m: usize) -> Reference {
+        let len = (m + 2) * (m + 2);
+        let mut b: [Vec<f64>; 8] = std::array::from_fn(|_| vec![0.0; len]);
+        let x = |q: usize| 0.1 * q as f64;
+        b[0] = (0..len).map(|q| 0.6 - 1e-3 * x(q).sin()).collect();
+        b[1] = (0..len).map(|q| -1e-2 * x(q).cos()).collect();
+        for j in 2..8 {
+            b[j] = b[j % 2].clone();
+        }
+        Reference {
+            m,
+            k: 1.0 / (DX * DX),
+            g2: 2.0 * GAMMA,
+            h: STEP * DX,
+            b,
+        }
+    }
+
+    #[inline(always)]
+    fn body(&mut self, steps: u64) {
+        let (m, k, g2, h) = (self.m, self.k, self.g2, self.h);
+        let [u, w, ku, kw, su, sw, tu, tw] = &mut self.b;
+        for _ in 0..steps {
+            // stage 1 at (u, w): sums start; next stage values in (su, sw)
+            stage(m, u, w, u, w, ku, kw, su, sw, k, g2, 1.0, 0.5 * h, true);
+            stage(m, su, sw, u, w, ku, kw, tu, tw, k, g2, 2.0, 0.5 * h, false);
+            stage(m, tu, tw, u, w, ku, kw, su, sw, k, g2, 2.0, h, false);
+            // stage 4: the sums complete; the new state
+            stage(m, su, sw, u, w, ku, kw, tu, tw, k, g2, 1.0, 0.0, false);
+            let s = m + 2;
+            for j in 1..=m {
+                let a = j * s + 1;
+                for q in a..a + m {
+                    u[q] += h / 6.0 * ku[q];
+                    w[q] += h / 6.0 * kw[q];
+                }
+            }
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn run_avx2(&mut self, steps: u64) {
+        self.body(steps)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn run_avx512(&mut self, steps: u64) {
+        self.body(steps)
+    }
+
+    fn checksum(&self) -> f64 {
+        self.b[0].iter().sum::<f64>() + self.b[1].iter().sum::<f64>()
+    }
+}
+
+/// Updates per CPU second of the reference over m x m blocks (about `work` updates),
+/// the best of baseline, AVX2 and AVX-512F code (those this CPU runs).
+fn reference(m: usize, work: f64) -> f64 {
+    let steps = (work / (m * m) as f64).ceil().max(1.0) as u64;
+    let mut best: f64 = 0.0;
+    for code in 0..3 {
+        let mut r = Reference::new(m);
+        let t = cpu_seconds();
+        match code {
+            0 => r.body(steps),
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the CPU runs AVX2 (checked).
+            1 if std::is_x86_feature_detected!("avx2") => unsafe { r.run_avx2(steps) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the CPU runs AVX-512F (checked).
+            2 if std::is_x86_feature_detected!("avx512f") => unsafe { r.run_avx512(steps) },
+            _ => continue,
+        }
+        let s = cpu_seconds() - t;
+        assert!(r.checksum().is_finite());
+        best = best.max((m * m) as f64 * steps as f64 / s);
+    }
+    best
+}
+
+fn lattice(n: usize) -> Lattice<Coulomb> {
+    lattice_at(n, DX, GAMMA, 0)
+}
+
+/// An n x n lattice at uniform u_+ (free edges), kicked at block `at`.
+fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize) -> Lattice<Coulomb> {
+    let spec = LatticeSpec {
+        nx: n,
+        ny: n,
+        dy: dx,
+        x: &Free,
+        y: &Free,
+    };
+    let cfg = ChainConfig {
+        dx,
+        v: 0.0,
+        step: STEP,
+    };
+    let fr = Coulomb::new(gamma, f64::INFINITY).unwrap();
+    let u0 = vec![U_PLUS; n * n];
+    let mut la = Lattice::lattice(cfg, spec, fr, Uniform, &u0, None).unwrap();
+    la.add_trigger(Trigger {
+        t: 0.0,
+        block: at,
+        kind: TriggerKind::Kick { du_t: -2.0 },
+    })
+    .unwrap();
+    la
+}
+
+/// The engine's rupture: (block-steps per CPU second, mean sliding blocks, block-steps).
+fn engine(size: usize) -> (f64, f64, u64, u64, u64) {
+    let mut la = lattice(size);
+    // the front crosses 90 % of the quadrant: c ~ 1/sqrt(1 - u_+^2) = 1.25 (in x per time)
+    let t_end = 0.9 * size as f64 * DX / 1.25;
+    let t = cpu_seconds();
+    la.run(t_end, usize::MAX, u64::MAX).unwrap();
+    let s = cpu_seconds() - t;
+    let c = la.counters;
+    (
+        c.block_steps as f64 / s,
+        c.block_steps as f64 / c.steps as f64,
+        c.block_steps,
+        c.steps,
+        c.switches,
+    )
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let (mut repeat, mut size, mut memory) = (3usize, 512usize, vec![1024usize, 2048]);
+    let mut full: Option<(usize, f64, f64)> = None;
+    let mut k = 1;
+    while k < args.len() {
+        match args[k].as_str() {
+            "--repeat" => repeat = args[k + 1].parse().expect("--repeat R"),
+            "--size" => size = args[k + 1].parse().expect("--size L"),
+            "--memory" => {
+                memory = args[k + 1]
+                    .split(',')
+                    .filter(|s| !s.is_empty())
+                    .map(|s| s.parse().expect("--memory N1,N2"))
+                    .collect()
+            }
+            "--full" => {
+                let v: Vec<&str> = args[k + 1].split(',').collect();
+                let bad = "--full N,dx,gamma";
+                assert!(v.len() == 3, "{bad}");
+                full = Some((
+                    v[0].parse().expect(bad),
+                    v[1].parse().expect(bad),
+                    v[2].parse().expect(bad),
+                ));
+            }
+            a => panic!(
+                "unknown argument {a} (--repeat R, --size L, --memory N1,N2, --full N,dx,gamma)"
+            ),
+        }
+        k += 2;
+    }
+    println!("lattice rupture: quadrant {size} x {size}, u+ = {U_PLUS}, gamma = {GAMMA}, dx = dy = {DX}, step {STEP}");
+    let mut ratios = Vec::new();
+    for round in 0..repeat {
+        let (eng, mean, work, steps, switches) = engine(size);
+        let m = (mean.sqrt().round() as usize).max(2);
+        let refr = reference(m, work as f64);
+        let ratio = eng / refr;
+        ratios.push(ratio);
+        println!(
+            "round {round}: engine {eng:.3e} updates/s (mean sliding {mean:.0} blocks, \
+             {work} block-steps, {steps} steps, {switches} switches), reference {m} x {m}: \
+             {refr:.3e}/s, ratio {ratio:.3}"
+        );
+    }
+    let (lo, hi) = (
+        ratios.iter().copied().fold(f64::INFINITY, f64::min),
+        ratios.iter().copied().fold(0.0, f64::max),
+    );
+    println!(
+        "engine / reference: median {:.3} [{lo:.3}, {hi:.3}]",
+        median(&mut ratios)
+    );
+    for n in memory {
+        let (data0, rss0) = (status_bytes("VmData:"), status_bytes("VmRSS:"));
+        let la = lattice(n);
+        let (data1, rss1) = (status_bytes("VmData:"), status_bytes("VmRSS:"));
+        let blocks = (n * n) as f64;
+        println!(
+            "memory: {n} x {n} lattice: {:.1} bytes per block allocated, {:.1} resident \
+             before its first step",
+            (data1 - data0) / blocks,
+            (rss1 - rss0) / blocks,
+        );
+        drop(la);
+    }
+    if let Some((n, dx, gamma)) = full {
+        // a rupture from the centre across the whole lattice: the front (speed about
+        // c = 1/sqrt(1 - u_+^2) = 1.25) stopped at 95 % of the way to the edges
+        let mut la = lattice_at(n, dx, gamma, n / 2 + n * (n / 2));
+        let t_end = 0.95 * 0.5 * n as f64 * dx / 1.25;
+        let t = cpu_seconds();
+        la.run(t_end, usize::MAX, u64::MAX).unwrap();
+        let s = cpu_seconds() - t;
+        let c = la.counters;
+        let slipped = {
+            let mut seen = vec![false; n * n];
+            for r in &la.catalog.slips {
+                seen[r.block] = true;
+            }
+            seen.iter().filter(|&&x| x).count()
+        };
+        println!(
+            "full: {n} x {n} lattice, dx = {dx}, gamma = {gamma}, u+ = {U_PLUS}, to t = {t_end:.2}: \
+             {s:.1} s CPU, {} steps, {} block-steps ({:.3e}/s, mean sliding {:.0}), \
+             {} switches, {} slips, {slipped} blocks slipped ({:.1} %), peak resident {:.1} \
+             bytes per block (VmHWM {:.0} MB)",
+            c.steps,
+            c.block_steps,
+            c.block_steps as f64 / s,
+            c.block_steps as f64 / c.steps as f64,
+            c.switches,
+            la.catalog.slips.len(),
+            100.0 * slipped as f64 / (n * n) as f64,
+            status_bytes("VmHWM:") / (n * n) as f64,
+            status_bytes("VmHWM:") / 1e6,
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_reference_step_is_rk4_of_the_sliding_lattice() {
+        // one step of the fused reference against RK4 written out block by block:
+        // u_tt = (Laplacian u)/dx^2 - u - 2 gamma u_t on the m x m interior, border held
+        let m = 5;
+        let mut r = Reference::new(m);
+        let (u0, w0) = (r.b[0].clone(), r.b[1].clone());
+        r.body(1);
+        let s = m + 2;
+        let (k, g2, h) = (r.k, r.g2, r.h);
+        let rhs = |u: &[f64], w: &[f64]| -> (Vec<f64>, Vec<f64>) {
+            let (mut du, mut dw) = (vec![0.0; s * s], vec![0.0; s * s]);
+            for j in 1..=m {
+                for i in 1..=m {
+                    let q = j * s + i;
+                    let lap = u[q - 1] + u[q + 1] + u[q - s] + u[q + s] - 4.0 * u[q];
+                    du[q] = w[q];
+                    dw[q] = k * lap - u[q] - g2 * w[q];
+                }
+            }
+            (du, dw)
+        };
+        let axpy = |x: &[f64], a: f64, y: &[f64]| -> Vec<f64> {
+            x.iter().zip(y).map(|(x, y)| x + a * y).collect()
+        };
+        let (k1u, k1w) = rhs(&u0, &w0);
+        let (k2u, k2w) = rhs(&axpy(&u0, h / 2.0, &k1u), &axpy(&w0, h / 2.0, &k1w));
+        let (k3u, k3w) = rhs(&axpy(&u0, h / 2.0, &k2u), &axpy(&w0, h / 2.0, &k2w));
+        let (k4u, k4w) = rhs(&axpy(&u0, h, &k3u), &axpy(&w0, h, &k3w));
+        for q in 0..s * s {
+            let u = u0[q] + h / 6.0 * (k1u[q] + 2.0 * k2u[q] + 2.0 * k3u[q] + k4u[q]);
+            let w = w0[q] + h / 6.0 * (k1w[q] + 2.0 * k2w[q] + 2.0 * k3w[q] + k4w[q]);
+            assert!((r.b[0][q] - u).abs() < 1e-13, "u at {q}");
+            assert!((r.b[1][q] - w).abs() < 1e-12, "u_t at {q}");
+        }
+    }
+}
