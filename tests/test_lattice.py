@@ -225,3 +225,15 @@ def test_per_bond_springs_shapes_checkpoints_and_errors(tmp_path):
         lattice((1.0, bad))
     with pytest.raises(bk.ParameterError, match="coupling"):
         lattice(2.0)
+
+
+def test_a_rupture_with_dx_over_dy_1_5_tends_to_a_circle_in_the_plane():
+    # the continuum problem is isotropic in (x, y) = (i dx, j dy): the aspect in blocks
+    # tends to dy/dx as dx -> 0 (docs/lattice.md: 0.029, 0.018, 0.012 above it at t = 1
+    # for dx = 0.2, 0.1, 0.05); two spacings here
+    dev = []
+    for dx in (0.2, 0.1):
+        dy = dx / 1.5
+        r = bk.lattice.rupture(0.6, 0.45, dx, size=int(round(4.0 / dx)), dy=dy, check=False)
+        dev.append(r.aspect(1.0) * dx / dy - 1.0)
+    assert 0.0 < dev[1] < 0.8 * dev[0] < 0.03
