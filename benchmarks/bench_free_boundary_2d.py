@@ -1,6 +1,6 @@
 """Cost of the two-dimensional free boundary engine per rupture, and a long run.
 
-Run: python benchmarks/bench_free_boundary_2d.py [--scaling] [--long] [--json FILE]
+Run: python benchmarks/bench_free_boundary_2d.py [--scaling] [--long] [--lattice] [--json FILE]
   --scaling: on one 1024 x 1024 periodic grid (h = 0.25, v = 0), a disk of radius R
       stressed to u = 0.6 in u = -0.2 is triggered at its centre; the front sweeps the
       A ~ pi R^2/h^2 nodes of the disk and stops at its edge. CPU time of the sweep
@@ -11,6 +11,10 @@ Run: python benchmarks/bench_free_boundary_2d.py [--scaling] [--long] [--json FI
       "stop", u0 = 0.3 x a random field of correlation length 3, noise law "power"
       (exponent 8, rate 1 per unit area and time at u = 1), run until 1e5 ruptures are
       complete: CPU time, ruptures, areas.
+  --lattice: one rupture through a smooth stress field on the quadrant [0, 8]^2 (the
+      validation of docs/free_boundary_2d.md, docs/scripts/free_boundary_2d_lattice.py),
+      run by bk.Lattice and by FreeBoundary2D on the same nodes (h = dx, dx = 0.1 and
+      0.05): CPU time of each (construction included, one round each), and their ratio.
 Timed by CPU time (time.process_time() around the engine call: the machine is shared).
 Prints markdown tables; --json writes the numbers.
 """
@@ -20,6 +24,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import resource
 import statistics
 import time
 
@@ -83,7 +88,12 @@ def long_run(target: int = 100_000) -> dict:
     t0, w0 = time.process_time(), time.perf_counter()
     status = "steps"
     while status == "steps":
-        status = fb._engine.advance(math.inf, 50_000_000, target)
+        status = fb._engine.advance(math.inf, 20_000_000, target)
+        print(  # progress, so that a stopped run still says how far it got
+            f"cpu {time.process_time() - t0:.1f} s, t {fb.time:.0f}, events "
+            f"{fb._engine.steps}, noise (candidates, nucleations) {fb._engine.noise_counters}",
+            flush=True,
+        )
     cpu, wall = time.process_time() - t0, time.perf_counter() - w0
     ru = fb._engine.ruptures()
     done = ru["complete"]
@@ -99,6 +109,7 @@ def long_run(target: int = 100_000) -> dict:
         "median_nodes": float(np.median(nodes)),
         "max_nodes": int(nodes.max()),
         "nodes_swept": int(nodes.sum()),
+        "max_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
     }
     print("| quantity | value |\n|---|---|")
     for k, v in out.items():
@@ -106,15 +117,53 @@ def long_run(target: int = 100_000) -> dict:
     return out
 
 
+def lattice_vs_free_boundary(dxs=(0.1, 0.05)) -> list[dict]:
+    import pathlib
+    import sys
+
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "docs" / "scripts"))
+    from free_boundary_2d_lattice import GAMMA, L, field
+
+    rows = []
+    for dx in dxs:
+        n = int(round(L / dx))
+        x = (np.arange(n) + 0.5) * dx
+        xx, yy = np.meshgrid(x, x)
+        u0 = field(xx, yy)
+        p = bk.Params(gamma=GAMMA, v=0.0, dx=dx)
+        t0 = time.process_time()
+        la = bk.Lattice((n, n), p, u0=u0)
+        phi = np.array(la.phi)
+        la.kick((0, 0), -2.0)
+        la.run(t_end=1.8 * L, progress=False)
+        t_la = time.process_time() - t0
+        t0 = time.process_time()
+        fb = bk.FreeBoundary2D(p, (n, n), dx, phi, "free", origin=(x[0], x[0]))
+        fb.trigger(x[0], x[0])
+        fb.run(max_events=1)
+        t_fb = time.process_time() - t0
+        rows.append({"dx": dx, "blocks": n * n, "lattice_cpu_s": t_la, "fb2d_cpu_s": t_fb,
+                     "ratio": t_la / t_fb})  # fmt: skip
+    print("| dx | blocks = nodes | lattice CPU s | FreeBoundary2D CPU s | ratio |")
+    print("|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['dx']} | {r['blocks']} | {r['lattice_cpu_s']:.2f} | "
+              f"{r['fb2d_cpu_s']:.4f} | {r['ratio']:.0f} |")  # fmt: skip
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--scaling", action="store_true")
     ap.add_argument("--long", action="store_true")
+    ap.add_argument("--lattice", action="store_true")
     ap.add_argument("--json")
     a = ap.parse_args()
     out = {}
-    if a.scaling or not a.long:
+    if a.scaling or not (a.long or a.lattice):
         out["scaling"] = scaling()
+    if a.lattice:
+        out["lattice"] = lattice_vs_free_boundary()
     if a.long:
         out["long"] = long_run()
     if a.json:

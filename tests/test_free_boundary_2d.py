@@ -137,3 +137,21 @@ def test_arrival_times_need_recording():
     fb = bk.FreeBoundary2D(p, (8, 8), 0.5, 0.5)
     with pytest.raises(bk.ParameterError, match="record_arrivals"):
         fb.arrival_time(0)
+
+
+def test_against_the_lattice_the_difference_shrinks_with_dx():
+    # one rupture through a smooth field on [0, 8]^2 (docs/free_boundary_2d.md, "Against
+    # the lattice"): the spread of lattice - FreeBoundary2D arrival times away from the
+    # kick falls with dx, and the lattice's planar speed law at dx removes most of it
+    import pathlib
+    import sys
+
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "docs" / "scripts"))
+    from free_boundary_2d_lattice import compare
+
+    a, b = compare(0.2), compare(0.1)
+    for v in ("plain", "speed"):
+        assert b[v]["max_abs_minus_median"] < 0.75 * a[v]["max_abs_minus_median"], v
+    for r in (a, b):
+        assert r["speed"]["max_abs_minus_median"] < 0.5 * r["plain"]["max_abs_minus_median"]
+    assert abs(b["plain"]["mean"]) < 0.02

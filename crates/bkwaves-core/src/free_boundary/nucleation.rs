@@ -65,6 +65,28 @@ impl NoiseRun {
         }
     }
 
+    /// The noise of an engine from `set_noise`: None for a zero rate (no noise), refused
+    /// with a threshold field (the rate law Lambda(u) is written for the threshold 1).
+    pub(crate) fn for_engine(
+        law: NoiseLaw,
+        seed: u64,
+        now: f64,
+        threshold_field: bool,
+    ) -> Result<Option<NoiseRun>> {
+        if law.rate == 0.0 {
+            return Ok(None);
+        }
+        if threshold_field {
+            return Err(crate::error::Error::InvalidParameter {
+                name: "noise",
+                value: law.rate,
+                allowed: "no noise with a threshold field (not implemented: the rate law \
+                          Lambda(u) is written for the uniform threshold 1)",
+            });
+        }
+        Ok(Some(NoiseRun::new(law, seed, now)))
+    }
+
     pub(crate) fn write_config(&self, w: &mut Writer) {
         self.law.write(w);
         w.u(self.seed);
@@ -95,20 +117,10 @@ impl FreeBoundary {
     /// now on. A zero rate leaves the engine exactly as without noise. Refused with a
     /// threshold field (the rate law Lambda(u) is written for the threshold 1).
     pub fn set_noise(&mut self, law: NoiseLaw, seed: u64) -> Result<()> {
-        if law.rate == 0.0 {
-            self.noise = None;
-            return Ok(());
+        self.noise = NoiseRun::for_engine(law, seed, self.now, self.threshold.is_some())?;
+        if self.noise.is_some() {
+            self.noise_sync();
         }
-        if self.threshold.is_some() {
-            return Err(crate::error::Error::InvalidParameter {
-                name: "noise",
-                value: law.rate,
-                allowed: "no noise with a threshold field (not implemented: the rate law \
-                          Lambda(u) is written for the uniform threshold 1)",
-            });
-        }
-        self.noise = Some(NoiseRun::new(law, seed, self.now));
-        self.noise_sync();
         Ok(())
     }
 

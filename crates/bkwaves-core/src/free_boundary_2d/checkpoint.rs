@@ -7,7 +7,8 @@
 //! field) and are refused by an engine configured otherwise. Stored: the field and its
 //! epoch, the time, every per-node array of the march (arrival, label, stop time, trial
 //! time and rupture, entry version, seed flag), the catalog with the running ruptures'
-//! node lists, the counters and the noise generator. Rebuilt: the birth max-tree (each
+//! node lists, the counters, the noise generator and the noise's tile bounds, weights and
+//! window end. Rebuilt: the birth max-tree (each
 //! inner node is the maximum of its children, whatever the order of the leaves) and the
 //! heap (one entry per trial node: the stale entries of the original heap are never
 //! popped as valid, so the order of the valid ones, by time then node, is the same).
@@ -17,7 +18,7 @@ use crate::checkpoint_bytes::{bad, Reader as R, Writer as W};
 use crate::error::Result;
 use crate::free_boundary::{Boundary, CreepRule, SpeedLaw};
 
-const MAGIC: &[u8; 8] = b"BKFB2D01";
+const MAGIC: &[u8; 8] = b"BKFB2D02";
 
 impl FreeBoundary2D {
     fn fingerprint(&self, w: &mut W) {
@@ -106,6 +107,7 @@ impl FreeBoundary2D {
         if let Some(nz) = &self.noise {
             nz.write_state(&mut w);
         }
+        self.write_tiles(&mut w);
         w.0
     }
 
@@ -197,6 +199,7 @@ impl FreeBoundary2D {
         if let Some(nz) = e.noise.as_mut() {
             nz.read_state(&mut r)?;
         }
+        e.read_tiles(&mut r)?;
         if r.i != data.len() {
             return Err(bad(r.i, "a checkpoint that ends where its state ends"));
         }

@@ -138,6 +138,8 @@ pub struct FreeBoundary2D {
     completed: usize,
     steps: u64,
     noise: Option<NoiseRun>,
+    /// The noise's local bound (with noise only).
+    tiles: Option<noise2d::Tiles>,
 }
 
 impl FreeBoundary2D {
@@ -231,6 +233,7 @@ impl FreeBoundary2D {
             completed: 0,
             steps: 0,
             noise: None,
+            tiles: None,
         };
         for k in 0..n {
             fb.tree.set(k, fb.b[k] - fb.thr(k));
@@ -614,6 +617,9 @@ impl FreeBoundary2D {
         } else {
             Vec::new()
         };
+        let nodes = std::mem::take(&mut self.ruptures[ri].nodes);
+        self.noise_rupture_done(&nodes);
+        self.ruptures[ri].nodes = nodes;
         let rup = &mut self.ruptures[ri];
         rup.perimeter = perimeter;
         rup.complete = true;
@@ -669,6 +675,7 @@ impl FreeBoundary2D {
             self.b[k] += d;
         }
         self.epoch = self.now;
+        self.noise_rebase(d);
         for k in 0..self.b.len() {
             let val = if self.tent_rup[k] != NONE {
                 f64::NEG_INFINITY
@@ -704,7 +711,6 @@ impl FreeBoundary2D {
             if t > t_stop {
                 if t_stop > self.now {
                     self.now = t_stop;
-                    self.noise_sync();
                 }
                 return Ok(Stop::Time);
             }
@@ -715,14 +721,13 @@ impl FreeBoundary2D {
                 self.birth();
             } else {
                 self.now = tn;
-                self.noise_candidate();
+                self.noise_event();
             }
             done += 1;
             self.steps += 1;
             if self.opts.v * (self.now - self.epoch) > 1.0 {
                 self.rebase();
             }
-            self.noise_sync();
         }
     }
 }

@@ -501,3 +501,118 @@ fn bad_input_names_the_parameter() {
         )
         .is_err());
 }
+
+/// Mean first nucleation time of `runs` engines on `u0` (v, power law of `exponent`), the
+/// fraction of them nucleated where `hot` says, and candidates per nucleation.
+fn first_nucleations(
+    g: Grid,
+    u0: &[f64],
+    v: f64,
+    law: (f64, f64),
+    runs: u64,
+    hot: impl Fn(f64, f64) -> bool,
+) -> (f64, f64, f64) {
+    let (mut sum, mut n_hot, mut cand) = (0.0, 0usize, 0u64);
+    for seed in 0..runs {
+        let o = Options2D {
+            v,
+            ..Default::default()
+        };
+        let mut fb = FreeBoundary2D::new(g, u0, o, SpeedLaw::Exact, None).unwrap();
+        fb.set_noise(
+            crate::noise::NoiseLaw::new("power", law.0, 0.0, law.1).unwrap(),
+            seed + 1000,
+        )
+        .unwrap();
+        fb.advance(f64::INFINITY, u64::MAX, 1).unwrap();
+        let r = &fb.ruptures()[0];
+        assert_eq!(r.origin, Origin::Nucleation);
+        sum += r.t_start;
+        n_hot += usize::from(hot(r.x_start, r.y_start));
+        cand += fb.noise_counters().unwrap().0;
+    }
+    (
+        sum / runs as f64,
+        n_hot as f64 / runs as f64,
+        cand as f64 / runs as f64,
+    )
+}
+
+#[test]
+fn noise_in_a_hot_patch_is_drawn_locally_at_the_rate_of_the_law() {
+    // v = 0; u0 = 0.05 except a 6 x 6 block of nodes at 0.6 inside one tile of the bound;
+    // g = u^8. The first nucleation is exponential with rate `rate` times the integral of
+    // g over the bilinear field (midpoint rule, 64^2 points per cell), and almost all of
+    // it is in the patch. A bound over the whole grid would draw ~ area g(0.6) / integral
+    // ~ 150 candidates per nucleation; the tiles draw at most the patch's tile.
+    let g = Grid::new(
+        96,
+        96,
+        0.5,
+        (0.0, 0.0),
+        (Boundary::Periodic, Boundary::Periodic),
+    )
+    .unwrap();
+    let hot = |k: usize| {
+        let (i, j) = g.ij(k);
+        (20..26).contains(&i) && (36..42).contains(&j)
+    };
+    let u0: Vec<f64> = (0..g.n())
+        .map(|k| if hot(k) { 0.6 } else { 0.05 })
+        .collect();
+    let gl = |u: f64| u.powi(8);
+    let m = 64;
+    let mut integral = 0.0;
+    for k in 0..g.n() {
+        let k10 = g.step(k, 0, 1).unwrap();
+        let k01 = g.step(k, 1, 1).unwrap();
+        let k11 = g.step(k10, 1, 1).unwrap();
+        for a in 0..m {
+            for b in 0..m {
+                let (sx, sy) = ((a as f64 + 0.5) / m as f64, (b as f64 + 0.5) / m as f64);
+                let u = (1.0 - sy) * ((1.0 - sx) * u0[k] + sx * u0[k10])
+                    + sy * ((1.0 - sx) * u0[k01] + sx * u0[k11]);
+                integral += gl(u);
+            }
+        }
+    }
+    integral *= g.h * g.h / (m * m) as f64;
+    let rate = 0.5;
+    let (mean, frac, cand) = first_nucleations(g, &u0, 0.0, (rate, 8.0), 400, |x, y| {
+        (9.0..13.0).contains(&x) && (17.5..21.5).contains(&y)
+    });
+    let expect = 1.0 / (rate * integral);
+    assert!((mean / expect - 1.0).abs() < 0.15, "{mean} {expect}");
+    assert!(frac > 0.99, "{frac}");
+    let global = g.area() * gl(0.6) / integral;
+    assert!(global > 100.0, "{global}");
+    assert!(
+        cand < 0.15 * global,
+        "{cand} candidates per nucleation ({global})"
+    );
+}
+
+#[test]
+fn noise_under_loading_follows_the_integrated_rate() {
+    // uniform u0 = 0.3, v = 0.01, g = u^2: P(T > t) = exp(-A rate ((u0 + v t)^3 - u0^3)/(3 v)),
+    // many windows of the bound (each 1/(256 v) = 0.39 time units) before the first
+    // nucleation; E[T] by quadrature.
+    let g = Grid::new(
+        10,
+        8,
+        0.5,
+        (0.0, 0.0),
+        (Boundary::Periodic, Boundary::Periodic),
+    )
+    .unwrap();
+    let (u0, v, rate) = (0.3, 0.01, 0.1);
+    let big_l = |t: f64| g.area() * rate * ((u0 + v * t).powi(3) - u0.powi(3)) / (3.0 * v);
+    let dt = 1e-3;
+    let expect: f64 = (0..60_000)
+        .map(|i| (-big_l((i as f64 + 0.5) * dt)).exp() * dt)
+        .sum();
+    let (mean, _, _) = first_nucleations(g, &vec![u0; g.n()], v, (rate, 2.0), 400, |_, _| true);
+    assert!(expect > 2.0 / (256.0 * v), "{expect}");
+    // sd of T / E[T] < 1: the standard error of 400 is below 0.05
+    assert!((mean / expect - 1.0).abs() < 0.15, "{mean} {expect}");
+}
