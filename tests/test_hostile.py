@@ -3,6 +3,7 @@ docs/reliability.md): runs that never ended, lengths without a range, and a fixe
 slice of the campaign itself."""
 
 import dataclasses
+import math
 import os
 import signal
 import subprocess
@@ -174,17 +175,22 @@ def test_a_snapshot_schedule_beyond_the_limit_is_refused_before_it_is_allocated(
         parse_config(doc)
 
 
-def test_velocity_weakening_front_with_a_tiny_v_f_is_warned():
-    """velocity_weakening.front(v_f = 1e-9): steps of 5e-11, hours of work without a word
-    (campaign hang); warned in one line before any work."""
+def test_velocity_weakening_front_with_a_tiny_v_f_is_cheap_and_near_coulomb():
+    """velocity_weakening.front(v_f = 1e-9): steps of 5e-11 once, hours of work (warned
+    since the campaign hang); now the chain keeps step dx and only each block's onset takes
+    sub-steps (chain/onset.rs): no warning, about a second, and the front within the
+    derived 2 c_C r ln(1/r) of the Coulomb chain's at r = v_f/dx = 1e-8."""
     import warnings
 
     from bkwaves.limits import LongRunWarning
 
     with warnings.catch_warnings():
         warnings.simplefilter("error", LongRunWarning)
-        with pytest.raises(LongRunWarning, match="v_f = 1e-09"):
-            bk.velocity_weakening.front(0.6, 0.3, 0.1, 1e-9)
+        only_c = {"c": 1e-6, "zone": math.inf, "u_minus": math.inf}
+        f = bk.velocity_weakening.front(0.6, 0.3, 0.1, 1e-9, tolerance=only_c)
+    assert f.status == "steady", f
+    cc = float(bk.front_speed(0.6, dx=0.1, gamma=0.3))
+    assert 0.0 < cc / f.c - 1.0 < bk.velocity_weakening.coulomb_gap_bound(cc, 1e-8)
 
 
 def test_campaign_configs_that_ran_for_ever_or_overflowed_are_warned():

@@ -211,3 +211,58 @@ def test_death_threshold_needs_converged_chains():
     fading = vw.front(u, gamma, dx, 0.74 * star, weakening=False, tolerance=c6)
     assert fading.status == "dies" and fading.reached > 40.0, fading
     assert vw.front(u, gamma, dx, 0.70 * star, weakening=False, tolerance=c6).status == "steady"
+
+
+def _c_of_front(u, gamma, dx, v_f, n, step, step_tolerance=None):
+    """c over blocks n/2 .. 3n/4 of one front on n blocks (bkwaves.chain.run_front)."""
+    from bkwaves.chain import run_front
+
+    law = bk.friction.law("velocity_weakening", v_f=v_f)
+    p = bk.Params(gamma=gamma, v=0.0, dx=dx, friction_law=law)
+    _, first, _ = run_front(u, n, p, step=step, step_tolerance=step_tolerance)
+    a, b = n // 2, (3 * n) // 4
+    return dx * (b - a) / (first[b] - first[a])
+
+
+def test_onset_sub_steps_converge_at_fourth_order_and_match_the_global_step():
+    """The onset of a block at v_f/dx = 1e-4 is 1e4 times faster than the lattice: the
+    chain keeps step dx and gives the block in its onset its own sub-steps
+    (chain/onset.rs). c converges at fourth order in the step (the changes fall by 16 per
+    halving at order 4: here >= 8), the default step within 2e-8 of step 0.0125 (the
+    Coulomb chain's own error at this step and dx: 3.4e-9); and at v_f/dx = 1e-2, where it
+    is affordable, the same c as the chain that steps every block at step v_f/theta (the
+    engine before sub-steps, here through the step-size control with a tolerance no step
+    can meet)."""
+    u, gamma, dx = 0.55, 0.3, 0.05
+    cs = [_c_of_front(u, gamma, dx, 1e-4 * dx, 200, s) for s in (0.1, 0.05, 0.025, 0.0125)]
+    d = [abs(cs[k] - cs[k + 1]) for k in range(3)]
+    assert d[0] / d[1] > 8 and d[1] / d[2] > 8, (cs, d)
+    assert abs(cs[1] / cs[3] - 1) < 2e-8, cs
+    sub = _c_of_front(u, gamma, dx, 1e-2 * dx, 100, 0.05)
+    glob = _c_of_front(u, gamma, dx, 1e-2 * dx, 100, 0.05, step_tolerance=1e-300)
+    assert abs(sub / glob - 1) < 1e-8, (sub, glob)
+
+
+def test_the_front_tends_to_the_coulomb_chain_as_v_f_over_dx_goes_to_zero():
+    """eq. (crit): as r = v_f/dx -> 0 the front tends to the Coulomb chain's at the same
+    dx, slowly: each slip is delayed by ~ v_f ln(1/r) (docs/velocity_weakening.md), so
+    g = c_C/c - 1 ~ r ln(1/r) (0 < g < 2 c_C r ln(1/r)), and so do the changes of the
+    pulse behind (width, u_-): down to r = 1e-5, which costs about what r = 1e-2 does
+    now that the onset has its own sub-steps."""
+    u, gamma, dx = 0.7, 0.3, 0.1
+    cf = bk.chain.front(u, gamma, dx)
+    assert cf.regime == "pulse"
+    rs = (1e-3, 1e-4, 1e-5)
+    fronts = {r: vw.front(u, gamma, dx, r * dx) for r in rs}
+    for r, f in fronts.items():
+        assert f.status == "steady", (r, f)
+        g = cf.c / f.c - 1.0
+        assert 0.0 < g < vw.coulomb_gap_bound(cf.c, r), (r, g)
+        # g/(c_C r ln(1/r)) between 0.5 and 2 at every r: the rate, not just the limit
+        assert 0.5 < g / (cf.c * r * math.log(1 / r)) < 2.0, (r, g)
+    for a, b in ((1e-3, 1e-4), (1e-4, 1e-5)):
+        shrink = b * math.log(1 / b) / (a * math.log(1 / a))
+        for key, coulomb in (("zone", cf.w / dx), ("u_minus", cf.u_minus)):
+            da = abs(getattr(fronts[a], key) - coulomb)
+            db = abs(getattr(fronts[b], key) - coulomb)
+            assert db < 2.5 * shrink * da, (key, a, b, da, db)

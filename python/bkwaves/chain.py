@@ -791,7 +791,10 @@ class Chain:
         thr = np.asarray(self._engine.thresholds(), dtype=float)
         mass = self.properties.get("mass")
         m_min = 1.0 if mass is None else float(np.min(mass))
-        h = chain_step(self.params.dx, self.step, self.params.law, float(thr.max()), m_min)
+        substeps = self.integrator == "rk4" and self.step_tolerance is None
+        h = chain_step(
+            self.params.dx, self.step, self.params.law, float(thr.max()), m_min, substeps
+        )
         # flat, block by block as the engine numbers them (a Lattice shapes them (ny, nx))
         phi, modes, u = (np.ravel(a) for a in (self.phi, self.modes, self.u))
         stuck = modes == 0
@@ -1204,14 +1207,23 @@ FRONT_KICK = _core.defaults()["front_kick"]
 
 
 def run_front(
-    u_plus: float, n: int, params: Params, *, step: float = DEFAULT_STEP, t_end=None, snapshots=()
+    u_plus: float,
+    n: int,
+    params: Params,
+    *,
+    step: float = DEFAULT_STEP,
+    t_end=None,
+    snapshots=(),
+    step_tolerance: float | None = None,
 ):
     """The front experiment run step by step in Python: n blocks at uniform u_+ (free
     ends, v = 0), block 0 kicked forward at t = 0, run until the tip reaches the far end
     or nothing slides any more (the front died), at most 4 crossings at unit speed, or
     until ``t_end``. Returns (chain, first slip time of every block (NaN: never slipped),
-    (t, u_t[k, i]) at the times ``snapshots`` reached)."""
-    ch = Chain(n, params, "free", u0=u_plus, step=step)
+    (t, u_t[k, i]) at the times ``snapshots`` reached). ``step_tolerance``: the chain's
+    opt-in step-size control (bkwaves.Chain; with it a velocity-weakening chain steps every
+    block at step min(dx, v_f/theta), without onset sub-steps)."""
+    ch = Chain(n, params, "free", u0=u_plus, step=step, step_tolerance=step_tolerance)
     ch.kick(0, -FRONT_KICK)
     dx = params.dx
     t_max = 4.0 * n * dx if t_end is None else float(t_end)

@@ -304,14 +304,33 @@ def snapshot_count(snapshot_every, snapshot_events, t_span, events, open_ended=F
     return 2
 
 
-def chain_step(dx: float, step: float, law=None, threshold_max: float = 1.0, mass_min=1.0):
-    """The chain's time step: step dx, or step m_min v_f/theta_max for a velocity-weakening
-    law if shorter (the engine's own rule)."""
+#: The work of a velocity-weakening chain with v_f below dx, in Coulomb steps: the chain
+#: keeps step dx and gives each block's onset its own sub-steps (crates/bkwaves-core/src/
+#: chain/onset.rs), 4-7x the Coulomb block-steps and 1.5-3x its CPU time at v_f/dx =
+#: 0.2 ... 2e-5 (docs/benchmarks.md, "Onset").
+ONSET_WORK = 3.0
+
+
+def chain_step(
+    dx: float,
+    step: float,
+    law=None,
+    threshold_max: float = 1.0,
+    mass_min=1.0,
+    substeps: bool = True,
+):
+    """The chain's effective time step. RK4 at its fixed step (``substeps``) keeps step dx
+    for every law and resolves a velocity-weakening block's onset with sub-steps of its
+    own: step dx / ONSET_WORK when that applies (m_min v_f/theta_max < dx). The midpoint
+    rule and RK4 under step-size control step every block at step m_min v_f/theta_max if
+    that is shorter than step dx (the engine's own rule)."""
     h = step * dx
     values = dict(law.params) if law is not None else {}
     v_f = values.get("v_f")
     if v_f is not None and getattr(law, "name", "") == "velocity_weakening":
-        h = min(h, step * mass_min * v_f / max(threshold_max, 1e-300))
+        h_law = step * mass_min * v_f / max(threshold_max, 1e-300)
+        if h_law < h:
+            h = h / ONSET_WORK if substeps else h_law
     return max(h, 1e-300)  # (v_f = 5e-324: no division by zero, an enormous estimate)
 
 
@@ -413,7 +432,8 @@ def _chain_run(cfg, t_span, max_events):
     thr_max = 1.0 if thr is None else float(np.max(thr))
     m_min = 1.0 if mass is None else float(np.min(mass))
     steps = cfg.chain_integration()
-    h = chain_step(p.dx, steps["step"], p.law, thr_max, m_min)
+    substeps = steps["integrator"] == "rk4" and steps["step_tolerance"] is None
+    h = chain_step(p.dx, steps["step"], p.law, thr_max, m_min, substeps)
     phi_max = top - thr_min + 1.0
     if cfg.blocks <= EXACT_PHI_BLOCKS:  # phi = u - Lap u/dx^2 itself (ends, curvature)
         phi_max = _chain_phi_max(cfg, 1.0 if thr is None else np.asarray(thr))

@@ -29,6 +29,7 @@ pub mod front;
 pub mod geometry;
 pub mod integrator;
 pub mod medium;
+mod onset;
 pub mod sources;
 pub mod state;
 pub mod step_control;
@@ -201,6 +202,15 @@ pub struct Engine<G: Geometry, F: Friction, M: Medium = Uniform> {
     midpoint_contraction: f64,
     /// Opt-in step-size control (None: the fixed step h, the default).
     control: Option<StepControl>,
+    /// The law has a stiff onset (a finite time scale) and the integrator is RK4: blocks
+    /// in it are integrated with their own sub-steps (onset.rs).
+    stiff: bool,
+    /// The step h_law of the midpoint integrator (step times the smaller of dx and the
+    /// law's time scale: it has no sub-steps).
+    h_law: f64,
+    /// The patch of blocks in their stiff onset and its integration (not part of the
+    /// state: rebuilt every step).
+    onset: onset::Onset,
     a_start: Vec<f64>,
     a_end: Vec<f64>,
     a_valid: bool,
@@ -316,10 +326,14 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             .blocks()
             .map(|p| medium.mass(p))
             .fold(f64::INFINITY, f64::min);
-        let h = cfg.step
+        // (the midpoint rule, and RK4 under step-size control, step a stiff law's onset
+        // with h_law for every block; RK4 at its fixed step keeps step dx and gives the
+        // blocks in their onset their own sub-steps: onset.rs)
+        let h_law = cfg.step
             * geo
                 .spacing()
                 .min(friction.time_scale(medium.max_threshold()) * m_min);
+        let h_coarse = cfg.step * geo.spacing();
         // RK4 stability: |h lambda| < 2.78 on the imaginary axis; the fastest mode of a
         // sliding run has |lambda| <= max_i sqrt((k_p,i + 2 sum_bonds k_c/d^2)/m_i)
         // (Gershgorin; sqrt(1 + 4/dx^2) for alike blocks in a chain, sqrt(1 + 4/dx^2 +
@@ -332,7 +346,12 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         let damping = friction.max_slope(medium.max_threshold()) * inv_m;
         let lam = elastic + damping;
-        if h * lam > 2.5 || lam.is_nan() {
+        // the blocks left in the runs have a weakening rate below 1/dx (onset.rs), so
+        // their fastest rate is elastic + max|dR/ds| without the weakening + 1/dx
+        let lam_coarse = elastic + friction.max_slope(0.0) * inv_m + 1.0 / geo.spacing();
+        let stiff_ok = h_law < h_coarse && h_coarse * lam_coarse <= 2.5;
+        let h = if stiff_ok { h_coarse } else { h_law };
+        if h_law * lam > 2.5 || lam.is_nan() {
             return Err(Error::InvalidParameter {
                 name: "step",
                 value: cfg.step,
@@ -405,8 +424,11 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             t: 0.0,
             h,
             h_stable: 2.5 / lam,
-            midpoint_contraction: 0.25 * h * h * elastic * elastic + 0.5 * h * damping,
+            midpoint_contraction: 0.25 * h_law * h_law * elastic * elastic + 0.5 * h_law * damping,
             control: None,
+            stiff: stiff_ok,
+            h_law,
+            onset: onset::Onset::default(),
             a_start: vec![0.0; len],
             a_end: vec![0.0; len],
             a_valid: false,
@@ -484,6 +506,11 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             });
         }
         self.rk = Stepper::new(method, self.st.geo.cells());
+        if method != Method::Rk4 {
+            // no sub-steps: every block at the law's step
+            self.stiff = false;
+            self.h = self.h_law;
+        }
         self.a_valid = false;
         Ok(())
     }
@@ -504,7 +531,11 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                         allowed: "step-size control with the rk4 integrator only".to_string(),
                     });
                 }
-                Some(StepControl::new(tol, self.h, self.h_stable)?)
+                // the controller works from the law's step (no sub-steps)
+                let c = StepControl::new(tol, self.h_law, self.h_stable)?;
+                self.stiff = false;
+                self.h = self.h_law;
+                Some(c)
             }
         };
         Ok(())
@@ -935,7 +966,16 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
 
     /// Earliest event in the step just taken: its s in (0, 1] (infinity if none), the
     /// events at that s left in `who` (`cands` is a work list).
-    fn detect(&self, t0: f64, h: f64, cands: &mut Vec<usize>, who: &mut Vec<(usize, i8)>) -> f64 {
+    /// Blocks in `skip` (integrated with their own sub-steps, onset.rs) are not tested
+    /// for rest here.
+    fn detect(
+        &self,
+        t0: f64,
+        h: f64,
+        cands: &mut Vec<usize>,
+        who: &mut Vec<(usize, i8)>,
+        skip: &[usize],
+    ) -> f64 {
         let v = self.cfg.v;
         let t1 = t0 + h;
         let mut best = f64::INFINITY;
@@ -956,6 +996,9 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             );
             for &i in cands.iter() {
                 let p = a + i;
+                if skip.contains(&p) {
+                    continue;
+                }
                 let d = self.st.dir[p];
                 let g = Hermite {
                     g0: d * (self.w0[p] - v),
@@ -1029,7 +1072,11 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             let mut u = Vec::with_capacity(n);
             let mut w = Vec::with_capacity(n);
             for p in self.st.geo.blocks() {
-                if self.st.sliding(p) {
+                if let Some((ou, ow)) = self.onset_dense(p, ts) {
+                    // a block in its onset: its own dense output
+                    u.push(ou);
+                    w.push(ow);
+                } else if self.st.sliding(p) {
                     let hu = self.herm_u(p, t0, t1);
                     let hw = Hermite {
                         g0: self.w0[p],
@@ -1329,8 +1376,20 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             self.a_start = a;
             self.a_valid = true;
         }
+        if self.stiff {
+            // blocks in their stiff onset at the start: their own sub-steps (onset.rs)
+            self.onset.blocks.clear();
+            if self.onset_patch(h, false) {
+                return self.onset_step(t0, h, t_cap);
+            }
+        }
         self.do_step(t0, h);
         self.check_solved(t0)?;
+        if self.stiff && self.onset_patch(h, true) {
+            // a block came into the stiff range in the step (about to stick): redo it
+            self.restore_runs();
+            return self.onset_step(t0, h, t_cap);
+        }
         let mut indicator = None;
         // (at the fixed step the indicator only decides whether to grow: every 4th step)
         let indicate = |c: &StepControl, steps: u64| h > c.h_min || steps % 4 == 0;
@@ -1349,7 +1408,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             std::mem::take(&mut self.scratch.cands),
             std::mem::take(&mut self.scratch.who),
         );
-        let s = self.detect(t0, h, &mut cands, &mut events);
+        let s = self.detect(t0, h, &mut cands, &mut events, &[]);
         self.scratch.cands = cands;
         // (s = infinity: no event in the step; s = 1: at its end, nothing to redo)
         if s < 1.0 {
@@ -1361,6 +1420,20 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         // the energy flows of the step taken, once (not in the stages, not for a redo)
         let integ = self.rk.books(&self.st, h);
+        self.finish_step(t0, h, t_cap, integ, events, indicator)
+    }
+
+    /// The end of a step of length h taken from t0 (capped at t_cap): the books, the
+    /// snapshots in it, the clock, and the events located at its end.
+    fn finish_step(
+        &mut self,
+        t0: f64,
+        h: f64,
+        t_cap: f64,
+        integ: integrator::StepIntegrals,
+        events: Vec<(usize, i8)>,
+        indicator: Option<f64>,
+    ) -> Result<()> {
         if !(integ.u.is_finite() && integ.dry.is_finite() && integ.visc.is_finite()) {
             return Err(Error::NoConvergence {
                 what: "chain integration",

@@ -34,6 +34,12 @@ pub struct State<G: Geometry = Line> {
     pub runs: Vec<(usize, usize)>,
     /// Number of sliding blocks.
     pub n_active: usize,
+    /// Sliding blocks taken out of the runs for one step (they are integrated with their
+    /// own short steps, ../onset.rs): (block, u at the step's midpoint, u at its end),
+    /// read by the runs' stages as their neighbours' values. Empty between steps.
+    pub ext: Vec<(usize, f64, f64)>,
+    /// The end time of the step the `ext` values belong to.
+    pub ext_t1: f64,
 }
 
 impl State<Line> {
@@ -63,6 +69,8 @@ impl<G: Geometry> State<G> {
             onset: vec![0.0; len],
             runs: Vec::new(),
             n_active: 0,
+            ext: Vec::new(),
+            ext_t1: 0.0,
         }
     }
 

@@ -75,6 +75,15 @@ pub trait Friction: Clone + Send + Sync + std::fmt::Debug + 'static {
     fn time_scale(&self, _threshold_max: f64) -> f64 {
         f64::INFINITY
     }
+    /// The law's weakening part at speed s over the ground on the branch `dir`: its size
+    /// R_w and the speed scale sigma over which it varies (|dR_w/ds| = R_w/sigma; for
+    /// velocity weakening R_w = theta v_f/(v_f + |s|), sigma = v_f + |s|). A sliding block
+    /// whose R_w changes too fast for the chain's step (../chain/onset.rs) is integrated
+    /// with its own short steps while the others keep the chain's step. (0, inf) (the
+    /// default): a law without weakening.
+    fn weakening(&self, _s: f64, _dir: f64, _threshold: f64) -> (f64, f64) {
+        (0.0, f64::INFINITY)
+    }
     /// The threshold a block uses in R while it slides, given that it slipped in direction
     /// `dir` at a located threshold crossing where its phi is `phi`. A law whose force at
     /// s = 0 equals the threshold (R(0) = upper, velocity weakening) returns the threshold

@@ -87,6 +87,12 @@ impl Friction for VelocityWeakening {
     fn time_scale(&self, threshold_max: f64) -> f64 {
         self.v_f / threshold_max
     }
+    #[inline(always)]
+    fn weakening(&self, s: f64, _dir: f64, threshold: f64) -> (f64, f64) {
+        // theta/(1 + |s|/v_f) = theta v_f/(v_f + |s|), varying over the speed v_f + |s|
+        let d = self.v_f + s.abs();
+        (threshold * self.v_f / d, d)
+    }
     fn onset_threshold(&self, threshold: f64, phi: f64, dir: f64) -> f64 {
         // R(0) on the slip's branch equals phi: forward R(0) = t, backward -(t + 2 beta)
         let at_phi = if dir < 0.0 {

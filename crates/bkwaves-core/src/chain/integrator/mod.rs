@@ -106,6 +106,13 @@ pub(crate) fn accel_only_at_state<G: Geometry, F: Friction, M: Medium>(
 /// already be set.
 #[inline(always)]
 pub(crate) fn fill_neighbours<G: Geometry>(st: &State<G>, su: &mut [f64], ts: f64) {
+    // sliding blocks outside the runs (in their stiff onset, ../onset.rs): their values
+    // at the stage times (the midpoint or the end) from their own integration
+    if !st.ext.is_empty() {
+        for &(p, mid, end) in &st.ext {
+            su[p] = if ts < st.ext_t1 { mid } else { end };
+        }
+    }
     for &(a, b) in &st.runs {
         for (q, p, ghost) in st.geo.around_run(a, b) {
             if ghost {

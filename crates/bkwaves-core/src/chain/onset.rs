@@ -1,0 +1,609 @@
+//! The stiff onset of a weakening friction law, integrated where and when it happens
+//! (issue 22; docs/velocity_weakening.md, "Cost").
+//!
+//! A block sliding with velocity-weakening friction R(s) = theta/(1 + s/v_f) + 2 gamma s
+//! obeys m s_t = phi - R(s) (s = v - u_t its speed over the ground). Linearised about
+//! s = 0, m s_t = (phi - theta) + (theta/v_f - 2 gamma) s: just after its slip a block
+//! runs away from rest at the rate theta/(m v_f), until s ~ v_f; there R ~ theta v_f/s
+//! and the rate |R'(s)|/m = theta v_f/(m (v_f + s)^2) falls below the lattice rate 1/dx
+//! once s > sqrt(theta v_f dx). Pushed by its sliding neighbour (phi - theta ~ t/(c dx)),
+//! the block spends v_f ln(c dx/v_f) in the exponential phase and about sqrt(v_f dx) more
+//! before it is no longer stiff: a time ~ v_f ln(1/r), r = v_f/dx, against dx/c between
+//! two slips. The same happens, in reverse and shorter, as a block comes to rest.
+//!
+//! So only the newest block of a front (and a block about to stick) is stiff, and only
+//! for a short time. The chain keeps its step H = `step` dx for every other block; a
+//! sliding block whose rate |R'(s)|/m exceeds 1/dx at the start or the end of a step
+//! (or whose u_t crosses v in it), together with its sliding neighbours (the patch), is
+//! taken out of the runs and integrated by RK4 with its own sub-steps,
+//! h_f = `step` min(dx, 1/(rate of the patch)), which land on the step's midpoint and end.
+//! The two parts see each other as follows:
+//!
+//! - the runs' RK4 stages read the patch blocks' values at the stage times (the step's
+//!   start, midpoint and end) from the patch's own integration;
+//! - the patch's sub-steps read a sliding neighbour outside the patch from the runs' step:
+//!   its cubic Hermite interpolant over the step (the first pass, before the runs have been
+//!   stepped, its Taylor polynomial u + u_t tau + u_tt tau^2/2);
+//! - the two are iterated (patch, runs, patch, ...) until the patch's values at the stage
+//!   times change by less than `PASS_TOL` (each round trip changes them by ~ (H/dx)^4).
+//!
+//! The patch includes the stiff block's sliding neighbours because the stiff block's
+//! acceleration jumps from 0 to ~1 within a time ~ v_f ln(1/r), inside a step: a
+//! neighbour stepped with H would sample that kink at three points only (an error
+//! ~ H (v_f ln(1/r))^2/dx^2 per slip); the neighbours' own motion has the kink smoothed in
+//! its fourth derivative, which the runs' RK4 integrates to ~ H (v_f ln(1/r))^4/dx^4.
+//! Every part is a fourth-order method whose steps scale with `step`, so the whole
+//! converges at order 4 in `step`; its cost is that of the Coulomb chain plus ~ (1/step)
+//! (ln(1/r) + O(1)) sub-steps of one or two blocks per slip.
+
+use super::events::Hermite;
+use super::geometry::{Beyond, Geometry};
+use super::integrator::StepIntegrals;
+use super::medium::{Blocks, Medium};
+use super::state::State;
+use crate::friction::Friction;
+
+/// The largest change of the patch's stage values between two passes, times (h/dx)^2
+/// (what it changes in the runs next to the patch), accepted.
+pub(crate) const PASS_TOL: f64 = 1e-13;
+/// The most passes (patch, runs) per step.
+pub(crate) const MAX_PASSES: usize = 6;
+
+/// The patch of one step and its integration (reused from step to step).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Onset {
+    /// The patch blocks (padded indices, sorted); empty when the last step had none.
+    pub blocks: Vec<usize>,
+    /// Their u, u_t at the step's start.
+    pub u0: Vec<f64>,
+    pub w0: Vec<f64>,
+    /// Their u, u_t at the end of the last pass, u at its midpoint.
+    pub u: Vec<f64>,
+    pub w: Vec<f64>,
+    pub mid: Vec<f64>,
+    /// The dense output of the last pass: knot times, and per knot the blocks' u, u_t,
+    /// u_tt (block k of knot j at j * len + k).
+    pub kt: Vec<f64>,
+    pub ku: Vec<f64>,
+    pub kw: Vec<f64>,
+    pub ka: Vec<f64>,
+    /// The patch's energy flows over the last pass.
+    pub books: StepIntegrals,
+    /// The earliest rest of a patch block in the last pass (time; infinite if none) and
+    /// the blocks at rest then.
+    pub rest_t: f64,
+    pub rest_who: Vec<usize>,
+    /// Sub-steps of the last pass.
+    pub substeps: u64,
+    // stage buffers
+    su: Vec<f64>,
+    sw: Vec<f64>,
+    acc: Vec<f64>,
+    acc0: Vec<f64>,
+    su0: Vec<f64>,
+    sw0: Vec<f64>,
+    sum_u: Vec<f64>,
+    sum_w: Vec<f64>,
+}
+
+impl Onset {
+    /// The slot of padded block r in the patch.
+    #[inline]
+    fn slot(&self, r: usize) -> Option<usize> {
+        self.blocks.iter().position(|&b| b == r)
+    }
+
+    /// Size the buffers for the current blocks.
+    pub fn resize(&mut self) {
+        let n = self.blocks.len();
+        for v in [
+            &mut self.u0,
+            &mut self.w0,
+            &mut self.u,
+            &mut self.w,
+            &mut self.mid,
+            &mut self.su,
+            &mut self.sw,
+            &mut self.acc,
+            &mut self.acc0,
+            &mut self.su0,
+            &mut self.sw0,
+            &mut self.sum_u,
+            &mut self.sum_w,
+        ] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+    }
+
+    /// u and u_t of patch block p at time t in [t0, t1] of the last pass (its dense
+    /// output: the cubic Hermite interpolant between the sub-step knots).
+    pub fn dense(&self, p: usize, t: f64) -> Option<(f64, f64)> {
+        let k = self.slot(p)?;
+        let n = self.blocks.len();
+        let nk = self.kt.len();
+        if nk < 2 {
+            return None;
+        }
+        let j = self.kt.partition_point(|&x| x <= t).clamp(1, nk - 1) - 1;
+        let (ta, tb) = (self.kt[j], self.kt[j + 1]);
+        let h = tb - ta;
+        let s = if h > 0.0 {
+            ((t - ta) / h).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let (a, b) = (j * n + k, (j + 1) * n + k);
+        let hu = Hermite {
+            g0: self.ku[a],
+            m0: self.kw[a],
+            g1: self.ku[b],
+            m1: self.kw[b],
+        };
+        let hw = Hermite {
+            g0: self.kw[a],
+            m0: self.ka[a],
+            g1: self.kw[b],
+            m1: self.ka[b],
+        };
+        Some((hu.eval(s, h), hw.eval(s, h)))
+    }
+}
+
+/// Is sliding block p, at speed s over the ground and acceleration a, in its onset for
+/// a step of length h (`spacing` = dx)? Either its weakening rate R_w/(sigma m) exceeds
+/// 1/dx (the exponential phase: RK4 at step dx would not even be stable), or RK4 at h
+/// would integrate its weakening force R_w(s(t)) with an error above [`ONSET_TOL`]:
+/// R_w varies on the time sigma/|a|, and RK4's error in u_t over one step is about
+/// h R_w/m (h |a|/sigma)^4/120 (Simpson's rule on R_w ~ 1/t: the 1/s tail after the
+/// onset, which decays only like the time since the slip).
+#[inline(always)]
+pub(crate) fn is_stiff<G: Geometry, F: Friction, M: Medium>(
+    st: &State<G>,
+    blk: &Blocks<F, M>,
+    p: usize,
+    s: f64,
+    a: f64,
+    h: f64,
+    spacing: f64,
+) -> bool {
+    let (rw, sigma) = blk.fr.weakening(s, st.dir[p], st.onset[p]);
+    let inv_m = blk.med.inv_mass(p);
+    if rw * inv_m * spacing > sigma {
+        return true;
+    }
+    let rho = h * a.abs() / sigma;
+    let rho2 = rho * rho;
+    h * rw * inv_m * rho2 * rho2 > 120.0 * ONSET_TOL
+}
+
+/// The error of a chain step in a block's u_t from its weakening force below which the
+/// block stays in the runs ([`is_stiff`]).
+pub(crate) const ONSET_TOL: f64 = 1e-12;
+
+/// Accelerations of the patch blocks at stage values (su, sw) at time t, `outside(r, t)`
+/// the displacement of a real block r outside the patch.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn accel<G: Geometry, F: Friction, M: Medium>(
+    st: &State<G>,
+    blk: &Blocks<F, M>,
+    blocks: &[usize],
+    su: &[f64],
+    sw: &[f64],
+    t: f64,
+    outside: &impl Fn(usize, f64) -> f64,
+    out: &mut [f64],
+) {
+    for (k, &p) in blocks.iter().enumerate() {
+        let up = su[k];
+        let f = st.geo.force(&blk.med, p, up, |q| {
+            let r = if st.geo.is_ghost(q) {
+                match st.geo.beyond(q, p) {
+                    Beyond::Block(r) => r,
+                    Beyond::Wall(g0) => return g0 + st.v * t,
+                }
+            } else {
+                q
+            };
+            match blocks.iter().position(|&b| b == r) {
+                Some(j) => su[j],
+                None => outside(r, t),
+            }
+        });
+        out[k] = blk.accel(p, up, f, st.v - sw[k], st.dir[p], st.onset[p]);
+    }
+}
+
+/// One pass of the patch over [t0, t0 + h] from its start values (`on.u0`, `on.w0`), with
+/// sub-steps `step` min(dx, 1/rate) that land on t0 + h/2 and t0 + h; `outside(r, t)` the
+/// displacement of a real block r outside the patch. Leaves the end values, the midpoint
+/// values, the dense output, the books and the earliest rest in `on`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
+    on: &mut Onset,
+    st: &State<G>,
+    blk: &Blocks<F, M>,
+    t0: f64,
+    h: f64,
+    step: f64,
+    spacing: f64,
+    outside: impl Fn(usize, f64) -> f64,
+) {
+    let n = on.blocks.len();
+    let v = st.v;
+    let blocks = std::mem::take(&mut on.blocks);
+    on.u.copy_from_slice(&on.u0);
+    on.w.copy_from_slice(&on.w0);
+    on.kt.clear();
+    on.ku.clear();
+    on.kw.clear();
+    on.ka.clear();
+    on.books = StepIntegrals::default();
+    on.rest_t = f64::INFINITY;
+    on.rest_who.clear();
+    on.substeps = 0;
+    let mut t = t0;
+    accel(st, blk, &blocks, &on.u, &on.w, t, &outside, &mut on.acc0);
+    on.kt.push(t);
+    on.ku.extend_from_slice(&on.u);
+    on.kw.extend_from_slice(&on.w);
+    on.ka.extend_from_slice(&on.acc0);
+    let h_max = step * spacing;
+    for seg in 0..2 {
+        let t_end = if seg == 0 { t0 + 0.5 * h } else { t0 + h };
+        while t < t_end {
+            // the sub-step: step / (the fastest weakening rate of the patch), at most
+            // step dx; the last two of a segment share what is left
+            // (the fastest of: the weakening rate R_w/(sigma m), the rate |a|/sigma at
+            // which the weakening force changes)
+            let mut rate: f64 = 0.0;
+            for (k, &p) in blocks.iter().enumerate() {
+                let (rw, sigma) = blk.fr.weakening(v - on.w[k], st.dir[p], st.onset[p]);
+                let r = (rw * blk.med.inv_mass(p)).max(on.acc0[k].abs()) / sigma;
+                rate = rate.max(r);
+            }
+            let hf = if rate * h_max > step {
+                step / rate
+            } else {
+                h_max
+            };
+            let left = t_end - t;
+            let t_next = if left <= hf {
+                t_end
+            } else if left < 2.0 * hf {
+                t + 0.5 * left
+            } else {
+                t + hf
+            };
+            let hf = t_next - t;
+            let hh = 0.5 * hf;
+            let tm = t + hh;
+            // classical RK4 over the patch
+            on.su0.copy_from_slice(&on.u);
+            on.sw0.copy_from_slice(&on.w);
+            let power = |su: &[f64], sw: &[f64], wt: f64, books: &mut StepIntegrals| {
+                for (k, &p) in blocks.iter().enumerate() {
+                    let (pd, pv) = blk.fr.power(v - sw[k], st.dir[p], st.onset[p]);
+                    books.u += wt * blk.med.loader(p) * su[k];
+                    books.dry += wt * pd;
+                    books.visc += wt * pv;
+                }
+            };
+            let mut b = StepIntegrals::default();
+            power(&on.u, &on.w, 1.0, &mut b);
+            for k in 0..n {
+                on.sum_u[k] = on.w[k];
+                on.sum_w[k] = on.acc0[k];
+                on.su[k] = on.u[k] + hh * on.w[k];
+                on.sw[k] = on.w[k] + hh * on.acc0[k];
+            }
+            // stages 2 and 3 (at tm, weight 2), stage 4 (at t_next, weight 1)
+            for (c, wt, ts) in [(hh, 2.0, tm), (hf, 2.0, tm), (0.0, 1.0, t_next)] {
+                accel(st, blk, &blocks, &on.su, &on.sw, ts, &outside, &mut on.acc);
+                power(&on.su, &on.sw, wt, &mut b);
+                for k in 0..n {
+                    let (du, dw) = (on.sw[k], on.acc[k]);
+                    on.sum_u[k] += wt * du;
+                    on.sum_w[k] += wt * dw;
+                    if wt == 2.0 {
+                        on.su[k] = on.su0[k] + c * du;
+                        on.sw[k] = on.sw0[k] + c * dw;
+                    }
+                }
+            }
+            let h6 = hf / 6.0;
+            for k in 0..n {
+                on.u[k] = on.su0[k] + h6 * on.sum_u[k];
+                on.w[k] = on.sw0[k] + h6 * on.sum_w[k];
+            }
+            on.books.u += h6 * b.u;
+            on.books.dry += h6 * b.dry;
+            on.books.visc += h6 * b.visc;
+            accel(
+                st,
+                blk,
+                &blocks,
+                &on.u,
+                &on.w,
+                t_next,
+                &outside,
+                &mut on.acc,
+            );
+            // rest of a patch block in the sub-step (the rule of Engine::detect)
+            for (k, &p) in blocks.iter().enumerate() {
+                let d = st.dir[p];
+                let g = Hermite {
+                    g0: d * (on.sw0[k] - v),
+                    m0: d * on.acc0[k],
+                    g1: d * (on.w[k] - v),
+                    m1: d * on.acc[k],
+                };
+                if g.g0 == 0.0 && g.g1 == 0.0 && g.m0 <= 0.0 && g.m1 <= 0.0 {
+                    continue;
+                }
+                if let Some(s) = g.first_crossing(hf) {
+                    let te = t + s * hf;
+                    if te < on.rest_t {
+                        on.rest_t = te;
+                        on.rest_who.clear();
+                        on.rest_who.push(p);
+                    } else if te == on.rest_t && !on.rest_who.contains(&p) {
+                        on.rest_who.push(p);
+                    }
+                }
+            }
+            std::mem::swap(&mut on.acc0, &mut on.acc);
+            t = t_next;
+            on.substeps += 1;
+            on.kt.push(t);
+            on.ku.extend_from_slice(&on.u);
+            on.kw.extend_from_slice(&on.w);
+            on.ka.extend_from_slice(&on.acc0);
+        }
+        if seg == 0 {
+            on.mid.copy_from_slice(&on.u);
+        }
+    }
+    on.blocks = blocks;
+}
+
+impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
+    /// Collect the patch of the step into `self.onset.blocks`: the sliding blocks that are
+    /// stiff at the step's start (`after` false: from the present state) or, for the step
+    /// just taken (`after` true), at its start or end or whose u_t crossed v in it, with
+    /// their sliding neighbours. True if there is any (else the patch is left empty).
+    pub(super) fn onset_patch(&mut self, h: f64, after: bool) -> bool {
+        let spacing = self.st.geo.spacing();
+        let v = self.cfg.v;
+        let mut fast = std::mem::take(&mut self.onset.blocks);
+        fast.clear();
+        for &(a, b) in &self.st.runs {
+            for p in a..b {
+                let s1 = v - self.st.w[p];
+                let (s, a) = if after {
+                    let s0 = v - self.w0[p];
+                    let a = self.a_start[p].abs().max(self.a_end[p].abs());
+                    if s0 * s1 <= 0.0 {
+                        (0.0, a)
+                    } else {
+                        (s0.abs().min(s1.abs()), a)
+                    }
+                } else {
+                    (s1, self.a_start[p])
+                };
+                if is_stiff(&self.st, &self.blk, p, s, a, h, spacing) {
+                    fast.push(p);
+                }
+            }
+        }
+        let any = !fast.is_empty();
+        self.onset.blocks = fast;
+        if any {
+            self.onset_add_neighbours();
+        }
+        any
+    }
+
+    /// Add the sliding neighbours of the patch blocks to the patch (sorted, unique).
+    fn onset_add_neighbours(&mut self) {
+        let mut all = std::mem::take(&mut self.onset.blocks);
+        let n = all.len();
+        for k in 0..n {
+            let p = all[k];
+            for r in self.st.real_neighbours(p) {
+                if self.st.sliding(r) {
+                    all.push(r);
+                }
+            }
+        }
+        all.sort_unstable();
+        all.dedup();
+        self.onset.blocks = all;
+    }
+
+    /// After a step with a patch: add the blocks of the runs that were stiff in it (the
+    /// rule of [`Engine::onset_patch`] with `after`) and their sliding neighbours. True if
+    /// the patch grew.
+    fn onset_grow(&mut self, h: f64) -> bool {
+        let spacing = self.st.geo.spacing();
+        let v = self.cfg.v;
+        let mut more = Vec::new();
+        for &(a, b) in &self.st.runs {
+            for p in a..b {
+                if self.onset.blocks.contains(&p) {
+                    continue;
+                }
+                let (s0, s1) = (v - self.w0[p], v - self.st.w[p]);
+                let s = if s0 * s1 <= 0.0 {
+                    0.0
+                } else {
+                    s0.abs().min(s1.abs())
+                };
+                let a = self.a_start[p].abs().max(self.a_end[p].abs());
+                if is_stiff(&self.st, &self.blk, p, s, a, h, spacing) {
+                    more.push(p);
+                }
+            }
+        }
+        if more.is_empty() {
+            return false;
+        }
+        self.onset.blocks.extend(more);
+        self.onset_add_neighbours();
+        true
+    }
+
+    /// One step of length h from t0 with the patch in `self.onset.blocks`: the patch and
+    /// the runs iterated (module docs), the patch grown while blocks of the runs turn
+    /// stiff in the step, events located (the patch's rests on its own dense output) and
+    /// the step redone up to the earliest.
+    pub(super) fn onset_step(&mut self, t0: f64, mut h: f64, t_cap: f64) -> super::Result<()> {
+        let mut integ = self.onset_pass(t0, h);
+        let mut rounds = 0;
+        while rounds < 8 && self.onset_grow(h) {
+            rounds += 1;
+            self.restore_runs();
+            integ = self.onset_pass(t0, h);
+        }
+        let (mut cands, mut events) = (
+            std::mem::take(&mut self.scratch.cands),
+            std::mem::take(&mut self.scratch.who),
+        );
+        let skip = std::mem::take(&mut self.onset.blocks);
+        let mut s = self.detect(t0, h, &mut cands, &mut events, &skip);
+        self.onset.blocks = skip;
+        self.scratch.cands = cands;
+        let sr = (self.onset.rest_t - t0) / h;
+        if sr < s {
+            s = sr;
+            events.clear();
+        }
+        if sr == s {
+            for &p in &self.onset.rest_who {
+                if !events.contains(&(p, 0)) {
+                    events.push((p, 0));
+                }
+            }
+        }
+        if s < 1.0 {
+            self.restore_runs();
+            h *= s;
+            integ = self.onset_pass(t0, h);
+        }
+        self.finish_step(t0, h, t_cap, integ, events, None)
+    }
+
+    /// Integrate the patch and the runs over [t0, t0 + h] (module docs), leaving every
+    /// sliding block at t0 + h, the start values in u0, w0, the end accelerations in
+    /// a_end; returns the step's energy flows.
+    fn onset_pass(&mut self, t0: f64, h: f64) -> StepIntegrals {
+        let spacing = self.st.geo.spacing();
+        let step = self.cfg.step;
+        let patch = self.onset.blocks.clone();
+        self.onset.resize();
+        for (k, &p) in patch.iter().enumerate() {
+            self.onset.u0[k] = self.st.u[p];
+            self.onset.w0[k] = self.st.w[p];
+            self.u0[p] = self.st.u[p];
+            self.w0[p] = self.st.w[p];
+        }
+        // does the patch see a sliding block outside it (then the two are iterated)?
+        let coupled = patch.iter().any(|&p| {
+            self.st
+                .real_neighbours(p)
+                .any(|r| self.st.sliding(r) && !patch.contains(&r))
+        });
+        for &p in &patch {
+            self.st.remove_from_runs(p);
+        }
+        let np = patch.len() as u64;
+        let mut coarse_done = false;
+        let mut passes = 0;
+        let mut coarse = StepIntegrals::default();
+        let (mut prev_mid, mut prev_end): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+        loop {
+            {
+                let (st, u0, w0, a0) = (&self.st, &self.u0, &self.w0, &self.a_start);
+                let outside = |r: usize, t: f64| -> f64 {
+                    if !st.sliding(r) {
+                        return st.stuck_u(r, t);
+                    }
+                    let tau = t - t0;
+                    if coarse_done {
+                        let hu = Hermite {
+                            g0: u0[r],
+                            m0: w0[r],
+                            g1: st.u[r],
+                            m1: st.w[r],
+                        };
+                        hu.eval(tau / h, h)
+                    } else {
+                        st.u[r] + tau * (st.w[r] + 0.5 * tau * a0[r])
+                    }
+                };
+                pass(
+                    &mut self.onset,
+                    st,
+                    &self.blk,
+                    t0,
+                    h,
+                    step,
+                    spacing,
+                    outside,
+                );
+            }
+            self.counters.block_steps += self.onset.substeps * np;
+            if coarse_done {
+                // the runs saw the last pass's values: they are off by about (h/dx)^2
+                // times the change of this pass
+                let on = &self.onset;
+                let change = (0..patch.len()).fold(0.0f64, |m, k| {
+                    m.max((on.mid[k] - prev_mid[k]).abs())
+                        .max((on.u[k] - prev_end[k]).abs())
+                });
+                let feedback = change * (h / spacing) * (h / spacing);
+                if !coupled || feedback <= PASS_TOL || passes >= MAX_PASSES {
+                    break;
+                }
+                self.restore_runs();
+            }
+            prev_mid.clone_from(&self.onset.mid);
+            prev_end.clone_from(&self.onset.u);
+            self.st.ext.clear();
+            for (k, &p) in patch.iter().enumerate() {
+                self.st.ext.push((p, self.onset.mid[k], self.onset.u[k]));
+            }
+            self.st.ext_t1 = t0 + h;
+            self.do_step(t0, h);
+            coarse = self.rk.books(&self.st, h);
+            coarse_done = true;
+            passes += 1;
+            if !coupled {
+                break;
+            }
+        }
+        self.st.ext.clear();
+        for (k, &p) in patch.iter().enumerate() {
+            self.st.u[p] = self.onset.u[k];
+            self.st.w[p] = self.onset.w[k];
+            self.st.add_to_runs(p);
+        }
+        self.rk
+            .accel_only(&mut self.st, &self.blk, t0 + h, &mut self.a_end);
+        let b = self.onset.books;
+        StepIntegrals {
+            u: coarse.u + b.u,
+            dry: coarse.dry + b.dry,
+            visc: coarse.visc + b.visc,
+        }
+    }
+
+    /// u and u_t of block p at time t if it is in the last step's patch.
+    pub(super) fn onset_dense(&self, p: usize, t: f64) -> Option<(f64, f64)> {
+        if self.onset.blocks.is_empty() {
+            return None;
+        }
+        self.onset.dense(p, t)
+    }
+}
