@@ -309,6 +309,9 @@ def snapshot_count(snapshot_every, snapshot_events, t_span, events, open_ended=F
 #: chain/onset.rs), 4-7x the Coulomb block-steps and 1.5-3x its CPU time at v_f/dx =
 #: 0.2 ... 2e-5 (docs/benchmarks.md, "Onset").
 ONSET_WORK = 3.0
+#: The sub-steps are used where the law's step is shorter than dx/ONSET_GAIN (the engine's
+#: chain::ONSET_GAIN).
+ONSET_GAIN = 50.0
 
 
 def chain_step(
@@ -321,16 +324,16 @@ def chain_step(
 ):
     """The chain's effective time step. RK4 at its fixed step (``substeps``) keeps step dx
     for every law and resolves a velocity-weakening block's onset with sub-steps of its
-    own: step dx / ONSET_WORK when that applies (m_min v_f/theta_max < dx). The midpoint
-    rule and RK4 under step-size control step every block at step m_min v_f/theta_max if
-    that is shorter than step dx (the engine's own rule)."""
+    own: step dx / ONSET_WORK when that applies (m_min v_f/theta_max < dx/ONSET_GAIN).
+    Otherwise, and for the midpoint rule and RK4 under step-size control, every block
+    steps at step m_min v_f/theta_max if that is shorter than step dx (the engine's rule)."""
     h = step * dx
     values = dict(law.params) if law is not None else {}
     v_f = values.get("v_f")
     if v_f is not None and getattr(law, "name", "") == "velocity_weakening":
         h_law = step * mass_min * v_f / max(threshold_max, 1e-300)
         if h_law < h:
-            h = h / ONSET_WORK if substeps else h_law
+            h = h / ONSET_WORK if substeps and h_law * ONSET_GAIN < h else h_law
     return max(h, 1e-300)  # (v_f = 5e-324: no division by zero, an enormous estimate)
 
 

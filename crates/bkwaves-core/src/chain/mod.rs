@@ -74,6 +74,11 @@ impl Default for ChainConfig {
     }
 }
 
+/// The onset's sub-steps (onset.rs) are used when the law's step m_min v_f/theta_max is
+/// shorter than dx/ONSET_GAIN: above it stepping every block at the law's step costs less
+/// (docs/benchmarks.md, "Onset": the two cost the same at v_f/dx = 0.02).
+pub const ONSET_GAIN: f64 = 50.0;
+
 /// Default step fraction h/dx: converges front speeds to about 1e-7 relative at fixed dx
 /// (see docs/validation.md).
 pub const DEFAULT_STEP: f64 = 0.05;
@@ -349,7 +354,9 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         // the blocks left in the runs have a weakening rate below 1/dx (onset.rs), so
         // their fastest rate is elastic + max|dR/ds| without the weakening + 1/dx
         let lam_coarse = elastic + friction.max_slope(0.0) * inv_m + 1.0 / geo.spacing();
-        let stiff_ok = h_law < h_coarse && h_coarse * lam_coarse <= 2.5;
+        // (sub-steps pay only where the law's step is much shorter than dx: for
+        // m v_f/theta >= dx/ONSET_GAIN every block steps at h_law as before)
+        let stiff_ok = h_law * ONSET_GAIN < h_coarse && h_coarse * lam_coarse <= 2.5;
         let h = if stiff_ok { h_coarse } else { h_law };
         if h_law * lam > 2.5 || lam.is_nan() {
             return Err(Error::InvalidParameter {

@@ -82,11 +82,12 @@ fn velocity_weakening_tends_to_the_coulomb_law_as_v_f_goes_to_zero() {
 
 #[test]
 fn velocity_weakening_fronts_converge_in_the_step() {
-    // v_f = 0.01 < dx: the chain keeps step dx and the blocks in their stiff onset take
-    // sub-steps step min(dx, 1/rate) (chain/onset.rs); RK4 with located events converges
-    // at about fourth order: over two halvings the change of c falls by > 64 (measured:
-    // changes 1.5e-4, 3.9e-6, 2.7e-7, 4.0e-8, 3.2e-9 from step 0.8 down to 0.025, each
-    // pair of halvings 98 or more), and the default step is within 1e-8 of step 0.0125
+    // v_f = 0.01 = dx/10 (above dx/ONSET_GAIN): every block steps at step v_f/theta (the
+    // growth time at slip onset; below dx/ONSET_GAIN the onset takes sub-steps instead,
+    // chain/onset.rs, tests/test_velocity_weakening.py); RK4 with located events converges
+    // at fourth order: over two halvings the change of c falls by > 64 (measured 1.0e-4,
+    // 9.0e-6, 6.6e-7, 4.5e-8 from step 0.8 down), and the default step is within 1e-8 of
+    // step 0.0125
     let p = [("gamma", 0.3), ("v_f", 0.01)];
     let cs: Vec<f64> = [0.8, 0.4, 0.2, 0.1, 0.05, 0.0125]
         .iter()
