@@ -268,6 +268,9 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
             } else {
                 h_max
             };
+            // (never below the clock's resolution: a v_f so small that its onset is
+            // shorter than that is taken as a Coulomb slip, not stepped for ever)
+            let hf = hf.max(8.0 * f64::EPSILON * t.abs().max(h));
             let left = t_end - t;
             let t_next = if left <= hf {
                 t_end
