@@ -8,13 +8,13 @@ outputs u on the grid, the events, shocks and ruptures tables.
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
 
 from .._progress import ProgressBar
 from . import Model
+from ._targets import TargetLoop
 
 
 def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
@@ -30,7 +30,6 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         _frame,
         _guard_writes,
         _open_writer,
-        _snapshot_times,
         _Units,
         _write_ruptures,
     )
@@ -65,9 +64,8 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
     variables = {"u": ("1", "slow field u (0: kinetic level, 1: static threshold)", "f8")}
     resume_rows = {"events": eng.completed_events, "shocks": len(eng.path()["t"]), "ruptures": 0}
     writer = _open_writer(out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows)
-    t_end = cfg.t_end if cfg.t_end is not None else math.inf
-    target_events = cfg.max_events if cfg.max_events is not None else 2**62
-    bar = ProgressBar(progress, cfg.t_end if cfg.t_end else target_events, "free boundary")
+    total = cfg.t_end if cfg.t_end else (cfg.max_events if cfg.max_events is not None else 2**62)
+    bar = ProgressBar(progress, total, "free boundary")
     wall0 = time.perf_counter()
     interrupted = False
     snapshots = 0
@@ -102,48 +100,17 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
             give()  # the catalog rows before the snapshot they belong with
             writer.append(units.t(eng.time), u=np.asarray(eng.u_nodes()))
 
-    # The loop state (the next target, the every-k count) goes into checkpoints: the
-    # resumed run makes the same engine calls and writes the same snapshots.
-    times = _snapshot_times(cfg).tolist()
-    if times and times[0] <= 0.0:
-        if not ctl.resuming:
-            snap()
-        times.pop(0)
-    wanted = {t for t in times if t <= t_end}
-    targets = sorted(wanted | {t_end})
+    # the loop's place goes into checkpoints: a resumed run makes the same engine calls
+    # and writes the same snapshots
+    loop = TargetLoop(cfg, ctl, snap)
     if ctl.resuming:
-        rs = ctl.state["runner"]
-        i_target = int(rs["next_target"])
-        last_every_k = int(rs["last_every_k"])
         snapshots = int(ctl.state["written"])
-    else:
-        i_target = 0
-        last_every_k = 0
-
-    def runner_state():
-        return {"next_target": i_target, "last_every_k": last_every_k}
 
     with _guard_writes(bar, writer, cfg, lambda: (eng.completed_events, units.t(eng.time))):
-        finished = i_target == len(targets)
-        while not finished and not ctl.stop:
-            target = targets[i_target]
-            status = eng.advance(float(target), int(chunk), int(target_events))
-            bar.update(eng.time if cfg.t_end else eng.completed_events)
-            k = cfg.snapshot_events
-            if k and eng.completed_events // k > last_every_k:
-                last_every_k = eng.completed_events // k
-                snap()
-            if status == "time":
-                i_target += 1
-                if target in wanted:
-                    snap()
-            give()
-            if status == "events" or i_target == len(targets):
-                finished = True
-                break
-            ctl.chunk_done()
-            if not ctl.stop and ctl.due():
-                ctl.save(fb, writer, runner_state())
+        finished = loop.run(
+            eng, cfg, ctl, bar, chunk, lambda: eng.completed_events, snap,
+            lambda state: ctl.save(fb, writer, state), after_chunk=give,
+        )  # fmt: skip
         interrupted = not finished
         bar.close()
         rup = ruptures(cfg, eng, x)
@@ -158,7 +125,7 @@ def _run_free_boundary(cfg, out, progress, overwrite, flush_every, chunk, ctl):
         if writer is None:
             if snapshots == 0 or interrupted or cfg.t_end is None:
                 snapshots += 1
-        interrupted = _finish(writer, ctl, fb, runner_state(), give_all, interrupted)
+        interrupted = _finish(writer, ctl, fb, loop.state(), give_all, interrupted)
     return RunSummary(
         model="free_boundary",
         out=str(out) if out else None,

@@ -25,12 +25,12 @@ duration, perimeter, ...). `bkwaves stats` reads the ruptures.
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
 
 from . import Model
+from ._targets import TargetLoop
 from .free_boundary import check_continuum
 from .lattice import _pair_of, _shape, planar_initial, planar_property
 
@@ -84,7 +84,6 @@ def _run_free_boundary_2d(model, cfg, out, progress, overwrite, flush_every, chu
         _finish,
         _guard_writes,
         _open_writer,
-        _snapshot_times,
         _Units,
     )
 
@@ -107,9 +106,8 @@ def _run_free_boundary_2d(model, cfg, out, progress, overwrite, flush_every, chu
         out, cfg, units, x, variables, ctl, overwrite, flush_every, resume_rows,
         model.grid_attrs(cfg), y=y,
     )  # fmt: skip
-    t_end = cfg.t_end if cfg.t_end is not None else math.inf
-    target_events = cfg.max_events if cfg.max_events is not None else 2**62
-    bar = ProgressBar(progress, cfg.t_end if cfg.t_end else target_events, "free boundary 2D")
+    total = cfg.t_end if cfg.t_end else (cfg.max_events if cfg.max_events is not None else 2**62)
+    bar = ProgressBar(progress, total, "free boundary 2D")
     wall0 = time.perf_counter()
     snapshots = 0
 
@@ -119,45 +117,16 @@ def _run_free_boundary_2d(model, cfg, out, progress, overwrite, flush_every, chu
         if writer is not None:
             writer.append(units.t(eng.time), u=np.asarray(eng.u_nodes()))
 
-    # the loop state (the next target, the every-k count) goes into checkpoints: the
-    # resumed run makes the same engine calls and writes the same snapshots
-    times = _snapshot_times(cfg).tolist()
-    if times and times[0] <= 0.0:
-        if not ctl.resuming:
-            snap()
-        times.pop(0)
-    wanted = {t for t in times if t <= t_end}
-    targets = sorted(wanted | {t_end})
+    # the loop's place goes into checkpoints (as the 1D model's)
+    loop = TargetLoop(cfg, ctl, snap)
     if ctl.resuming:
-        rs = ctl.state["runner"]
-        i_target, last_every_k = int(rs["next_target"]), int(rs["last_every_k"])
         snapshots = int(ctl.state["written"])
-    else:
-        i_target = last_every_k = 0
-
-    def runner_state():
-        return {"next_target": i_target, "last_every_k": last_every_k}
 
     with _guard_writes(bar, writer, cfg, lambda: (eng.completed, units.t(eng.time))):
-        finished = i_target == len(targets)
-        while not finished and not ctl.stop:
-            target = targets[i_target]
-            status = eng.advance(float(target), int(chunk), int(target_events))
-            bar.update(eng.time if cfg.t_end else eng.completed)
-            k = cfg.snapshot_events
-            if k and eng.completed // k > last_every_k:
-                last_every_k = eng.completed // k
-                snap()
-            if status == "time":
-                i_target += 1
-                if target in wanted:
-                    snap()
-            if status == "events" or i_target == len(targets):
-                finished = True
-                break
-            ctl.chunk_done()
-            if not ctl.stop and ctl.due():
-                ctl.save(fb, writer, runner_state())
+        finished = loop.run(
+            eng, cfg, ctl, bar, chunk, lambda: eng.completed, snap,
+            lambda state: ctl.save(fb, writer, state),
+        )  # fmt: skip
         interrupted = not finished
         bar.close()
         rup = model.ruptures_table(cfg, eng)
@@ -175,7 +144,7 @@ def _run_free_boundary_2d(model, cfg, out, progress, overwrite, flush_every, chu
 
         if writer is None and (snapshots == 0 or interrupted or cfg.t_end is None):
             snapshots += 1
-        interrupted = _finish(writer, ctl, fb, runner_state(), give_all, interrupted)
+        interrupted = _finish(writer, ctl, fb, loop.state(), give_all, interrupted)
     return RunSummary(
         model=cfg.model,
         out=str(out) if out else None,
