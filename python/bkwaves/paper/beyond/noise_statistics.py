@@ -102,7 +102,12 @@ def fig_noise_statistics(axes, quick):
         noisy = tab[tab.nu > 0]
         nu_r = noisy.Lambda_mean * r0 / v * dx
         yerr = [noisy.b - noisy.b_lo, noisy.b_hi - noisy.b]  # the 95 % bootstrap interval
-        ax.errorbar(nu_r, noisy.b, yerr=yerr, fmt="o-", color=col, ms=3, label=name)
+        has_b = bool(
+            np.isfinite(noisy.b.to_numpy(float)).any()
+        )  # (a legend entry only with points)
+        ax.errorbar(
+            nu_r, noisy.b, yerr=yerr, fmt="o-", color=col, ms=3, label=name if has_b else None
+        )
         q = tab[tab.nu == 0]
         if len(q) and np.isfinite(q.b.iloc[0]) and q.b.iloc[0] < 20:
             ax.axhline(q.b.iloc[0], color=col, ls=":", lw=1, label=f"{name}, no noise")
@@ -111,7 +116,8 @@ def fig_noise_statistics(axes, quick):
     ax.set_xlabel(NU_R_LABEL)
     ax.set_ylabel("$b$ (moment magnitudes above $M_c$)")
     # below the axes: a legend inside would hide points
-    ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncols=2)
+    if ax.get_legend_handles_labels()[1]:
+        ax.legend(fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncols=2)
     ax.set_title("b-value, 95 % interval (no point: no b)", fontsize=9)
     ax = axes[2]
     a1 = 1.0 - theory.u_minus_at_one(g)
