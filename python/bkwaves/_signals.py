@@ -12,7 +12,9 @@ cleanup a Ctrl-C does also runs for SIGTERM.
 
 from __future__ import annotations
 
+import os
 import signal
+import sys
 
 #: The signal noted while only noting (None: none).
 pending: int | None = None
@@ -38,6 +40,24 @@ def _raise(signum, frame):
     raise KeyboardInterrupt
 
 
+def _redeliver(unraisable) -> None:
+    """``sys.unraisablehook`` of the raising commands. Where a signal's exception meets a
+    finaliser or a weakref callback (the garbage collector runs them between any two
+    lines), Python cannot pass it on: it would print "Exception ignored" and carry on, and
+    the command would ignore Ctrl-C until it ends. The signal is delivered again a moment
+    later, from outside, where it can stop the command; other unraisable exceptions go to
+    the hook that was there before."""
+    if isinstance(unraisable.exc_value, KeyboardInterrupt) and pending is not None:
+        import threading  # (not at start-up: the handlers are installed before any import)
+
+        threading.Timer(0.01, os.kill, (os.getpid(), pending)).start()
+        return
+    _previous_hook(unraisable)
+
+
+_previous_hook = sys.unraisablehook
+
+
 def _install(handler) -> None:
     for sig in (signal.SIGINT, signal.SIGTERM):
         try:
@@ -56,12 +76,12 @@ def save() -> tuple:
             handlers[sig] = signal.getsignal(sig)
         except ValueError:
             pass
-    return handlers, pending, propagate
+    return handlers, pending, propagate, sys.unraisablehook
 
 
 def restore(saved: tuple) -> None:
     global pending, propagate
-    handlers, pending, propagate = saved
+    handlers, pending, propagate, sys.unraisablehook = saved
     for sig, h in handlers.items():
         try:
             signal.signal(sig, h)
@@ -76,6 +96,9 @@ def install_early() -> None:
 
 def install_raising() -> None:
     """SIGINT raises KeyboardInterrupt, SIGTERM :class:`Terminated`."""
-    global propagate
+    global propagate, _previous_hook
     propagate = True
+    if sys.unraisablehook is not _redeliver:
+        _previous_hook = sys.unraisablehook
+        sys.unraisablehook = _redeliver
     _install(_raise)
