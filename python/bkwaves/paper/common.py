@@ -207,7 +207,7 @@ def train_summary(m):
     Parameters
     ----------
     m : dict
-        The passages of :func:`fb_train`: ``t``, ``up``, ``um`` and the wavelength ``L``.
+        The passages of ``fb_train``: ``t``, ``up``, ``um`` and the wavelength ``L``.
 
     Returns
     -------
@@ -460,7 +460,7 @@ def sync_chaos(quick: bool):
     Returns
     -------
     dict
-        ``res`` (ring name -> :func:`ring_births` with the maxima's curvatures ``a``),
+        ``res`` (ring name -> ``ring_births`` with the maxima's curvatures ``a``),
         the rings' length ``L`` (dimensionless x), ``periods``, ``rings`` and ``sharp``.
         Cached in ``CACHE``.
     """
@@ -504,7 +504,7 @@ def coarsening_exponent(m, seed: int = 0) -> dict:
     Parameters
     ----------
     m : dict
-        What :func:`sync_chaos` returns (``res`` with the rings' ``sites``, and ``L``).
+        What ``sync_chaos`` returns (``res`` with the rings' ``sites``, and ``L``).
     seed : int, default 0
         Seed of the bootstrap.
 
