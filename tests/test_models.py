@@ -405,7 +405,7 @@ FB2D = {
         ("domain.spacing", None, r"domain\.spacing: missing required key"),
         ("domain.boundary", "fixed", r"domain\.boundary: expected one of free, periodic"),
         ("domain.grid", 10, r"domain\.grid: unknown key; valid keys here: shape, spacing"),
-        ("triggers", [{"block": [1, 1], "kind": "release"}], r"triggers: triggers apply to"),
+        ("triggers", [{"time": 1.0, "x": 30.0, "y": 1.0}], r"triggers\[0\]\.x: invalid x = 30"),
         ("run.step", 0.01, r"run\.step: applies to the chain model only \(and the lattice model\)"),
         ("params.gamma", 1.0, r"params\.gamma: gamma = 1: the free boundary model needs"),
         ("disorder.mass", 1.0, r"disorder\.mass: unknown key; valid keys here: threshold"),

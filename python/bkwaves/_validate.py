@@ -480,7 +480,26 @@ CONFIG = {
             unit="u_t units (m/s with [physical])",
             doc="kick: forward speed added",
         ),  # fmt: skip
-    ),
+        Spec(
+            "x",
+            "real",
+            unit="x' (m with [physical])",
+            doc="free_boundary_2d: where the rupture starts, within the grid",
+        ),
+        Spec(
+            "y",
+            "real",
+            unit="x' (m with [physical])",
+            doc="free_boundary_2d: where the rupture starts, within the grid",
+        ),
+        Spec(
+            "radius",
+            "real",
+            lo=0.0,
+            unit="x' (m with [physical])",
+            doc="free_boundary_2d: the disk started at once (default 0: the nearest node)",
+        ),
+    ),  # fmt: skip
 }
 
 

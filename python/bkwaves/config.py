@@ -61,7 +61,8 @@ Schema (all sections optional except those marked)::
                                   the ground; 0 = all stuck)
 
     [[triggers]] time, block, kind = "kick" (velocity: forward speed added, default 1) |
-                 "release"   (chain; lattice: block = [i, j])
+                 "release"   (chain; lattice: block = [i, j]); free_boundary_2d:
+                 time, x, y, radius (default 0): a rupture started on that disk
 
     [run]       t_end and/or max_events; chain: max_event_slips, max_event_duration
                 (runaway bounds of one event; see docs/usage.md); step (time step /
@@ -210,8 +211,8 @@ class InitialSpec:
 @dataclass(frozen=True)
 class Trigger:
     time: float
-    block: int | tuple[int, int]  # a chain's block, a lattice's (i, j)
-    kind: str
+    block: int | tuple  # a chain's block, a lattice's (i, j); free_boundary_2d: (x, y, radius)
+    kind: str  # kick, release; free_boundary_2d: rupture
     velocity: float = 0.0
 
 
@@ -856,6 +857,10 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     for i, tr in enumerate(raw):
         q = f"triggers[{i}]"
         tr = _table(tr, q)
+        own = entry.parse_trigger(tr, q, domain)
+        if own is not None:
+            triggers.append(own)
+            continue
         kind = _value(tr, "kind", q, V.CONFIG["triggers"]["kind"])
         places = entry.trigger_places
         allowed = ("time", *places, "kind", *(("velocity",) if kind == "kick" else ()))
@@ -939,7 +944,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         triggers = [
             Trigger(
                 t.time / ts,
-                t.block,
+                entry.scale_trigger_place(t.block, ls),
                 t.kind,
                 _speed_units(t.velocity, vs, f"triggers[{i}].velocity"),
             )
@@ -1129,11 +1134,8 @@ def _to_doc(cfg: RunConfig) -> dict:
     doc["initial"] = ini
     if cfg.triggers:
         doc["triggers"] = [
-            {
-                "time": t.time,
-                **_models.get(cfg.model).trigger_doc(t.block),
-                "kind": t.kind,
-            }
+            {"time": t.time, **_models.get(cfg.model).trigger_doc(t.block)}
+            | ({"kind": t.kind} if t.kind in ("kick", "release") else {})
             | ({"velocity": t.velocity} if t.kind == "kick" else {})
             for t in cfg.triggers
         ]

@@ -136,6 +136,16 @@ class Model:
             _err(f"{where}.block", f"invalid block = {block}: allowed 0 <= block < {n}")
         return block
 
+    def parse_trigger(self, tr: dict, where: str, domain: dict):
+        """A Trigger of the [[triggers]] table ``tr`` when the model has its own form of
+        them (else None: time, a place of ``trigger_places``, kind, velocity)."""
+        return None
+
+    def scale_trigger_place(self, block, ls: float):
+        """A trigger's place given in metres turned dimensionless (length scale ``ls``);
+        default: blocks, not lengths."""
+        return block
+
     #: the keys of a [[triggers]] table that place it (exactly one is given)
     trigger_places: tuple[str, ...] = ("block",)
 

@@ -16,7 +16,7 @@ class TargetLoop:
     run takes its place from the checkpoint's runner state.
     """
 
-    def __init__(self, cfg, ctl, snap):
+    def __init__(self, cfg, ctl, snap, actions=()):
         from ..runner import _snapshot_times
 
         t_end = cfg.t_end if cfg.t_end is not None else math.inf
@@ -26,7 +26,19 @@ class TargetLoop:
                 snap()
             times.pop(0)
         self.wanted = {t for t in times if t <= t_end}
-        self.targets = sorted(self.wanted | {t_end})
+        # actions (time, act): act() when the engine reaches that time (a trigger), in
+        # the order given, after the snapshot of that time (those at t = 0 now; none at or
+        # after t_end)
+        self.actions: dict[float, list] = {}
+        for t, act in actions:
+            if t < t_end:
+                self.actions.setdefault(float(t), []).append(act)
+        if not ctl.resuming:
+            for act in self.actions.pop(0.0, []):
+                act()
+        else:
+            self.actions.pop(0.0, None)
+        self.targets = sorted(self.wanted | set(self.actions) | {t_end})
         if ctl.resuming:
             rs = ctl.state["runner"]
             self.next, self.last_every_k = int(rs["next_target"]), int(rs["last_every_k"])
@@ -57,6 +69,8 @@ class TargetLoop:
                 self.next += 1
                 if target in self.wanted:
                     snap()
+                for act in self.actions.get(target, ()):
+                    act()
             if after_chunk is not None:
                 after_chunk()
             if status == "events" or self.next == len(self.targets):

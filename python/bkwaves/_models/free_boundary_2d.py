@@ -17,7 +17,12 @@ Its entry in the model registry (``bkwaves._models``). TOML:
 - [output] ``arrivals = true``: the arrivals table, the arrival time of every node in
   every complete rupture (rupture, i, j, x, y, t).
 
-No triggers: ruptures start where the loading brings u to the threshold, or by noise.
+- [[triggers]] ``time``, ``x``, ``y``, ``radius`` (default 0): a rupture started at that
+  time on the disk of that radius around (x, y) (at least the nearest node; the place in
+  metres with [physical]), as ``FreeBoundary2D.trigger`` does; a trigger whose disk
+  touches a running rupture is not fired (that place is breaking already) and the run
+  says so in a warning. Otherwise ruptures start where the loading brings u to the
+  threshold, or by noise.
 Outputs: snapshots u with dims (t, y, x); the ruptures table (the engine's catalog:
 nucleation time and place, area, moment = the integral of u_+ - u_- over the area,
 duration, perimeter, ...). `bkwaves stats` reads the ruptures.
@@ -117,8 +122,24 @@ def _run_free_boundary_2d(model, cfg, out, progress, overwrite, flush_every, chu
         if writer is not None:
             writer.append(units.t(eng.time), u=np.asarray(eng.u_nodes()))
 
-    # the loop's place goes into checkpoints (as the 1D model's)
-    loop = TargetLoop(cfg, ctl, snap)
+    def fire(tr):
+        x, y, radius = tr.block
+        try:
+            fb.trigger(x, y, radius)
+        except ValueError as e:
+            if "live rupture" not in str(e):
+                raise
+            msg = (
+                f"trigger at t = {units.t(tr.time):.6g} at ({x:.6g}, {y:.6g}) not fired: "
+                "its disk touches a running rupture"
+            )
+            notes.append(msg)
+            warnings.warn(msg, RuntimeWarning, stacklevel=2)
+
+    # the loop's place goes into checkpoints (as the 1D model's); a resumed run fires
+    # the triggers after its place only
+    actions = [(tr.time, lambda tr=tr: fire(tr)) for tr in cfg.triggers]
+    loop = TargetLoop(cfg, ctl, snap, actions=actions)
     if ctl.resuming:
         snapshots = int(ctl.state["written"])
 
@@ -181,6 +202,8 @@ class FreeBoundary2DModel(Model):
     events_need_loading = True
     arrivals = True
     initial_kinds = ("uniform", "ramp", "random", "file")
+    triggers = True
+    trigger_places = ("x", "y", "radius")
     bytes_per_node_key = "fb_bytes_per_node"
     snapshot_bytes_per_node = 8
     summary = "the free boundary problem in the plane (bkwaves.FreeBoundary2D)"
@@ -212,6 +235,37 @@ class FreeBoundary2DModel(Model):
         # (as in 1D: the rate laws are written for the threshold 1)
         if cfg.noise is not None and dict(cfg.disorder).get("threshold") is not None:
             _err("noise", "not implemented with a threshold field ([disorder] threshold)")
+
+    def parse_trigger(self, tr, where, domain):
+        """A rupture started at ``time`` on the disk of ``radius`` (default 0) around
+        (``x``, ``y``), the place within the grid (a periodic axis: up to n h)."""
+        from .. import _validate as V
+        from ..config import Trigger, _err, _keys, _value
+
+        spec = V.CONFIG["triggers"]
+        _keys(tr, where, ("time", "x", "y", "radius"), ("x", "y"))
+        place = []
+        for axis, n, b in zip("xy", domain["shape"], domain["boundary"], strict=True):
+            z = _value(tr, axis, where, spec[axis])
+            h = domain["spacing"]
+            hi, close = ((n - 1) * h, "<=") if b == "free" else (n * h, "<")
+            if not (0.0 <= z <= hi and (b == "free" or z < hi)):
+                _err(
+                    f"{where}.{axis}",
+                    f"invalid {axis} = {z:.6g}: allowed 0 <= {axis} {close} {hi:.6g} "
+                    f"(the grid along {axis}, {b})",
+                )
+            place.append(float(z))
+        radius = _value(tr, "radius", where, spec["radius"], 0.0, hi=1e9)
+        time = _value(tr, "time", where, spec["time"], 0.0)
+        return Trigger(time=time, block=(*place, float(radius)), kind="rupture")
+
+    def scale_trigger_place(self, block, ls):
+        return tuple(z / ls for z in block)
+
+    def trigger_doc(self, block):
+        x, y, radius = block
+        return {"x": x, "y": y, "radius": radius}
 
     def _periodic(self, cfg):
         return tuple(b == "periodic" for b in cfg.boundary)
