@@ -92,3 +92,32 @@ def test_bad_inputs_name_the_parameter():
         defect_response(0.2, 0.3)  # creep
     with pytest.raises(bk.ParameterError, match="delta"):
         defect_response(0.6, 0.0, delta=0.5)
+
+
+def test_ensemble_doubled_window_and_new_seeds_stay_within_the_standard_errors():
+    # issue 22: c_eff carries its standard error over realisations; an ensemble with the
+    # window more than doubled (blocks 1000 -> 2000, the window 199-999 -> 199-1999) and
+    # independent seeds moves c_mean within 3 combined standard errors (a bias of the
+    # short window, e.g. the trigger's transient, would show as a drift beyond them)
+    a = front_speed_ensemble(0.6, 0.3, 0.05, dx=0.05, blocks=1000, realisations=8, seed=0)
+    b = front_speed_ensemble(0.6, 0.3, 0.05, dx=0.05, blocks=2000, realisations=8, seed=1)
+    assert b.window[1] - b.window[0] > 2 * (a.window[1] - a.window[0])
+    assert 0 < b.c_sem < a.c_sem
+    assert abs(b.c_mean - a.c_mean) < 3 * np.hypot(a.c_sem, b.c_sem)
+    assert abs(b.excess_mean - a.excess_mean) < 3 * np.hypot(a.excess_sem, b.excess_sem)
+
+
+@pytest.mark.parametrize("u_plus, gamma", [(0.5, 0.0), (0.7, 0.3)])
+def test_defect_response_is_converged_in_the_chain_and_the_defect_size(u_plus, gamma):
+    # issue 22: a and b (Richardson in delta) move by less than DEFECT_TOLERANCE when the
+    # chain is doubled or delta halved (measured: 4e-10 and 3e-7 for the chain, 1e-5 and
+    # 4e-5 for delta)
+    from bkwaves.disorder import DEFECT_TOLERANCE
+
+    r = defect_response(u_plus, gamma, dx=DX)
+    for other in (
+        defect_response(u_plus, gamma, dx=DX, blocks=3000),
+        defect_response(u_plus, gamma, dx=DX, delta=0.025),
+    ):
+        assert abs(other.a / r.a - 1) < DEFECT_TOLERANCE["a"]
+        assert abs(other.b / r.b - 1) < DEFECT_TOLERANCE["b"]

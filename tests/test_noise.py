@@ -163,3 +163,12 @@ def test_the_ends_of_the_dx_range_give_finite_answers(dx):
     assert np.all(np.isfinite(kc)) and np.all(kc >= 0)
     u_b = bk.noise.deferred_stress([0.1, 0.4], 0.0, dx, 0.3)
     assert np.all((u_b >= [0.1, 0.4]) | np.isnan(u_b))
+
+
+def test_measured_threshold_does_not_move_when_the_chain_is_doubled():
+    # issue 22: the bisection's answer is converged in the chain's length: 200 and 400
+    # blocks give the same threshold to the bisection's rtol (measured: identical)
+    k1, k2 = (
+        bk.noise.measured_kick_threshold(0.3, 0.1, 0.3, blocks=n, rtol=1e-6) for n in (200, 400)
+    )
+    assert abs(k2 / k1 - 1) <= 2e-6

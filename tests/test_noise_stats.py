@@ -604,3 +604,25 @@ def test_chain_ruptures_table_unchanged_by_vectorising():
             ns._rupture_ids = saved
         assert len(new) > 1
         pd.testing.assert_frame_equal(new, old, check_exact=True)
+
+
+def test_ring_statistics_report_their_errors_and_a_run_twice_as_long_stays_within_them():
+    """Issue 22: the ring's rates and means carry standard errors from the ruptures as
+    independent samples; the same ring run twice as long (the first half its own run)
+    moves rate, u_start and swept within 3 combined errors, and the errors fall like
+    1/sqrt(2). Two seeds give independent runs; they agree within the errors too."""
+    x, u0 = ring(200.0, 0.4)
+    noise = {"law": "constant", "rate": 2.5e-3}
+    short = ns.ring_statistics(P, x, u0, noise, t_end=6 * T, burn_in=2 * T, seed=3)
+    long = ns.ring_statistics(P, x, u0, noise, t_end=10 * T, burn_in=2 * T, seed=3)
+    other = ns.ring_statistics(P, x, u0, noise, t_end=10 * T, burn_in=2 * T, seed=4)
+    n = len(short["ruptures"])
+    assert n > 100 and len(long["ruptures"]) > 1.8 * n
+    assert short["rate_err"] == pytest.approx(math.sqrt(n) / (short["span"] * 200.0))
+    for key, err in (("rate", "rate_err"), ("u_start", "u_start_sem"), ("swept", "swept_sem")):
+        assert 0 < long[err] < short[err]
+        assert long[err] / short[err] == pytest.approx(math.sqrt(0.5), rel=0.25), key
+        assert abs(long[key] - short[key]) < 3 * math.hypot(short[err], long[err]), key
+        assert abs(long[key] - other[key]) < 3 * math.hypot(long[err], other[err]), key
+    tab, _ = ns.statistics_vs_strength(P, x, u0, [20], t_end=6 * T, burn_in=2 * T)
+    assert {"rupture_rate_err", "u_start_sem", "swept_sem"} <= set(tab.columns)

@@ -315,12 +315,24 @@ def local_speed(u_plus: float, gamma: float, dx: float):
     return c
 
 
-def marched_speed(u_plus: float, *, gamma: float = 0.0, dx: float = 0.1) -> float:
-    """The uniform chain's steady front speed, from a front marched through 400 blocks.
+#: marched_speed's stated tolerance: the speed moves by less than this (relative) when the
+#: marched chain is doubled once more (tests/test_tip_march.py doubles it).
+MARCHED_TOLERANCE = 1e-10
+#: The longest chain marched_speed marches (its doubling starts at 400 blocks).
+MARCHED_MAX_BLOCKS = 102_400
 
-    :func:`tip_march` through 400 uniform blocks, c from blocks 200 to 399 (the trigger's
-    transient has decayed to round-off there for c >= 1.05). Unlike ``bk.front_speed`` it
-    holds where blocks re-stick close behind the tip (narrow pulses).
+
+def marched_speed(
+    u_plus: float, *, gamma: float = 0.0, dx: float = 0.1, full: bool = False
+) -> float | tuple[float, float, int]:
+    """The uniform chain's steady front speed, from fronts marched by :func:`tip_march`.
+
+    c over the second half of n uniform blocks, n doubled from 400 until c moves by less
+    than MARCHED_TOLERANCE (relative): the trigger's transient decays over a number of
+    blocks that grows as c -> 1 (at u_+ = 0.3, gamma = 0, 400 blocks leave c 1.1e-7 off
+    at dx = 0.1 and 9.6e-6 off at dx = 0.0125; docs/validation.md, "Convergence of every
+    measurement"). Unlike ``bk.front_speed`` it holds where blocks re-stick close behind
+    the tip (narrow pulses).
 
     Parameters
     ----------
@@ -330,16 +342,20 @@ def marched_speed(u_plus: float, *, gamma: float = 0.0, dx: float = 0.1) -> floa
         Viscous damping, >= 0 (dimensionless).
     dx : float, default 0.1
         Lattice spacing sqrt(k_p/k_c), 1e-4 <= dx < 1 (dimensionless).
+    full : bool, default False
+        Also return the last doubling's change and the blocks marched.
 
     Returns
     -------
-    float
-        The front speed, in units of the sound speed a sqrt(k_c/m).
+    float or (float, float, int)
+        The front speed, in units of the sound speed a sqrt(k_c/m); with ``full``, also
+        |c_n / c_(n/2) - 1| (below MARCHED_TOLERANCE) and n.
 
     Raises
     ------
     bkwaves.ParameterError
-        A parameter out of range, or a front that stops within 400 blocks.
+        A parameter out of range, a front that stops, or one whose speed has not settled
+        to MARCHED_TOLERANCE within MARCHED_MAX_BLOCKS blocks.
 
     Examples
     --------
@@ -347,11 +363,29 @@ def marched_speed(u_plus: float, *, gamma: float = 0.0, dx: float = 0.1) -> floa
     >>> c = bk.disorder.marched_speed(0.6, dx=0.1)
     >>> round(c, 9), round(float(bk.front_speed(0.6, dx=0.1)), 9)  # gamma = 0: closed form
     (1.249072905, 1.249072905)
+    >>> c, change, n = bk.disorder.marched_speed(0.3, dx=0.1, full=True)
+    >>> round(c, 9), bool(change < bk.disorder.MARCHED_TOLERANCE), n
+    (1.043837303, True, 3200)
     """
-    m = tip_march(u_plus, np.ones(400), gamma=gamma, dx=dx)
-    if m.stopped:
-        V._fail("u_plus", u_plus, "a stress whose front crosses 400 blocks (it stopped)")
-    return m.speed(200)
+    full = V.flag("full", full)
+    n, prev = 400, None
+    while True:
+        m = tip_march(u_plus, np.ones(n), gamma=gamma, dx=dx)
+        if m.stopped:
+            V._fail("u_plus", u_plus, f"a stress whose front crosses {n} blocks (it stopped)")
+        c = m.speed(n // 2)
+        if prev is not None:
+            change = abs(c / prev - 1.0)
+            if change < MARCHED_TOLERANCE:
+                return (c, change, n) if full else c
+        if 2 * n > MARCHED_MAX_BLOCKS:
+            V._fail(
+                "u_plus",
+                u_plus,
+                f"a front whose speed settles to {MARCHED_TOLERANCE:g} within "
+                f"{MARCHED_MAX_BLOCKS} blocks (it still moved by {change:.2g})",
+            )
+        n, prev = 2 * n, c
 
 
 @dataclass
@@ -935,13 +969,20 @@ def _first_slips(u_plus, gamma, dx, theta, kick: float = -2.0) -> np.ndarray:
     return ch.run(t_end=4.0 * n * dx + 100.0, max_events=1).first_slip_times()
 
 
+#: defect_response's stated tolerance (relative): its a and b move by less than this when
+#: the chain is doubled or delta halved (tests/test_disorder.py; at the defaults).
+DEFECT_TOLERANCE = {"a": 1e-4, "b": 1e-3}
+
+
 def defect_response(
     u_plus: float, gamma: float, *, dx: float = 0.1, delta: float = 0.05, blocks: int = 1500
 ) -> DefectResponse:
     """a, b and k of :class:`DefectResponse` from five marched fronts (:func:`tip_march`:
     defect 0, +-delta, +-delta/2 at the settled start of ``bk.chain.front``'s window, the
     delay read at its far end), b Richardson-extrapolated to delta -> 0 (its error is
-    O(delta^2)).
+    O(delta^2)). At the defaults a and b are within DEFECT_TOLERANCE of the values with
+    the chain doubled or delta halved (measured at u_+ = 0.5, gamma = 0 and 0.7, 0.3:
+    at most 3e-7 and 4e-5).
 
     Parameters
     ----------

@@ -608,7 +608,10 @@ def ring_statistics(
     (:class:`bkwaves.stats.GutenbergRichter` of the ruptures' moments, the estimator of
     every bkwaves b: Mc by maximum curvature, a bootstrap interval, no b for a degenerate
     or small catalog), ``recurrence`` (point recurrence times), ``u_start`` mean,
-    ``swept`` mean.
+    ``swept`` mean; each count's standard error from the ruptures as independent samples
+    (``rate_err`` = sqrt(N)/(span L), the Poisson error, an upper bound when ruptures
+    come once per loading; ``u_start_sem``, ``swept_sem`` = sd/sqrt(N)): a run twice as
+    long moves them within these errors (tests/test_noise_stats.py).
 
     Parameters
     ----------
@@ -633,8 +636,9 @@ def ring_statistics(
     -------
     dict
         ``ruptures``, ``length`` and ``span`` (the ring's length and the time counted,
-        dimensionless), ``rate`` (per unit length and time), ``spontaneous``,
-        ``recurrence`` (units of sqrt(m/k_p)), ``u_start``, ``swept`` and ``b``.
+        dimensionless), ``rate`` (per unit length and time) and ``rate_err``,
+        ``spontaneous``, ``recurrence`` (units of sqrt(m/k_p)), ``u_start`` and
+        ``u_start_sem``, ``swept`` and ``swept_sem``, and ``b``.
 
     Examples
     --------
@@ -662,11 +666,19 @@ def ring_statistics(
     cat = ruptures(res)
     cat = cat[(cat.t_start >= burn_in) & (cat.swept > 0)].reset_index(drop=True)
     span = t_end - burn_in
+    n = len(cat)
+
+    def sem(col):
+        return float(cat[col].std(ddof=1) / math.sqrt(n)) if n > 1 else math.nan
+
     return {
         "ruptures": cat,
         "length": length,
         "span": span,
-        "rate": len(cat) / (span * length),
+        "rate": n / (span * length),
+        "rate_err": math.sqrt(n) / (span * length),
+        "u_start_sem": sem("u_start"),
+        "swept_sem": sem("swept"),
         "spontaneous": float(cat.spontaneous.mean()) if len(cat) else math.nan,
         "recurrence": point_recurrence(res, burn_in),
         "u_start": float(cat.u_start.mean()) if len(cat) else math.nan,
@@ -695,10 +707,13 @@ def statistics_vs_strength(
     Returns (table, runs): a pandas DataFrame with one row per strength (nu, rate,
     Lambda_mean = int_0^1 Lambda du, nu_R = Lambda_mean R_0 / v with R_0 the mean rupture
     length of the noiseless run when 0 is among the strengths, ruptures, spontaneous
-    fraction, rupture rate per unit length and time, b with its 95 % interval b_lo, b_hi
+    fraction, rupture rate per unit length and time with its Poisson error
+    rupture_rate_err, b with its 95 % interval b_lo, b_hi
     and m_c, b_fit_p (:func:`bkwaves.stats.gutenberg_richter`; NaN without a b; the
     KS p-value of the Gutenberg-Richter law above m_c), mean u where
-    ruptures start, mean swept length, mean and CV of the point recurrence time, v times
+    ruptures start and mean swept length with their standard errors u_start_sem,
+    swept_sem (:func:`ring_statistics`), mean and CV of the point recurrence time (no
+    error: the nodes a rupture sweeps share its times), v times
     the mean recurrence, and the balance rupture_rate * swept * recurrence, which is 1
     in a steady state: every point is swept once per recurrence) and the runs' dicts.
 
@@ -789,13 +804,16 @@ def statistics_vs_strength(
                 "ruptures": len(run["ruptures"]),
                 "spontaneous": run["spontaneous"],
                 "rupture_rate": run["rate"],
+                "rupture_rate_err": run["rate_err"],
                 "b": b.b,
                 "b_lo": b.lo,
                 "b_hi": b.hi,
                 "m_c": b.m_c,
                 "b_fit_p": b.fit_p,
                 "u_start": run["u_start"],
+                "u_start_sem": run["u_start_sem"],
                 "swept": run["swept"],
+                "swept_sem": run["swept_sem"],
                 "recurrence": mean_rec,
                 "recurrence_cv": float(rec.std() / rec.mean()) if rec.size else math.nan,
                 "v_recurrence": params.v * mean_rec,
