@@ -16,6 +16,14 @@
    runs per engine at L = 1000 and 6 at L = 3000, each b with its bootstrap interval,
    and their mean with the standard error over runs (or why there is none); the rows
    are saved to OUT.json.
+6. (--chain-b OUT.json [SEEDS]) The chain's column of 4. at L = 1000 as an ensemble over
+   noise seeds (default 1-8): each run to t = 1e6 or until one event exceeds CHAIN_CAP
+   slips (a ring that slides on), its ruptures after the burn-in, their b
+   (bk.stats.gutenberg_richter) and rate; rows saved to OUT.json after every run.
+7. (--step-check OUT.json SEED [CHAIN_B.json]) Whether a chain that slides on in 6. does so with the
+   engine's step halved: the run to just before the event that ran away, then the same
+   window from that state at step 0.05 dx and 0.025 dx (the engine's fingerprint
+   patched, nothing else), the share of blocks sliding and their mean u against time.
 """
 
 import json
@@ -237,7 +245,147 @@ def _b_summary(rows):
         )
 
 
-if __name__ == "__main__" and "--b" in sys.argv:
+#: Slips after which a chain event of "Ruptures of many sizes" at L = 1000 counts as a ring
+#: that slides on (10 per block; a ring-wide rupture takes about 1 per block).
+CHAIN_CAP = 200_000
+
+
+def _sizes_chain(seed, length=1000.0, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96, step=None):
+    """The chain of sizes() at ``length`` with noise ``seed`` (and ``step``, a fraction
+    of dx; default the engine's), not run."""
+    n = round(length / DX)
+    rate = DX * v / (length * phi0 * math.exp(-(1 - u_star) / phi0))
+    noise = {"law": "exponential", "rate": rate, "phi0": phi0, "kick": KICK}
+    p = bk.Params(gamma=gamma, v=v, dx=DX, beta=math.inf)
+    kw = {} if step is None else {"step": step}
+    return bk.Chain(n, p, "periodic", np.full(n, 0.9), noise=noise, seed=seed, **kw)
+
+
+def chain_b(seeds, out, length=1000.0, t_end=1e6, v=1e-4, u_star=0.96):
+    """6.: one run per noise seed; a row per run (written to ``out`` after each)."""
+    import time
+
+    burn = 2 * (u_star + 0.1) / v
+    rows = []
+    for k in seeds:
+        ch = _sizes_chain(k, length, v=v, u_star=u_star)
+        c0 = time.process_time()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", bk.chain.RunawayEventWarning)
+            res = ch.run(t_end=t_end, progress=False, max_event_duration=1e9,
+                         max_event_slips=CHAIN_CAP)  # fmt: skip
+        cpu = time.process_time() - c0
+        cat = res.catalog
+        runaway = cat[cat.t_end.isna()]
+        per = ns.chain_ruptures(res)
+        per = per[(per.t_start > burn) & per.t_end.notna()]
+        span = (runaway.t_start.iloc[0] if len(runaway) else res.t) - burn
+        b = bk.stats.gutenberg_richter(per.moment.to_numpy())
+        rows.append(
+            dict(
+                length=length, v=v, t_end=t_end, seed=k, engine="chain", stop=res.stop,
+                t=float(res.t), cpu_s=cpu, events=len(cat),
+                runaway_t=float(runaway.t_start.iloc[0]) if len(runaway) else None,
+                runaway_block=int(runaway.nucleation.iloc[0]) if len(runaway) else None,
+                window=float(span), ruptures=len(per),
+                rate=len(per) / span if span > 0 else None,
+                b=b.b, lo=b.lo, hi=b.hi, m_c=b.m_c, n=b.n, fit_p=b.fit_p,
+                reason=b.reason, text=b.text(),
+                m_max=float((2 / 3) * np.log10(per.moment.max())) if len(per) else None,
+                ring_wide=float(np.mean(per.swept >= (1 - 1e-9) * length)) if len(per) else None,
+                u_start=float(per.u_start.mean()) if len(per) else None,
+                energy_residual=float(res.energy["residual"]),
+                loader_work=float(res.energy.get("loader_work", math.nan)),
+            )
+        )  # fmt: skip
+        r = rows[-1]
+        print(f"seed {k}: stop {r['stop']} at t = {r['t']:.4g} (runaway from "
+              f"{r['runaway_t']}), {r['ruptures']} ruptures in {span:.3g}, {b.text()}, "
+              f"{cpu:.0f} s CPU", flush=True)  # fmt: skip
+        clean = [{a: None if x != x else x for a, x in q.items()} for q in rows]
+        Path(out).write_text(json.dumps(clean, indent=1) + "\n")
+    return rows
+
+
+def _with_step(chain, step):
+    """``chain``'s state in a chain that steps at ``step`` dx: the checkpoint's engine
+    bytes with the step in the fingerprint replaced (bytes 32-40: magic, n, dx, v, step)."""
+    import struct
+
+    meta, arrays = chain.__getstate__()
+    raw = bytearray(arrays["engine"].tobytes())
+    assert struct.unpack("<d", raw[32:40])[0] == chain.step, "fingerprint layout changed"
+    raw[32:40] = struct.pack("<d", step)
+    meta = dict(meta, step=step)
+    arrays = dict(arrays, engine=np.frombuffer(bytes(raw), dtype=np.uint8))
+    return bk.Chain._from_record(meta, arrays)
+
+
+def step_check(seed, out, t0=None, window=2000.0, probe=100.0):
+    """7.: the start t0 of the event of ``seed`` that runs away (found by a run unless
+    given, e.g. from 6.'s rows), a rerun to just before it (checked below: the same event
+    then starts at the same float), then the window from there at the default step and
+    at half of it."""
+    import time
+
+    if t0 is None:
+        ch = _sizes_chain(seed)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", bk.chain.RunawayEventWarning)
+            res = ch.run(t_end=1e6, progress=False, max_event_duration=1e9,
+                         max_event_slips=CHAIN_CAP)  # fmt: skip
+        open_ = res.catalog[res.catalog.t_end.isna()]
+        if not len(open_):
+            print(f"seed {seed}: no event ran away to t = {res.t:.4g}")
+            return
+        t0 = float(open_.t_start.iloc[0])
+    t_quiet = t0 - 1e-3  # events do not overlap: every block is stuck here
+    ch = _sizes_chain(seed)
+    ch.run(t_end=t_quiet, progress=False, max_event_duration=1e9, max_event_slips=CHAIN_CAP)
+    record = {"seed": seed, "t_runaway": t0, "t_quiet": t_quiet, "window": window, "runs": []}
+    for step in (ch.step, ch.step / 2):
+        run = _with_step(ch, step)
+        times, share, mean_u = [], [], []
+        c0 = time.process_time()
+        t = t_quiet
+        first = None
+        while t < t_quiet + window:
+            t = min(t + probe, t_quiet + window)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", bk.chain.RunawayEventWarning)
+                r = run.run(t_end=t, progress=False, max_event_duration=1e9,
+                            max_event_slips=10**9)  # fmt: skip
+            if first is None and len(r.catalog):
+                first = float(r.catalog.t_start.iloc[0])
+            sliding = run.modes != 0
+            times.append(t)
+            share.append(float(sliding.mean()))
+            mean_u.append(float(run.u.mean()))
+        record["runs"].append(dict(step=step, first_event=first, t=times, sliding=share,
+                                   mean_u=mean_u, cpu_s=time.process_time() - c0,
+                                   energy_residual=float(r.energy["residual"])))  # fmt: skip
+        print(
+            f"step {step}: first event at {first!r} (the full run's {t0!r}); sliding share "
+            + ", ".join(f"{x:.2f}" for x in share[:: max(1, len(share) // 8)]),
+            flush=True,
+        )
+        Path(out).write_text(json.dumps(record, indent=1) + "\n")
+
+
+if __name__ == "__main__" and "--chain-b" in sys.argv:
+    # python docs/scripts/noise_long_runs.py --chain-b OUT.json [SEED ...]
+    i = sys.argv.index("--chain-b")
+    seeds = [int(a) for a in sys.argv[i + 2 :]] or list(range(1, 9))
+    _b_summary(chain_b(seeds, sys.argv[i + 1]))
+elif __name__ == "__main__" and "--step-check" in sys.argv:
+    # python docs/scripts/noise_long_runs.py --step-check OUT.json SEED [CHAIN_B.json]
+    i = sys.argv.index("--step-check")
+    seed, t0 = int(sys.argv[i + 2]), None
+    if len(sys.argv) > i + 3:  # the rows of --chain-b: the runaway's start for this seed
+        rows = json.loads(Path(sys.argv[i + 3]).read_text())
+        t0 = next(r["runaway_t"] for r in rows if r["seed"] == seed)
+    step_check(seed, sys.argv[i + 1], t0)
+elif __name__ == "__main__" and "--b" in sys.argv:
     # the b-values of "Ruptures of many sizes" from independent runs (docs/noise.md):
     # python docs/scripts/noise_long_runs.py --b OUT.json [--fb-only]
     chain = "--fb-only" not in sys.argv

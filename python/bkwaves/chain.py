@@ -1825,7 +1825,14 @@ def _arrival_times(u_plus, gamma, dx, n, t_end):
 
 
 def loaded_pulse(
-    u_plus: float, gamma: float, v: float, dx: float, *, window: int = 100, stress="arrival"
+    u_plus: float,
+    gamma: float,
+    v: float,
+    dx: float,
+    *,
+    window: int = 100,
+    stress="arrival",
+    settle: float = 2.0,
 ) -> LoadedPulse:
     """Run one steady pulse in a chain loaded at rate v, to see whether the blocks behind it
     re-stick (docs/theory.md, section 6; compare ``bk.theory.restick_velocity``).
@@ -1838,7 +1845,9 @@ def loaded_pulse(
     it is 4e-4 and moves v_c by 0.1 %), so the pulse is steady although the chain loads.
     stress="ramp" is u = u_+ - v x/c (c: the chain's front speed at this dx), which the
     kick biases: the front runs ahead of x/c, and the blocks slip at u_+ - v (its lead).
-    The ``window`` blocks start two settling lengths from the kick; the chain ends where
+    The ``window`` blocks start ``settle`` settling lengths from the kick (at least 10
+    units; doubling it moves the sliding times near v_c by < 1e-3 relative and leaves
+    whether they re-stick unchanged 1 % from v_c, tests/test_restick.py); the chain ends where
     the free end's reflection (at most the sound speed) cannot reach them before they have
     passed their first backswing, and the run stops then. Needs a pulse (u_+ > gamma) and
     0 <= v < 1 (a plate slower than the slip speed scale); beta = inf (no backward slip).
@@ -1857,6 +1866,8 @@ def loaded_pulse(
         Blocks whose slips are recorded.
     stress : {"arrival", "ramp"}, default "arrival"
         The initial stress (above).
+    settle : float, default 2
+        Where the window starts, in settling lengths x_s from the kick, >= 1.
 
     Returns
     -------
@@ -1886,6 +1897,7 @@ def loaded_pulse(
     v = V.number("v", v, lo=0.0, hi=1.0, hi_open=True)
     dx = V.number("dx", dx, lo=0.0, lo_open=True)
     window = V.integer("window", window, lo=1)
+    settle = V.number("settle", settle, lo=1.0)
     if 10.0 / dx + window > MAX_LOADED_PULSE_BLOCKS:  # the shortest chain it would build
         V._fail(
             "dx", dx, f"a chain of at most {MAX_LOADED_PULSE_BLOCKS} blocks with window = {window}"
@@ -1897,7 +1909,7 @@ def loaded_pulse(
     x_s = settling_length(c, traveling_wave(u_plus, gamma).w, dx)
     if not math.isfinite(x_s):
         V._fail("u_plus", u_plus, f"a pulse faster than the lattice waves (c = {c:.6g})")
-    x_w = max(2.0 * x_s, 10.0)
+    x_w = max(settle * x_s, 10.0)
     x_end = x_w + window * dx
     t_end = x_end / c + 1.2 * backswing
     length = x_end + 1.2 * backswing / (1.0 + 1.0 / c) + 5.0
