@@ -64,6 +64,7 @@ MODULES = (
     "beyond.disorder_speed",
     "beyond.vw_crossover",
     "beyond.noise_statistics",
+    "beyond.plane_ruptures",
 )
 for _m in MODULES:
     importlib.import_module(f".{_m}", __name__)
