@@ -242,7 +242,7 @@ def sync_square(field: str, L: float, h: float, seed: int, periods: int) -> dict
     Returns
     -------
     dict
-        :func:`period_series` plus the ruptures and the largest one's area / L^2 per
+        ``period_series`` plus the ruptures and the largest one's area / L^2 per
         period, the maxima's curvatures (the fraction with both below a_max) and the
         moments of the complete ruptures after FIT_FROM periods.
     """
@@ -288,7 +288,7 @@ def sync_square(field: str, L: float, h: float, seed: int, periods: int) -> dict
 
 def sync_ring(field: str, L: float, h: float, seed: int, periods: int) -> dict:
     """The ring with the same recipe (``_smooth_random`` of the 1D scripts, same A, l,
-    gamma, v, creep rule, grid), :func:`bkwaves.paper.common.ring_births`.
+    gamma, v, creep rule, grid), ``bkwaves.paper.common.ring_births``.
 
     Parameters
     ----------
@@ -342,7 +342,7 @@ def coarsening(runs: list[dict], seed: int = 0) -> dict:
     Parameters
     ----------
     runs : list of dict
-        What :func:`sync_square` or :func:`sync_ring` return, one dimension, one L.
+        What ``sync_square`` or ``sync_ring`` return, one dimension, one L.
     seed : int, default 0
         Seed of the bootstrap.
 
@@ -401,7 +401,7 @@ PLANE_SYNC_RUNS = {
 
 
 def plane_gr(quick: bool) -> dict:
-    """The figure's noisy squares (:func:`gr_catalog`, h = 0.5): per (rate, side) the
+    """The figure's noisy squares (``gr_catalog``, h = 0.5): per (rate, side) the
     areas and moments pooled over seeds and each seed's b.
 
     Parameters
@@ -492,8 +492,8 @@ def fig_plane_gr(axes, quick):
 
 
 def plane_sync(quick: bool) -> dict:
-    """The figure's sources: smooth squares and a sharp one (:func:`sync_square`), and
-    rings with the same recipe (:func:`sync_ring`), with the coarsening fits.
+    """The figure's sources: smooth squares and a sharp one (``sync_square``), and
+    rings with the same recipe (``sync_ring``), with the coarsening fits.
 
     Parameters
     ----------
