@@ -121,3 +121,30 @@ def test_defect_response_is_converged_in_the_chain_and_the_defect_size(u_plus, g
     ):
         assert abs(other.a / r.a - 1) < DEFECT_TOLERANCE["a"]
         assert abs(other.b / r.b - 1) < DEFECT_TOLERANCE["b"]
+
+
+@pytest.mark.parametrize(
+    "u_plus, gamma, dist", [(0.6, 0.0, "uniform"), (0.5, 0.3, "normal"), (0.7, 0.3, "uniform")]
+)
+def test_local_theories_are_converged_in_their_nodes_and_difference_step(u_plus, gamma, dist):
+    # issue 22: the averages by quadrature against more nodes, the sigma^2 coefficients
+    # against the difference step halved (within LOCAL_K_TOLERANCE; measured <= 7e-4)
+    from bkwaves.disorder import LOCAL_K_TOLERANCE, local_speed
+
+    sigma = 0.05
+    lt = local_theories(u_plus, gamma, sigma, dx=DX, distribution=dist)
+    c = local_speed(u_plus, gamma, DX)
+    if dist == "uniform":
+        x, w = np.polynomial.legendre.leggauss(96)
+        x, w = np.sqrt(3.0) * x, w / 2.0
+    else:
+        x, w = np.polynomial.hermite_e.hermegauss(30)
+        w = w / np.sqrt(2.0 * np.pi)
+    ci = c(1.0 + sigma * x)
+    assert np.sum(w * ci) == pytest.approx(lt.arithmetic, rel=1e-13)
+    assert 1.0 / np.sum(w / ci) == pytest.approx(lt.harmonic, rel=1e-13)
+    h = 5e-3
+    f0, fp, fm = c(np.array([1.0, 1.0 + h, 1.0 - h]))
+    d1, d2 = (fp - fm) / (2 * h), (fp - 2 * f0 + fm) / h**2
+    assert d2 / 2 == pytest.approx(lt.k_arithmetic, rel=LOCAL_K_TOLERANCE)
+    assert d2 / 2 - d1**2 / f0 == pytest.approx(lt.k_harmonic, rel=LOCAL_K_TOLERANCE)
