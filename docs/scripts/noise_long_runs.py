@@ -355,8 +355,9 @@ def step_check(seed, out, t0=None, window=2000.0, probe=100.0):
                 warnings.simplefilter("ignore", bk.chain.RunawayEventWarning)
                 r = run.run(t_end=t, progress=False, max_event_duration=1e9,
                             max_event_slips=10**9)  # fmt: skip
-            if first is None and len(r.catalog):
-                first = float(r.catalog.t_start.iloc[0])
+            new = r.catalog[r.catalog.t_start >= t_quiet]  # (the catalog keeps the past)
+            if first is None and len(new):
+                first = float(new.t_start.iloc[0])
             sliding = run.modes != 0
             times.append(t)
             share.append(float(sliding.mean()))
