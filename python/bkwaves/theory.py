@@ -47,6 +47,7 @@ __all__ = [
     "iterate_map",
     "a_n_asymptote",
     "source_period",
+    "curvature_coefficient",
 ]
 
 PAPER_FOURTH_COEFFICIENT = 0.2719
@@ -1079,3 +1080,71 @@ def source_period(v, gamma):
     """
     _, e = _exponent(gamma)
     return (1.0 + np.exp(-e)) / _v(v)
+
+
+# ------------------------------------------------------------------- the plane
+def curvature_coefficient(u_plus, gamma, dx, direction="x", *, dy=None):
+    """D of the lattice's eikonal law c_n = c_planar - D kappa for a gently curved front
+    (kappa -> 0), derived (beyond the paper; docs/theory.md, section 7).
+
+    A front of curvature kappa reaches the blocks beside a block later than the block
+    itself; to first order in kappa that is a delay of the neighbours' displacements.
+    Along an axis the two neighbours across the front are delayed by kappa dy^2/(2c) at
+    the block's own phase: an extra drag (kappa/c) u_t, i.e. gamma -> gamma + kappa/(2c),
+    so D = -(dc/dgamma)/(2c) with c the chain's speed at the spacing along the normal
+    (``bk.front_speed(u_plus, dx=dx, gamma=gamma)``). Along the diagonal (dx = dy) the
+    four neighbours are each delayed by kappa dx^2/(4c): the chain at h = dx/sqrt(2) whose
+    neighbour values are u - delta u_t, delta = kappa h^2/(2c), integrated here by an
+    independent numpy chain (a few seconds). D is proportional to dx (c depends on gamma
+    at order gamma dx) and vanishes in the continuum. The lattice's ruptures reach it as
+    kappa -> 0: the local D of a rupture, measured with its local curvature, differs by a
+    term linear in kappa (docs/lattice.md).
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
+    dx : float
+        Lattice spacing sqrt(k_p/k_x) along x, 0 < dx < 1 (dimensionless length).
+    direction : {"x", "y", "diagonal"}
+        The direction of the front's normal.
+    dy : float, optional
+        Lattice spacing across, sqrt(k_p/k_y), 0 < dy < 1 (dimensionless length;
+        default dx; "diagonal" needs dy = dx).
+
+    Returns
+    -------
+    float
+        D, a length in units of x (c_n - c_planar = -D kappa, kappa in 1/length).
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.curvature_coefficient(0.6, 0.45, 0.1), 4)
+    0.021
+    """
+    from . import _curved_chain
+
+    u = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    g = _gamma(gamma)
+    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    dy = dx if dy is None else V.number("dy", dy, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    if direction not in ("x", "y", "diagonal"):
+        raise ValueError(f"direction must be 'x', 'y' or 'diagonal', got {direction!r}")
+    if direction == "diagonal":
+        if dy != dx:
+            raise ValueError(f"direction 'diagonal' needs dy = dx, got dx = {dx}, dy = {dy}")
+        h = dx / np.sqrt(2.0)
+        c0 = float(front_speed(u, dx=h, gamma=g))
+        eps = 0.05
+        cs = [
+            _curved_chain.front_speed(u, g, h, delay=k * h * h / (2.0 * c0))[0] for k in (-eps, eps)
+        ]
+        return float(-(cs[1] - cs[0]) / (2.0 * eps))
+    h = dx if direction == "x" else dy
+    e = 0.01
+    c = [float(front_speed(u, dx=h, gamma=g + i * e)) for i in range(3)]
+    dc_dgamma = (-3.0 * c[0] + 4.0 * c[1] - c[2]) / (2.0 * e)
+    return float(-dc_dgamma / (2.0 * c[0]))

@@ -65,6 +65,7 @@ MODULES = (
     "beyond.vw_crossover",
     "beyond.noise_statistics",
     "beyond.plane_ruptures",
+    "beyond.lattice_curvature",
 )
 for _m in MODULES:
     importlib.import_module(f".{_m}", __name__)
