@@ -225,7 +225,7 @@ def _b_summary(rows):
 
     df = pd.DataFrame(rows)
     for (length, engine), g in df.groupby(["length", "engine"], sort=False):
-        b = g.b.to_numpy()
+        b = g.b.astype(float).to_numpy()
         ok = b[np.isfinite(b)]
         rw = g.ring_wide.to_numpy()
         print(
@@ -307,6 +307,35 @@ def chain_b(seeds, out, length=1000.0, t_end=1e6, v=1e-4, u_star=0.96):
     return rows
 
 
+def _chain_summary(rows, loading=9620.0):
+    """6.'s ensemble: how many runs slid on and when (the hazard per loading, Poisson),
+    the pooled rupture rate with its Poisson error and the spread of the runs' rates,
+    the ring-wide share and u_start with their standard errors over the runs."""
+    runs = [r for r in rows if r["ruptures"]]
+    slid = [r for r in rows if r["runaway_t"] is not None]
+    span = sum(r["window"] for r in rows)
+    n_rup = sum(r["ruptures"] for r in rows)
+    rates = np.array([r["rate"] for r in runs])
+    rw = np.array([r["ring_wide"] for r in runs])
+    us = np.array([r["u_start"] for r in runs])
+
+    def se(x):
+        return x.std(ddof=1) / math.sqrt(x.size) if x.size > 1 else math.nan
+
+    when = ", ".join(f"{r['runaway_t']:.3g}" for r in slid)
+    print(
+        f"{len(rows)} runs: {len(slid)} slid on (at t = {when}); {span / loading:.0f} loadings "
+        f"after burn-in in all: slide-on hazard {len(slid) / (span / loading):.3g} +- "
+        f"{math.sqrt(len(slid)) / (span / loading):.2g} per loading"
+    )
+    print(
+        f"ruptures: {n_rup}, pooled rate {n_rup / span:.3e} +- {math.sqrt(n_rup) / span:.1e} "
+        f"per unit time; runs' rates {rates.mean():.3e} +- {se(rates):.1e} (sd "
+        f"{rates.std(ddof=1):.1e}); ring-wide {rw.mean():.2f} +- {se(rw):.2f}; u_start "
+        f"{us.mean():.4f} +- {se(us):.4f}"
+    )
+
+
 def _with_step(chain, step):
     """``chain``'s state in a chain that steps at ``step`` dx: the checkpoint's engine
     bytes with the step in the fingerprint replaced (bytes 32-40: magic, n, dx, v, step)."""
@@ -374,10 +403,16 @@ def step_check(seed, out, t0=None, window=2000.0, probe=100.0):
 
 
 if __name__ == "__main__" and "--chain-b" in sys.argv:
-    # python docs/scripts/noise_long_runs.py --chain-b OUT.json [SEED ...]
+    # python docs/scripts/noise_long_runs.py --chain-b OUT.json [SEED ...]  (SEED 0: the
+    # summary of OUT.json as written, no runs)
     i = sys.argv.index("--chain-b")
     seeds = [int(a) for a in sys.argv[i + 2 :]] or list(range(1, 9))
-    _b_summary(chain_b(seeds, sys.argv[i + 1]))
+    if seeds == [0]:  # --chain-b OUT.json 0: the summary of OUT.json's rows, no runs
+        rows = json.loads(Path(sys.argv[i + 1]).read_text())
+    else:
+        rows = chain_b(seeds, sys.argv[i + 1])
+    _b_summary(rows)
+    _chain_summary(rows)
 elif __name__ == "__main__" and "--step-check" in sys.argv:
     # python docs/scripts/noise_long_runs.py --step-check OUT.json SEED [CHAIN_B.json]
     i = sys.argv.index("--step-check")
