@@ -465,6 +465,9 @@ def test_cli_front_text_says_how_steady_and_takes_beta():
     assert "regime  = pulse" in out and "steady  = " in out and "why     : " in out
     assert "backward slip on" in out and " 0 backward slips" not in out
     assert "App. B  : pulse" in out
+    # its convergence (issue 22): the change against a window half as far out
+    moved = next(line for line in out.splitlines() if line.startswith("moved   = "))
+    assert "c " in moved and "u_minus " in moved and "half as far out" in moved
     r = cli("front", "--u-plus", "0.5", "--gamma", "0", "--dx", "0.1")
     assert "no backward slip; 0 backward slips" in r.stdout
 

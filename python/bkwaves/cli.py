@@ -755,6 +755,12 @@ def front(args) -> None:
             f"steady  = {steady}   (spread of sliding times and re-stick u over the window "
             f"x = {m.window[0]:.4g}-{m.window[1]:.4g}; settling length x_s = {xs})"
         )
+    if m.convergence:
+        moved = ", ".join(
+            f"{k} {'-' if x is None else f'{x:.1g}'}" for k, x in m.convergence.items()
+        )
+        against = "the chain half as long" if law.name != "coulomb" else "a window half as far out"
+        _echo(f"moved   = {moved}   (u_minus absolute, the others relative, against {against})")
     _echo(f"why     : {m.reason}")
     if m.app_b is not None:
         b = m.app_b
@@ -780,7 +786,9 @@ FRONT = Command(
     stopped before the far end, as velocity-weakening fronts do at large v_f:
     then regime none and c NaN). Regime: pulse (a steady healing front: sliding
     times and re-stick stresses agree to 1e-3), creep (none), or undecided (the
-    reason is printed); "steady" prints the spread.
+    reason is printed); "steady" prints the spread, "moved" how much c, w and
+    u_- changed against a window half as far out (Coulomb) or the chain half
+    as long (velocity weakening): the measurement's convergence.
 
     Default chain length: the trigger's transient can reach the healing front
     at x only if x < x_s = w v/(c - v) (v: the fastest lattice wave, < 1), so
