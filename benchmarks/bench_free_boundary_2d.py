@@ -5,16 +5,18 @@ Run: python benchmarks/bench_free_boundary_2d.py [--scaling] [--long] [--lattice
       stressed to u = 0.6 in u = -0.2 is triggered at its centre; the front sweeps the
       A ~ pi R^2/h^2 nodes of the disk and stops at its edge. CPU time of the sweep
       (median of 5 rounds, a fresh engine each, construction not timed) for A from 1e3 to
-      8e5 nodes: time per node and per node and log2(A), as ratios to the smallest disk
-      measured in the same run (the baseline).
+      8e5 nodes (7 sizes): time per node and per node and log2(A), as ratios to the smallest disk
+      measured in the same run (the baseline), and the fits t = k A log2 A (k the geometric
+      mean of t/(A log2 A); the last column is t over the fit) and t = k' A^p.
   --long: a 1024 x 1024 periodic grid (h = 0.5), gamma = 0.3, v = 1e-3, creep rule
       "stop", u0 = 0.3 x a random field of correlation length 3, noise law "power"
       (exponent 8, rate 1 per unit area and time at u = 1), run until 1e5 ruptures are
       complete: CPU time, ruptures, areas.
   --lattice: one rupture through a smooth stress field on the quadrant [0, 8]^2 (the
       validation of docs/free_boundary_2d.md, docs/scripts/free_boundary_2d_lattice.py),
-      run by bk.Lattice and by FreeBoundary2D on the same nodes (h = dx, dx = 0.1 and
-      0.05): CPU time of each (construction included, one round each), and their ratio.
+      run by bk.Lattice and by FreeBoundary2D on the same nodes (h = dx, dx = 0.2, 0.1
+      and 0.05): CPU time of each (construction included, one round each, after a round
+      of the first case not kept), and their ratio.
 Timed by CPU time (time.process_time() around the engine call: the machine is shared).
 Prints markdown tables; --json writes the numbers.
 """
@@ -52,7 +54,7 @@ def disk_sweep(n: int, h: float, radius: float) -> tuple[float, int]:
 def scaling(rounds: int = 5) -> list[dict]:
     n, h = 1024, 0.25
     rows = []
-    for area in (1e3, 1e4, 1e5, 8e5):
+    for area in (1e3, 3e3, 1e4, 3e4, 1e5, 3e5, 8e5):
         radius = math.sqrt(area / math.pi) * h
         times, nodes = [], 0
         for _ in range(rounds):
@@ -66,15 +68,26 @@ def scaling(rounds: int = 5) -> list[dict]:
         r["per_node_log_ratio"] = (
             r["per_node_ratio"] * math.log2(base["area_nodes"]) / (math.log2(r["area_nodes"]))
         )
+    a = np.array([r["area_nodes"] for r in rows], dtype=float)
+    t = np.array([r["cpu_s"] for r in rows])
+    # fits: t = k A log2 A (least squares in log t: the constant is the geometric mean of
+    # t/(A log2 A)), and a free power t = k' A^p
+    k = float(np.exp(np.mean(np.log(t / (a * np.log2(a))))))
+    p, logk = np.polyfit(np.log(a), np.log(t), 1)
+    for r in rows:
+        r["per_node_log_fit"] = r["cpu_s"] / (k * r["area_nodes"] * math.log2(r["area_nodes"]))
+    fit = {"k_ns": 1e9 * k, "power": float(p), "power_prefactor_ns": 1e9 * math.exp(logk)}
     print("| nodes swept A | CPU s (median) | ns per node | per node / smallest | "
-          "per (node log2 A) / smallest |")  # fmt: skip
-    print("|---|---|---|---|---|")
+          "per (node log2 A) / smallest | t / (k A log2 A) |")  # fmt: skip
+    print("|---|---|---|---|---|---|")
     for r in rows:
         print(
             f"| {r['area_nodes']} | {r['cpu_s']:.4f} | {r['per_node_ns']:.0f} | "
-            f"{r['per_node_ratio']:.2f} | {r['per_node_log_ratio']:.2f} |"
+            f"{r['per_node_ratio']:.2f} | {r['per_node_log_ratio']:.2f} | "
+            f"{r['per_node_log_fit']:.2f} |"
         )
-    return rows
+    print(f"fit t = k A log2 A: k = {fit['k_ns']:.1f} ns; free power t ~ A^{p:.3f}")
+    return {"rows": rows, "fit": fit}
 
 
 def long_run(target: int = 100_000) -> dict:
@@ -117,7 +130,7 @@ def long_run(target: int = 100_000) -> dict:
     return out
 
 
-def lattice_vs_free_boundary(dxs=(0.1, 0.05)) -> list[dict]:
+def lattice_vs_free_boundary(dxs=(0.2, 0.1, 0.05)) -> list[dict]:
     import pathlib
     import sys
 
@@ -125,7 +138,9 @@ def lattice_vs_free_boundary(dxs=(0.1, 0.05)) -> list[dict]:
     from free_boundary_2d_lattice import GAMMA, L, field
 
     rows = []
-    for dx in dxs:
+    for k, dx in enumerate((dxs[0], *dxs)):
+        # (the first case twice, the first round not kept: it pays the imports of the
+        # result tables, pandas and xarray)
         n = int(round(L / dx))
         x = (np.arange(n) + 0.5) * dx
         xx, yy = np.meshgrid(x, x)
@@ -142,8 +157,9 @@ def lattice_vs_free_boundary(dxs=(0.1, 0.05)) -> list[dict]:
         fb.trigger(x[0], x[0])
         fb.run(max_events=1)
         t_fb = time.process_time() - t0
-        rows.append({"dx": dx, "blocks": n * n, "lattice_cpu_s": t_la, "fb2d_cpu_s": t_fb,
-                     "ratio": t_la / t_fb})  # fmt: skip
+        if k:
+            rows.append({"dx": dx, "blocks": n * n, "lattice_cpu_s": t_la, "fb2d_cpu_s": t_fb,
+                         "ratio": t_la / t_fb})  # fmt: skip
     print("| dx | blocks = nodes | lattice CPU s | FreeBoundary2D CPU s | ratio |")
     print("|---|---|---|---|---|")
     for r in rows:
