@@ -302,21 +302,32 @@ def claims_chain(quick: bool) -> list[Claim]:
     dxs = m["dxs"]
     w = traveling_wave(0.7, 0.3)
     orders = [1, 2, 3]
-    c_ex = _richardson([fr[d].c for d in dxs], dxs, orders)
-    um_ex = _richardson([fr[d].u_minus for d in dxs], dxs, orders)
-    w_ex = _richardson([fr[d].w for d in dxs], dxs, orders)
+
+    def extrapolated(key):
+        """The Richardson value and its change when the coarsest dx is left out (one
+        order fewer): how far the extrapolation has converged."""
+        v = [getattr(fr[d], key) for d in dxs]
+        best = _richardson(v, dxs, orders)
+        return best, abs(best - _richardson(v[1:], dxs[1:], orders[: len(dxs) - 2]))
+
+    (c_ex, c_err), (um_ex, um_err), (w_ex, w_err) = map(extrapolated, ("c", "u_minus", "w"))
     out.append(
         Claim(
             "um-chain",
             "(um), (w)",
             "u_- and w of the pulse (u_+ = 0.7, gamma = 0.3)",
             f"u_- = {w.u_minus:.5f}, w = {w.w:.4f}, c = {w.c:.6f}",
-            f"chain, dx = {', '.join(str(d) for d in dxs)} extrapolated: u_- = {um_ex:.5f}, "
-            f"w = {w_ex:.4f}, c = {c_ex:.6f}",
+            f"chain, dx = {', '.join(str(d) for d in dxs)} extrapolated: u_- = {um_ex:.5f} "
+            f"(+- {um_err:.0e}), w = {w_ex:.4f} (+- {w_err:.0e}), c = {c_ex:.6f} "
+            f"(+- {c_err:.0e}; +-: the change without the coarsest dx)",
             [
                 Check("u_- (chain, extrapolated) - eq. (um)", um_ex - w.u_minus, -1e-3, 1e-3),
                 Check("w (chain, extrapolated) / eq. (w) - 1", w_ex / w.w - 1, -1e-2, 1e-2),
                 Check("c (chain, extrapolated) / c - 1", c_ex / w.c - 1, -1e-4, 1e-4),
+                # the extrapolation itself converged well inside those tolerances
+                Check("change of u_- without the coarsest dx", um_err, hi=1e-4),
+                Check("relative change of w without the coarsest dx", w_err / w_ex, hi=1e-3),
+                Check("relative change of c without the coarsest dx", c_err / c_ex, hi=1e-4),
             ],
         )
     )
