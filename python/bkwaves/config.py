@@ -28,6 +28,9 @@ Schema (all sections optional except those marked)::
                 (one per block; coupling one per bond: n - 1 free, n + 1 fixed, n
                 periodic) or {distribution = "uniform" | "normal" | "lognormal", mean,
                 spread} drawn with the config's seed (bk.disorder)
+                lattice: threshold, mass, loader per block, coupling_x and coupling_y
+                per bond along x and y (>= 0), each also a smooth random field {mean,
+                amplitude, correlation_length} (docs/lattice.md)
                 free boundary: threshold only, the static threshold field s(x) on the
                 grid: a number, an array (one per grid node), {distribution, mean,
                 spread} drawn per node, or a smooth random field {mean, amplitude,
@@ -587,7 +590,8 @@ def _disorder(doc: dict, model: _models.Model) -> tuple:
                 _err(q, "expected an array of numbers")
             out.append((k, tuple(float(y) for y in x)))
         elif isinstance(x, int | float) and not isinstance(x, bool):
-            out.append((k, _num(t, k, "disorder", lo=0.0, lo_open=True)))
+            zero_ok = k in model.disorder_zero_ok
+            out.append((k, _num(t, k, "disorder", lo=0.0, lo_open=not zero_ok)))
         else:
             _err(
                 q,
@@ -992,11 +996,13 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     arrays = entry.property_arrays(cfg)
     for k, a in arrays.items() if cfg.disorder else ():
         if a is not None:
-            a = np.atleast_1d(np.asarray(a, dtype=float))
-            bad = np.flatnonzero(~(np.isfinite(a) & (a > 0)))
+            a = np.atleast_1d(np.asarray(a, dtype=float)).ravel()
+            zero_ok = k in entry.disorder_zero_ok
+            bad = np.flatnonzero(~(np.isfinite(a) & ((a >= 0) if zero_ok else (a > 0))))
             if bad.size:
                 i = int(bad[0])
-                _err(f"disorder.{k}[{i}]", f"invalid value {a[i]}: allowed {k} > 0")
+                rel = ">=" if zero_ok else ">"
+                _err(f"disorder.{k}[{i}]", f"invalid value {a[i]}: allowed {k} {rel} 0")
     _check_derived(cfg)
     from .limits import check_sizes
 

@@ -123,8 +123,9 @@ def property_seed(seed: int, name: str) -> list[int]:
     ----------
     seed : int
         The config's ``seed``, 0 <= seed < 2**64.
-    name : {"threshold", "mass", "loader", "coupling"}
-        The property.
+    name : {"threshold", "mass", "loader", "coupling", "coupling_x", "coupling_y"}
+        The property; ``coupling_x`` and ``coupling_y`` are the lattice's per-bond
+        springs along x (the chain's ``coupling`` stream) and along y (the next one).
 
     Returns
     -------
@@ -139,9 +140,11 @@ def property_seed(seed: int, name: str) -> list[int]:
     """
     from .chain import PROPERTIES
 
-    if name not in PROPERTIES:
-        V._fail("name", name, "one of " + ", ".join(PROPERTIES))
-    return [check_seed(seed), 1 + PROPERTIES.index(name)]
+    names = (*PROPERTIES, "coupling_y")
+    name = "coupling" if name == "coupling_x" else name
+    if name not in names:
+        V._fail("name", name, "one of " + ", ".join((*PROPERTIES, "coupling_x", "coupling_y")))
+    return [check_seed(seed), 1 + names.index(name)]
 
 
 def smooth_field(

@@ -62,6 +62,9 @@ class Model:
     #: {mean, amplitude, correlation_length} is one of their forms
     disorder_keys: tuple[str, ...] = ()
     correlated_disorder: bool = False
+    #: [disorder] properties that may be 0 (the lattice's bonds: a zero bond cuts it);
+    #: the others must be > 0
+    disorder_zero_ok: tuple[str, ...] = ()
     #: [disorder] threshold is the static threshold field of a free boundary model
     #: (``bkwaves.config.threshold_field``)
     threshold_field: bool = False

@@ -11,7 +11,10 @@ Its entry in the model registry (``bkwaves._models``): the chain's engine on a g
   of shape (ny, nx), or nx ny values row after row); ``velocity`` as the chain's;
 - [disorder] threshold, mass, loader: a number, nx ny values (row after row), a drawn
   {distribution, mean, spread} per block or a smooth random field {mean, amplitude,
-  correlation_length}; the coupling springs are uniform;
+  correlation_length}; ``coupling_x`` and ``coupling_y``, the per-bond springs along x
+  and along y in units of the uniform ones (``bk.Lattice(coupling=(k_x, k_y))``), in the
+  same forms per bond (``bonds``: ny rows of the bonds of a row, the bonds of a column
+  times nx), each >= 0 (a zero bond cuts the lattice);
 - [[triggers]] at ``block = [i, j]``, on a line ``line = [[i0, j0], [i1, j1]]`` or a
   disc ``disc = [[i, j], radius]`` (``bk.Lattice.blocks``); [noise] per block as the
   chain's; [run] as the chain's;
@@ -34,8 +37,24 @@ import numpy as np
 from ..chain import BOUNDARIES
 from .chain import ChainModel, check_step
 
-#: The per-block properties a lattice takes (its coupling springs are uniform).
+#: The per-block properties a lattice takes.
 PROPERTIES = ("threshold", "mass", "loader")
+#: Its per-bond springs along x and along y ([disorder] keys; ``bk.Lattice``'s
+#: ``coupling = (k_x, k_y)``).
+BONDS = ("coupling_x", "coupling_y")
+#: Bonds of a line of n blocks beyond n: free sides n - 1, walls n + 1, periodic n.
+_EXTRA_BONDS = {"free": -1, "fixed": 1, "periodic": 0}
+
+
+def bonds(shape, boundary) -> dict:
+    """The shapes of the per-bond springs of a lattice of ``shape`` = (nx, ny) blocks
+    with ``boundary`` = (along x, along y): {"coupling_x": (ny, bonds of a row),
+    "coupling_y": (bonds of a column, nx)}, as ``bk.Lattice(coupling=...)`` takes them."""
+    nx, ny = shape
+    return {
+        "coupling_x": (ny, nx + _EXTRA_BONDS[boundary[0]]),
+        "coupling_y": (ny + _EXTRA_BONDS[boundary[1]], nx),
+    }
 
 
 def _pair_of(value, where: str, allowed: tuple[str, ...]) -> tuple[str, str]:
@@ -118,28 +137,37 @@ def planar_initial(cfg, x, y, periodic) -> np.ndarray:
     return u
 
 
-def planar_property(cfg, k: str, spec, x, y, periodic):
-    """One [disorder] property on a planar grid: a scalar or an (ny, nx) array."""
+def planar_property(cfg, k: str, spec, x, y, periodic, what: str = "nx ny"):
+    """One [disorder] property on a planar grid of nodes (or bonds) at (x, y): a scalar
+    or a (len(y), len(x)) array (``what``: the count in words, for errors)."""
     from .._core import ParameterError
     from ..config import _err
     from ..disorder import draw, property_seed
 
     nx, ny = len(x), len(y)
-    seed = property_seed(cfg.seed, k)
+    if nx * ny == 0:  # (no bonds: a line of one block along a free axis)
+        return None
     if isinstance(spec, dict) and "correlation_length" in spec:
+        seed = property_seed(cfg.seed, k)
         field = planar_field(cfg, spec["correlation_length"], seed, x, y, periodic)
         return spec["mean"] + spec["amplitude"] * field
     if isinstance(spec, dict):
         try:
             a = draw(
-                spec["distribution"], nx * ny, mean=spec["mean"], spread=spec["spread"], seed=seed
+                spec["distribution"],
+                nx * ny,
+                mean=spec["mean"],
+                spread=spec["spread"],
+                seed=property_seed(cfg.seed, k),
             )
         except ParameterError as e:
             _err(f"disorder.{k}", str(e))
         return np.asarray(a).reshape(ny, nx)
     if isinstance(spec, tuple):
         if len(spec) != nx * ny:
-            _err(f"disorder.{k}", f"{len(spec)} values; expected nx ny = {nx * ny} (row after row)")
+            _err(
+                f"disorder.{k}", f"{len(spec)} values; expected {what} = {nx * ny} (row after row)"
+            )
         return np.array(spec).reshape(ny, nx)
     return float(spec)
 
@@ -150,7 +178,8 @@ class LatticeModel(ChainModel):
     domain_keys = ("shape", "dy", "boundary")
     domain_required = ("shape",)
     size_key = "domain.shape"
-    disorder_keys = PROPERTIES
+    disorder_keys = (*PROPERTIES, *BONDS)
+    disorder_zero_ok = BONDS
     correlated_disorder = True
     initial_kinds = ("uniform", "ramp", "random", "file")
     arrivals = True
@@ -241,11 +270,41 @@ class LatticeModel(ChainModel):
         return tuple(b == "periodic" for b in cfg.boundary)
 
     def property_arrays(self, cfg):
-        out = dict.fromkeys(PROPERTIES)
+        """{property: scalar, (ny, nx) array or None}; the bonds (``BONDS``) shaped as
+        ``bonds`` says (a smooth field on the bonds' grid: spaced dx along x and dy
+        along y, as the blocks)."""
+        out = dict.fromkeys((*PROPERTIES, *BONDS))
         x, y = self.x(cfg), self.y(cfg)
+        shapes = bonds(cfg.shape, cfg.boundary)
+        words = {
+            "coupling_x": "ny x (bonds of a row: nx - 1 free, nx + 1 fixed, nx periodic)",
+            "coupling_y": "(bonds of a column: ny - 1 free, ny + 1 fixed, ny periodic) x nx",
+        }
         for k, spec in cfg.disorder:
-            out[k] = planar_property(cfg, k, spec, x, y, self._periodic(cfg))
+            if k in BONDS:
+                rows, cols = shapes[k]
+                bx = np.arange(cols) * cfg.params.dx
+                by = np.arange(rows) * self._dy(cfg)
+                what = f"{words[k]} = {rows} x {cols}"
+                out[k] = planar_property(cfg, k, spec, bx, by, self._periodic(cfg), what)
+            else:
+                out[k] = planar_property(cfg, k, spec, x, y, self._periodic(cfg))
         return out
+
+    def _lattice_properties(self, cfg) -> dict:
+        """``property_arrays`` as ``bk.Lattice`` takes them: the bonds as coupling =
+        (k_x, k_y) (1: uniform)."""
+        props = self.property_arrays(cfg)
+        kx, ky = (props.pop(k) for k in BONDS)
+        props["coupling"] = (
+            None
+            if kx is None and ky is None
+            else (
+                1.0 if kx is None else kx,
+                1.0 if ky is None else ky,
+            )
+        )
+        return props
 
     def initial_state(self, cfg):
         return planar_initial(cfg, self.x(cfg), self.y(cfg), self._periodic(cfg))
@@ -299,7 +358,7 @@ class LatticeModel(ChainModel):
             seed=cfg.seed,
             noise=cfg.noise,
             **cfg.chain_integration(),
-            **self.property_arrays(cfg),
+            **self._lattice_properties(cfg),
         )
         for tr in cfg.triggers:
             if tr.kind == "kick":
