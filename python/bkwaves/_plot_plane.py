@@ -2,8 +2,9 @@
 map, the arrival-time contours of the largest rupture, the catalog on a map and the
 stress at the last snapshot (the frequency-magnitude plot is ``bkwaves.plot``'s).
 
-The tables they read: a lattice's slips (i, j, slip) and events (hypocentre_x/y, area),
-its arrivals (event, x, y, t) when written; a planar free boundary run's ruptures
+The tables they read: a lattice's slips (i, j, slip), events (hypocentre_x/y: its
+arrival map is of the largest event) and ruptures (x_start, y_start, area: its catalog
+map), its arrivals (event, x, y, t) when written; a planar free boundary run's ruptures
 (x_start, y_start, area) and arrivals (rupture, x, y, t), and its snapshots (the slip of
 a rupture is u_+ - u_-: the stress dropped under the loading, u(0) + v t - u(t)).
 """
@@ -103,8 +104,10 @@ def _largest(cat):
 
 def arrival_map(ds, tables, title: str):
     """Arrival (first slip) times of the largest event or rupture: filled contours, the
-    contour lines labelled, its hypocentre marked."""
-    what = "ruptures" if "ruptures" in tables else "events"
+    contour lines labelled, its hypocentre marked (a lattice's: its largest event; its
+    arrivals and slips are recorded per event, not per rupture)."""
+    ru = tables.get("ruptures")
+    what = "ruptures" if ru is not None and "id" in ru else "events"
     cat = tables.get(what)
     row = _largest(cat)
     if row is None:

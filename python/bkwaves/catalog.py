@@ -205,6 +205,22 @@ def run_ruptures(engine: str, table, *, n: int, dx: float, boundary: str, x0: fl
     return out[list(RUPTURE_COLUMNS)]
 
 
+#: The columns of the largest rupture (or event) that :func:`statistics` reports (those
+#: a catalog has: the planar models' hypocentre y, area and perimeter besides).
+_LARGEST = (
+    "t_start",
+    "duration",
+    "x_start",
+    "y_start",
+    "swept",
+    "area",
+    "perimeter",
+    "moment",
+    "kind",
+    "n_blocks",
+)
+
+
 def _complete_rows(df):
     """The rows of ``df`` that ended before the run stopped (a cut one's slip is partial)."""
     if df is None:
@@ -281,9 +297,7 @@ def statistics(events, ruptures=None) -> dict:
             out["magnitude_max"] = float(mags.max())
             row = cat.iloc[int(np.flatnonzero(ok)[np.argmax(m[ok])])]
             out["largest"] = {
-                k: (v.item() if hasattr(v, "item") else v)
-                for k, v in row.items()
-                if k in ("t_start", "duration", "x_start", "swept", "moment", "kind", "n_blocks")
+                k: (v.item() if hasattr(v, "item") else v) for k, v in row.items() if k in _LARGEST
             }
             out["largest"]["magnitude"] = float(moment_magnitude(row["moment"]))
         out["b"] = gutenberg_richter(m[ok])

@@ -694,7 +694,8 @@ class Chain:
         max_event_slips : int, optional
             Slips after which a running event counts as runaway (default 100 per block).
         max_event_duration : float, optional
-            Duration after which it does (default 100 sound crossings of the chain).
+            Duration after which it does (default 100 sound crossings of the chain; of a
+            lattice's longer side, ``bkwaves.lattice.default_max_event_duration``).
 
         Returns
         -------
@@ -731,7 +732,7 @@ class Chain:
             else spec["max_event_slips"].check(max_event_slips)
         )
         max_duration = (
-            default_max_event_duration(self.n, self.params.dx)
+            self._max_event_duration()
             if max_event_duration is None
             else V.number("max_event_duration", max_event_duration, lo=0.0, lo_open=True)
         )
@@ -897,6 +898,10 @@ class Chain:
             boundary=self.boundary,
             _build={"catalog": catalog, "slips": slips, "snapshots": snapshots},
         )
+
+    def _max_event_duration(self) -> float:
+        """The default runaway bound on one event's duration (``run``)."""
+        return default_max_event_duration(self.n, self.params.dx)
 
     def _counters(self) -> dict:
         """The engine's work counters, with the noise's candidates and spontaneous slips."""

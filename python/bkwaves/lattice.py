@@ -31,9 +31,41 @@ __all__ = [
     "LatticeResult",
     "PlanarFront",
     "Rupture",
+    "default_max_event_duration",
     "front",
     "rupture",
 ]
+
+
+def default_max_event_duration(shape, dx: float, dy: float | None = None) -> float:
+    """The runaway bound on the duration of one event of a lattice (``Lattice.run``,
+    ``run.max_event_duration`` of a lattice config): 100 times the time sound takes to
+    cross the lattice's longer side (+1 for small lattices), as the chain's bound is of
+    the chain (docs/lattice.md, "An event's duration").
+
+    Parameters
+    ----------
+    shape : tuple of int
+        (nx, ny) blocks.
+    dx : float
+        Spacing along x (dimensionless).
+    dy : float, optional
+        Spacing along y (dimensionless); default dx.
+
+    Returns
+    -------
+    float
+        The bound, in units of sqrt(m/k_p) (the speed of sound is 1).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> bk.lattice.default_max_event_duration((200, 100), 0.1)
+    2100.0
+    """
+    nx, ny = shape
+    dy = dx if dy is None else dy
+    return 100.0 * (max(nx * dx, ny * dy) + 1.0)
 
 
 @dataclass
@@ -336,6 +368,9 @@ class Lattice(Chain):
         if isinstance(a, np.ndarray) and a.ndim == 0:
             return float(a)
         V._fail(name, value, f"a scalar or an array of shape (ny, nx) = {self.shape[::-1]}")
+
+    def _max_event_duration(self) -> float:
+        return default_max_event_duration(self.shape, self.params.dx, self.dy)
 
     def _geometry(self) -> dict:
         return {

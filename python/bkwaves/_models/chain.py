@@ -108,7 +108,6 @@ def _run_chain(model, cfg, out, progress, overwrite, flush_every, chunk, ctl):
         _open_writer,
         _snapshot_times,
         _Units,
-        _write_ruptures,
     )
 
     p = cfg.params
@@ -211,7 +210,7 @@ def _run_chain(model, cfg, out, progress, overwrite, flush_every, chunk, ctl):
 
         def give_all():
             give(final=False)
-            _write_ruptures(writer, units, rup)
+            model.write_ruptures(writer, units, rup)
             if cfg.arrivals and writer is not None:
                 _write_arrivals(writer, units, model.arrivals_table(cfg, eng))
             if writer is not None and writer.records == 0:
@@ -423,6 +422,12 @@ class ChainModel(Model):
     def ruptures(self, cfg, eng):
         """The ruptures table (None: the model has none)."""
         return ruptures(cfg, eng)
+
+    def write_ruptures(self, writer, units, rup) -> None:
+        """Write the ruptures table (dimensionless) in the output units."""
+        from ..runner import _write_ruptures
+
+        _write_ruptures(writer, units, rup)
 
     def work(self, cfg):
         from .. import _cost

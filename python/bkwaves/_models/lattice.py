@@ -23,8 +23,9 @@ Its entry in the model registry (``bkwaves._models``): the chain's engine on a g
 
 Outputs: snapshots u, u_t, sliding with dims (t, y, x); the events table with each
 event's hypocentre (i, j, x, y), area and moment (int slip dA); the slips table with
-i, j, x, y. No ruptures table (the chain's splits events along a line): `bkwaves stats`
-reads the events.
+i, j, x, y; the ruptures table (``bkwaves._lattice_ruptures``: the events split into
+the slip of single nucleations, with hypocentre, area, moment, duration and perimeter),
+which `bkwaves stats` reads, as the planar free boundary model's.
 """
 
 from __future__ import annotations
@@ -314,6 +315,10 @@ class LatticeModel(ChainModel):
         check_step(
             cfg, min(dx, dy), 4.0 / dx / dx + 4.0 / dy / dy, "1 + 4/dx^2 + 4/dy^2", "the lattice"
         )
+        if cfg.initial.kind == "file":
+            # the file's shape and values when the config is loaded, not at the run's start
+            # (as the planar free boundary model's)
+            self.initial_state(cfg)
 
     # --- grid ----------------------------------------------------------------------------
     def x(self, cfg):
@@ -368,8 +373,9 @@ class LatticeModel(ChainModel):
         return la
 
     def default_max_event_duration(self, cfg):
-        # 100 sound crossings of the longer side (the chain's bound)
-        return 100.0 * (self.span(cfg) + 1.0)
+        from ..lattice import default_max_event_duration
+
+        return default_max_event_duration(cfg.shape, cfg.params.dx, self._dy(cfg))
 
     def event_columns(self, cfg, cat):
         from ..lattice import _planar_catalog
@@ -416,7 +422,42 @@ class LatticeModel(ChainModel):
         return _planar_slips(sl, cfg.shape[0], cfg.params.dx, self._dy(cfg))
 
     def ruptures(self, cfg, eng):
-        return None
+        """The ruptures table (``bkwaves._lattice_ruptures``: the events split into
+        the slip of single nucleations), dimensionless, from the whole record of slips."""
+        from .._lattice_ruptures import lattice_ruptures
+        from ..runner import _frame
+
+        nx, ny = cfg.shape
+        sl = _frame(eng.slips())
+        return lattice_ruptures(sl, nx, ny, cfg.params.dx, self._dy(cfg), cfg.boundary)
+
+    def write_ruptures(self, writer, units, rup) -> None:
+        """The ruptures table in the output units (area, moment, perimeter as the planar
+        free boundary model's: SI m^2, m^3, m)."""
+        from .._lattice_ruptures import DESCRIPTIONS
+        from ..runner import _SCALES, _described
+        from ..stats import moment_magnitude
+
+        if writer is None or rup is None:
+            return
+        rows, ru, rs = units.convert_table(
+            rup,
+            times=("t_start", "t_end", "duration"),
+            xs=("x_start", "y_start", "perimeter"),
+            moments=("moment",),
+        )
+        if units.si:  # int slip dA: slip (m) times an area (m^2)
+            rows["moment"] = units.x(rows["moment"].to_numpy())
+            rows["area"] = units.x(units.x(rows["area"].to_numpy()))
+            rows["mean_slip"] = units.slip(rows["mean_slip"].to_numpy())
+            ru.update(moment="m3", area="m2", mean_slip="m")
+        else:
+            ru.update(area="1", mean_slip="1")
+            rs["area"] = f"(x')^2: blocks slipped x dx dy, {_SCALES['x']}"
+            rs["moment"] = f"int slip dA: {_SCALES['slip']} times (x')^2"
+        rows["magnitude"] = moment_magnitude(rows["moment"].to_numpy(dtype=float))
+        described = {**_described(rows), **DESCRIPTIONS}
+        writer.append_rows("ruptures", rows, ru, scales=rs, descriptions=described)
 
     def arrivals_table(self, cfg, eng):
         """The first slip time of every block in every event (event, i, j, x, y, t),
