@@ -3,12 +3,16 @@ synchronisation and chaos").
 
     nice -n 5 python docs/scripts/free_boundary_2d_sync.py --json docs/free_boundary_2d_sync.json
 
-Periodic L x L squares (spacing h), gamma = 0.3, v = 1e-2, creep rule "zero" (the paper's
-no-creep model), no noise: u0 = 0.5 + A f(x, y), f a Gaussian random field of correlation
-length l scaled to max |f| = 1 (``bkwaves.free_boundary_2d.random_field``). Fields as in
-1D (docs/scripts/fb_sync_chaos.py): "smooth" (A = 0.02, l = 25: the maxima's curvatures
-below a_max) and "sharp" (A = 0.3, l = 4: far above). Run for ``--periods`` source
-periods T = (1 + exp(-pi gamma / sqrt(1 - gamma^2)))/v = 137.2.
+Periodic squares, gamma = 0.3, v = 1e-2, creep rule "zero" (the paper's no-creep model),
+no noise: u0 = 0.5 + A f(x, y), f a Gaussian random field of correlation length l scaled
+to max |f| = 1 (``plane_ruptures.sync_field``: drawn on a grid of 2, interpolated exactly
+onto finer grids). Fields as in 1D (docs/scripts/fb_sync_chaos.py): "smooth" (A = 0.02,
+l = 25: the maxima's curvatures below a_max) and "sharp" (A = 0.3, l = 4: far above).
+Default runs: 4 smooth squares of side 600 at h = 2 over 120 source periods T = (1 +
+exp(-pi gamma / sqrt(1 - gamma^2)))/v = 137.2; the grid check, 2 smooth squares of 300 at
+h = 1 and h = 2 (the same fields) over 60; one sharp square of 300 at h = 1 over 40; and
+rings of 1600 (h = 0.2) from the 1D recipe, 6 smooth over 120 periods and one sharp over
+40 (about 150 s of CPU).
 
 Per period k: the births (ruptures of origin "birth", i.e. where u reached 1), the sites
 (births of one period closer than ``D_SITE`` counted once: single-linkage clusters on the

@@ -459,14 +459,15 @@ def fig_plane_gr(axes, quick):
     for k, side in enumerate(m["sides"]):
         r = m["runs"][(1.0, side)]
         s, cc = stats.size_frequency(r["area"])
-        ax.loglog(s / side**2, cc, "-", color=f"C{k}", lw=1.2, label=f"side {side:g}")
+        ax.loglog(s, cc, "-", color=f"C{k}", lw=1.2, label=f"side $L = {side:g}$")
+        ax.axvline(side**2, color=f"C{k}", ls=":", lw=1)  # the system's area
         top = float(s[0] / side**2)
         bs = ", ".join(f"{g.b:.1f}" if g.ok else "none" for g in r["b"])
         notes.append(f"side {side:g}: {len(s)} ruptures, largest {top:.2f} of the square, b {bs}")
-    ax.set_xlabel(r"rupture area / system area $A/L^2$")
+    ax.set_xlabel(r"rupture area $A$ (dotted: the square's $L^2$)")
     ax.set_ylabel(r"fraction of ruptures $\geq A$")
     ax.legend(fontsize=7, loc="lower left")
-    ax.set_title(r"noise rate $\Lambda = 1$: sizes against $L$", fontsize=9)
+    ax.set_title(r"noise rate $\Lambda = 1$: sizes against the system", fontsize=9)
     ax = axes[1]
     side = m["rate_side"]
     rate_notes = []
@@ -483,11 +484,11 @@ def fig_plane_gr(axes, quick):
         f"Ruptures in noisy periodic squares (issue 26; FreeBoundary2D, h = 0.5, gamma = "
         f"{GR_GAMMA}, v = {GR_V:g}, creep rule 'stop', u0 = 0.3 x a random field, noise g = "
         f"u^8 at a rate Lambda per unit area and time, {m['seeds']} seed(s), t = "
-        f"{GR_T0:g}-{m['t_end']:g}). Left: areas over the system's at Lambda = 1 ("
+        f"{GR_T0:g}-{m['t_end']:g}). Left: areas at Lambda = 1, the squares' areas dotted ("
         + "; ".join(notes)
         + "; b of moment magnitudes by bk.stats.gutenberg_richter, per seed). Right: side "
         f"{side:g} at three rates (" + "; ".join(rate_notes) + "). docs/free_boundary_2d.md "
-        "has the converged numbers (squares to 256, four seeds)."
+        "has the converged numbers (squares to 256, three seeds)."
     )
 
 
