@@ -11,23 +11,55 @@ import bkwaves as bk
 from bkwaves import _curved_chain
 
 
-@pytest.mark.parametrize("u,g,h", [(0.6, 0.45, 0.1), (0.7, 0.3, 0.1 / math.sqrt(2))])
-def test_the_independent_chain_is_the_tip_solver_when_flat(u, g, h):
-    c, change = _curved_chain.front_speed(u, g, h)
+@pytest.mark.parametrize(
+    "u,g,direction,h", [(0.6, 0.45, (1, 0), 0.1), (0.7, 0.3, (1, 1), 0.1 / math.sqrt(2))]
+)
+def test_the_independent_chain_is_the_tip_solver_when_flat(u, g, direction, h):
+    c, change = _curved_chain.front_speed(u, g, 0.1, direction)
     assert abs(change) < 1e-9  # steady over the window
     assert abs(c - bk.front_speed(u, dx=h, gamma=g)) < 1e-8
 
 
 def test_along_an_axis_curvature_is_extra_drag_gamma_plus_kappa_over_2c():
-    # the chain with the drag kappa/c against the tip solver's dc/dgamma
+    # the delayed neighbours across (the kappa route) against a plain extra drag kappa/c
+    # and against the tip solver's dc/dgamma
     u, g, dx, eps = 0.6, 0.45, 0.1, 0.05
     c0 = bk.front_speed(u, dx=dx, gamma=g)
-    cp = _curved_chain.front_speed(u, g, dx, drag=eps / c0)[0]
-    cm = _curved_chain.front_speed(u, g, dx, drag=-eps / c0)[0]
-    d_chain = -(cp - cm) / (2 * eps)
+    by_delay = [
+        _curved_chain.front_speed(u, g, dx, (1, 0), kappa=k, c_ref=c0)[0] for k in (-eps, eps)
+    ]
+    by_drag = [_curved_chain.front_speed(u, g, dx, (1, 0), drag=k / c0)[0] for k in (-eps, eps)]
+    assert by_delay == pytest.approx(by_drag, abs=1e-12)
+    d_chain = -(by_delay[1] - by_delay[0]) / (2 * eps)
     d_gamma = bk.theory.curvature_coefficient(u, g, dx, "x")
     assert abs(d_chain / d_gamma - 1) < 2e-3
     assert 0.019 < d_gamma < 0.023  # the value of docs/lattice.md (0.0210)
+
+
+def test_a_planar_front_at_atan_one_half_is_the_reduced_chain():
+    """The lattice engine's own planar front along (2, 1) on a torus of 128 x 256 blocks
+    (every block on a line 2i + j = const slips at once) against the chain in m."""
+    from bkwaves.params import Params
+
+    u, g, dx = 0.6, 0.45, 0.1
+    nx, ny = 128, 256
+    m = (2 * np.arange(nx)[None, :] + np.arange(ny)[:, None]) % ny
+    u0 = np.full((ny, nx), u)
+    u0[m < 3] = 1.0 + 1e-9
+    h = dx / math.sqrt(5.0)
+    la = bk.Lattice((nx, ny), Params(gamma=g, v=0.0, dx=dx), u0=u0, boundary="periodic")
+    a = la.run(t_end=0.4 * ny * h / 1.2, progress=False).first_slip_times()
+    ks = np.arange(ny // 4, int(0.4 * ny))
+    lines = [a[m == k] for k in ks]
+    assert max(np.ptp(x) for x in lines) == 0.0  # a line slips at one instant
+    c = 1.0 / np.polyfit(ks * h, [x[0] for x in lines], 1)[0]
+    c21 = bk.theory.lattice_front_speed(u, g, dx, (2, 1))
+    assert abs(c - c21) < 2e-5
+    # the lattice is anisotropic at this order: 26.6 degrees lies between the axis and
+    # the diagonal, well apart from both
+    c10 = bk.theory.lattice_front_speed(u, g, dx, "x")
+    c11 = bk.theory.lattice_front_speed(u, g, dx, "diagonal")
+    assert c10 + 1e-3 < c21 < c11 - 1e-3
 
 
 @pytest.fixture(scope="module")
@@ -65,6 +97,7 @@ def test_the_coefficient_is_proportional_to_dx():
     [
         ({"direction": "z"}, "direction"),
         ({"direction": "diagonal", "dy": 0.05}, "dy = dx"),
+        ({"direction": (2, 2)}, "common"),
         ({"dx": 1.5}, "dx"),
     ],
 )

@@ -24,6 +24,8 @@ CASES = [(0.6, 0.45, 0.1), (0.7, 0.45, 0.1), (0.6, 0.3, 0.1), (0.6, 0.45, 0.2)]
 SIZES = (64, 128)
 LIMIT_U = (0.4, 0.6, 0.8)
 LIMIT_DX = (0.1, 0.05, 0.025)
+DIRECTIONS = [(1, 0), (4, 1), (3, 1), (2, 1), (3, 2), (1, 1)]
+ANISO = [(0.6, 0.45, 0.1), (0.6, 0.45, 0.05), (0.6, 0.0, 0.1), (0.6, 0.0, 0.05)]
 HERE = Path(__file__).resolve().parent.parent
 
 
@@ -82,8 +84,27 @@ def main() -> None:
             ad = bk.theory.curvature_coefficient(u, 0.3, dx, "diagonal") / dx
             print(f"| {u} | 0.3 | {dx} | {ax:.4f} | {ad:.4f} |")
             limit.append({"u_plus": u, "gamma": 0.3, "dx": dx, "a_x": ax, "a_diagonal": ad})
+    aniso = []
+    print()
+    print("| u_+ | gamma | dx | " + " | ".join(f"c({q},{p})" for q, p in DIRECTIONS) + " |")
+    print("|---|---|---|" + "---|" * len(DIRECTIONS))
+    for u, g, dx in ANISO:
+        cs = [bk.theory.lattice_front_speed(u, g, dx, d) for d in DIRECTIONS]
+        ds = (
+            [bk.theory.curvature_coefficient(u, g, dx, d) for d in DIRECTIONS]
+            if dx == 0.1
+            else None
+        )
+        print(f"| {u} | {g} | {dx} | " + " | ".join(f"{c:.6f}" for c in cs) + " |")
+        if ds:
+            print(f"| D | {g} | {dx} | " + " | ".join(f"{d:.5f}" for d in ds) + " |")
+        aniso.append(
+            {"u_plus": u, "gamma": g, "dx": dx, "directions": DIRECTIONS, "c": cs, "D": ds}
+        )
     out = HERE / "lattice_curvature_theory.json"
-    out.write_text(json.dumps({"cases": rows, "limit": limit}, indent=1) + "\n")
+    out.write_text(
+        json.dumps({"cases": rows, "limit": limit, "anisotropy": aniso}, indent=1) + "\n"
+    )
     print(f"wrote {out}")
 
 

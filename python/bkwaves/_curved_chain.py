@@ -1,24 +1,29 @@
-"""The tip of a gently curved front on the lattice, linearised in its curvature: a chain.
+"""Planar and gently curved fronts on the square lattice, reduced to chains.
 
-A front of curvature kappa moving at c along a lattice direction reaches the blocks beside
-a block later than the block itself (arrival time T = (n + kappa s^2/2)/c, n the normal
-and s the tangential coordinate). To first order in kappa a neighbour's displacement is
-the planar one delayed, U(t - Delta) = U(t) - Delta U_t(t), so the curved front's row of
-blocks obeys a chain with two extra terms (docs/theory.md, section 7):
+A planar front whose normal is the lattice direction (q, p) (integers without a common
+factor, dx = dy) reaches every block on a line m = q i + p j at the same time, so the
+lattice reduces exactly to a chain in m with spacing h = dx/sqrt(p^2 + q^2) along the
+normal, in which each block is coupled to m +- q (its x neighbours) and m +- p (its y
+neighbours), all with the spring 1/dx^2: (1, 0) is the chain at dx, (1, 1) the chain at
+dx/sqrt(2) (docs/lattice.md).
 
-- along an axis the two neighbours across the front have the block's own phase, delayed
-  by Delta = kappa dy^2/(2c): an extra drag -(kappa/c) u_t on the block's own velocity;
-- along the diagonal (dx = dy) the four neighbours sit half a diagonal spacing ahead or
-  behind, each delayed by kappa dx^2/(4c): the chain at spacing h = dx/sqrt(2) whose
-  neighbour values are u - delta u_t, delta = kappa h^2/(2c).
+A front of curvature kappa reaches the blocks beside a block later than the block itself
+(arrival time T = (n + kappa s^2/2)/c, n the normal and s the tangential coordinate). To
+first order in kappa a neighbour's displacement is the planar one delayed, U(t - Delta) =
+U(t) - Delta U_t(t): a neighbour at tangential offset s enters with the value u - delta u_t,
+delta = kappa s^2/(2c) (the x neighbours sit at s = p dx/L, the y neighbours at q dx/L,
+L = sqrt(p^2 + q^2); docs/theory.md, section 7). Along an axis the y neighbours are on
+the block's own line (offset 0), so their delay is an extra drag -(kappa/c) u_t.
 
-This module integrates that chain on its own (numpy, classical RK4, each slip located by
-bisection of the step), independently of the Rust engine. Blocks slip once and keep
+This module integrates those chains on its own (numpy, classical RK4, each slip located
+by bisection of the step), independently of the Rust engine. Blocks slip once and keep
 sliding: the front is supersonic, so nothing behind it reaches the stuck blocks ahead,
 and re-sticking behind cannot change its speed.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -26,39 +31,59 @@ import numpy as np
 def front_speed(
     u_plus: float,
     gamma: float,
-    h: float,
+    dx: float,
+    direction: tuple[int, int] = (1, 0),
     *,
+    kappa: float = 0.0,
+    c_ref: float | None = None,
     drag: float = 0.0,
-    delay: float = 0.0,
-    blocks: int = 170,
-    window: tuple[int, int] = (80, 160),
+    blocks: int | None = None,
     steps_per_slip: int = 40,
 ) -> tuple[float, float]:
-    """The steady speed of a front on the chain u_tt = (w_{n+1} + w_{n-1} - 2 u_n)/h^2
-    - u_n - (2 gamma + drag) u_t with w = u - delay u_t (v = 0, uniform u_+ ahead).
+    """The steady speed of a front on the lattice (dx = dy, v = 0, uniform u_+ ahead)
+    whose normal is the lattice direction ``direction`` = (q, p), with curvature
+    ``kappa`` to first order (delays computed with the speed ``c_ref``), plus an extra
+    drag ``drag`` u_t on every block.
 
-    Returns (c, change): c from a line through the slip times of the window's blocks
-    against their positions, and the change of c between the window's two halves (the
-    steadiness of the measurement).
+    Returns (c, change): c, the speed along the normal, from a line through the slip
+    times of the middle third of the chain against their positions, and the change of c
+    between the halves of that window (the steadiness of the measurement).
     """
-    n = int(blocks)
+    q, p = (int(abs(direction[0])), int(abs(direction[1])))
+    if math.gcd(q, p) != 1:
+        raise ValueError(f"direction must be two integers without a common factor, got {direction}")
+    ell = math.hypot(p, q)
+    h = dx / ell
+    c_ref = c_ref if c_ref is not None else 1.0
+    # (offset in m, delay of that neighbour's value per unit of its velocity)
+    couplings = [
+        (q, kappa * (p * dx / ell) ** 2 / (2.0 * c_ref)),
+        (p, kappa * (q * dx / ell) ** 2 / (2.0 * c_ref)),
+    ]
+    pad = max(q, p)
+    n = int(blocks or 170 + 90 * pad)
     u = np.full(n, float(u_plus))
     v = np.zeros(n)
     sliding = np.zeros(n, bool)
     slip_time = np.full(n, np.nan)
-    sliding[:3] = True  # three blocks released at t = 0 start the front
-    slip_time[:3] = 0.0
-    inv = 1.0 / (h * h)
+    start = q + p + 2  # the first lines released at t = 0 start the front
+    sliding[:start] = True
+    slip_time[:start] = 0.0
+    inv = 1.0 / (dx * dx)
     damp = 2.0 * gamma + drag
-    dt = h / (1.3 * steps_per_slip)
+    last = n - 2 * pad - 2  # blocks beyond feel the chain's far end
+
+    def lap(u, v):
+        uu = np.concatenate([np.full(pad, u[0]), u, np.full(pad, u[-1])])
+        vv = np.concatenate([np.zeros(pad), v, np.zeros(pad)])
+        out = np.zeros(n)
+        for off, delay in couplings:
+            w = uu - delay * vv if delay else uu
+            out += w[pad + off : pad + off + n] + w[pad - off : pad - off + n] - 2.0 * u
+        return out * inv
 
     def accel(u, v):
-        w = u - delay * v
-        lap = np.empty_like(u)
-        lap[1:-1] = w[2:] + w[:-2] - 2.0 * u[1:-1]
-        lap[0] = w[1] - u[0]
-        lap[-1] = w[-2] - u[-1]
-        a = lap * inv - u - damp * v
+        a = lap(u, v) - u - damp * v
         a[~sliding] = 0.0
         return a
 
@@ -78,30 +103,33 @@ def front_speed(
             v + tau / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v),
         )
 
-    def phi(u, v, k):
-        w = u - delay * v
-        return u[k] - (w[k + 1] + w[k - 1] - 2.0 * u[k]) * inv
+    def most_loaded(u, v):
+        phi = u - lap(u, v)
+        phi[sliding] = -np.inf
+        phi[last:] = -np.inf
+        k = int(np.argmax(phi))
+        return phi[k], k
 
+    dt = h / (1.3 * steps_per_slip)
     t = 0.0
-    k = 3  # the first stuck block: the only one that can slip next
-    while k < n - 2:
+    while not sliding[last - 1]:
         un, vn = step(u, v, dt)
-        if phi(un, vn, k) < 1.0:
+        if most_loaded(un, vn)[0] < 1.0:
             u, v, t = un, vn, t + dt
             continue
         lo, hi = 0.0, dt
         for _ in range(44):
             mid = 0.5 * (lo + hi)
-            if phi(*step(u, v, mid), k) >= 1.0:
+            if most_loaded(*step(u, v, mid))[0] >= 1.0:
                 hi = mid
             else:
                 lo = mid
         u, v = step(u, v, hi)
         t += hi
+        k = most_loaded(u, v)[1]
         sliding[k] = True
         slip_time[k] = t
-        k += 1
-    idx = np.arange(*window)
+    idx = np.arange(last // 3, 2 * last // 3)
     x = idx * h
     ts = slip_time[idx]
     half = idx.size // 2

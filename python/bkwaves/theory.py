@@ -47,6 +47,7 @@ __all__ = [
     "iterate_map",
     "a_n_asymptote",
     "source_period",
+    "lattice_front_speed",
     "curvature_coefficient",
 ]
 
@@ -1083,22 +1084,92 @@ def source_period(v, gamma):
 
 
 # ------------------------------------------------------------------- the plane
+def _direction(direction):
+    named = {"x": (1, 0), "y": (0, 1), "diagonal": (1, 1)}
+    if isinstance(direction, str):
+        if direction not in named:
+            raise ValueError(
+                f"direction must be 'x', 'y', 'diagonal' or two integers (q, p), got {direction!r}"
+            )
+        return named[direction]
+    try:
+        q, p = (int(direction[0]), int(direction[1]))
+        ok = len(direction) == 2 and (q, p) == tuple(direction) and (q, p) != (0, 0)
+    except (TypeError, ValueError, IndexError):
+        ok = False
+    if not ok or np.gcd(q, p) != 1:
+        raise ValueError(
+            "direction must be 'x', 'y', 'diagonal' or two integers (q, p) without a common "
+            f"factor, got {direction!r}"
+        )
+    return (abs(q), abs(p))
+
+
+def lattice_front_speed(u_plus, gamma, dx, direction=(1, 0)):
+    """The speed of a planar front on the square lattice (dx = dy) whose normal is the
+    lattice direction (q, p): the lattice's anisotropy, exactly (beyond the paper;
+    docs/lattice.md, "Derived: the anisotropy").
+
+    The front reaches every block on a line m = q i + p j at once, so the lattice is
+    exactly a chain in m of spacing dx/sqrt(p^2 + q^2) along the normal whose blocks are
+    coupled to m +- q and m +- p. (1, 0) is the chain at dx (``bk.front_speed(u_plus,
+    dx=dx, gamma=gamma)``, returned as such), (1, 1) the chain at dx/sqrt(2) (likewise);
+    other directions are integrated by an independent numpy chain (seconds). All tend to
+    1/sqrt(1 - u_+^2) as dx -> 0.
+
+    Parameters
+    ----------
+    u_plus : float
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
+    gamma : float
+        Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
+    dx : float
+        Lattice spacing sqrt(k_p/k_x) = sqrt(k_p/k_y), 0 < dx < 1 (dimensionless length).
+    direction : {"x", "y", "diagonal"} or tuple of two int
+        The normal (q, p) (without a common factor; its angle to the x axis is
+        atan(p/q)).
+
+    Returns
+    -------
+    float
+        c along the normal, in units of the sound speed.
+
+    Examples
+    --------
+    >>> from bkwaves import theory
+    >>> round(theory.lattice_front_speed(0.6, 0.45, 0.1, "diagonal"), 6)
+    1.233152
+    """
+    u = V.number("u_plus", u_plus, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    g = _gamma(gamma)
+    dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    q, p = _direction(direction)
+    if q == 0 or p == 0:
+        return float(front_speed(u, dx=dx, gamma=g))
+    if q == p:
+        return float(front_speed(u, dx=dx / np.sqrt(2.0), gamma=g))
+    from . import _curved_chain
+
+    return _curved_chain.front_speed(u, g, dx, (q, p))[0]
+
+
 def curvature_coefficient(u_plus, gamma, dx, direction="x", *, dy=None):
     """D of the lattice's eikonal law c_n = c_planar - D kappa for a gently curved front
     (kappa -> 0), derived (beyond the paper; docs/theory.md, section 7).
 
     A front of curvature kappa reaches the blocks beside a block later than the block
-    itself; to first order in kappa that is a delay of the neighbours' displacements.
-    Along an axis the two neighbours across the front are delayed by kappa dy^2/(2c) at
-    the block's own phase: an extra drag (kappa/c) u_t, i.e. gamma -> gamma + kappa/(2c),
-    so D = -(dc/dgamma)/(2c) with c the chain's speed at the spacing along the normal
-    (``bk.front_speed(u_plus, dx=dx, gamma=gamma)``). Along the diagonal (dx = dy) the
-    four neighbours are each delayed by kappa dx^2/(4c): the chain at h = dx/sqrt(2) whose
-    neighbour values are u - delta u_t, delta = kappa h^2/(2c), integrated here by an
-    independent numpy chain (a few seconds). D is proportional to dx (c depends on gamma
-    at order gamma dx) and vanishes in the continuum. The lattice's ruptures reach it as
-    kappa -> 0: the local D of a rupture, measured with its local curvature, differs by a
-    term linear in kappa (docs/lattice.md).
+    itself; to first order in kappa that is a delay of the neighbours' displacements, a
+    neighbour at tangential offset s by kappa s^2/(2c). Along an axis the two neighbours
+    across the front are on the block's own line: an extra drag (kappa/c) u_t, i.e.
+    gamma -> gamma + kappa/(2c), so D = -(dc/dgamma)/(2c) with c the chain's speed at the
+    spacing along the normal (``bk.front_speed(u_plus, dx=dx, gamma=gamma)``). Along the
+    diagonal (dx = dy) the four neighbours are each delayed by kappa dx^2/(4c): the chain
+    at h = dx/sqrt(2) whose neighbour values are u - delta u_t, delta = kappa h^2/(2c);
+    other lattice directions (q, p) likewise (``lattice_front_speed``'s chain with
+    delays), integrated here by an independent numpy chain (seconds). D is proportional
+    to dx (c depends on gamma at order gamma dx) and vanishes in the continuum. The
+    lattice's ruptures reach it as kappa -> 0: the local D of a rupture, measured with its
+    local curvature, differs by a term linear in kappa (docs/lattice.md).
 
     Parameters
     ----------
@@ -1108,11 +1179,12 @@ def curvature_coefficient(u_plus, gamma, dx, direction="x", *, dy=None):
         Viscous damping alpha/(2 sqrt(k_p m)), >= 0 (dimensionless).
     dx : float
         Lattice spacing sqrt(k_p/k_x) along x, 0 < dx < 1 (dimensionless length).
-    direction : {"x", "y", "diagonal"}
-        The direction of the front's normal.
+    direction : {"x", "y", "diagonal"} or tuple of two int
+        The direction of the front's normal: an axis, the diagonal or a lattice direction
+        (q, p) without a common factor (not an axis: dx = dy).
     dy : float, optional
         Lattice spacing across, sqrt(k_p/k_y), 0 < dy < 1 (dimensionless length;
-        default dx; "diagonal" needs dy = dx).
+        default dx; directions off the axes need dy = dx).
 
     Returns
     -------
@@ -1131,20 +1203,18 @@ def curvature_coefficient(u_plus, gamma, dx, direction="x", *, dy=None):
     g = _gamma(gamma)
     dx = V.number("dx", dx, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     dy = dx if dy is None else V.number("dy", dy, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-    if direction not in ("x", "y", "diagonal"):
-        raise ValueError(f"direction must be 'x', 'y' or 'diagonal', got {direction!r}")
-    if direction == "diagonal":
-        if dy != dx:
-            raise ValueError(f"direction 'diagonal' needs dy = dx, got dx = {dx}, dy = {dy}")
-        h = dx / np.sqrt(2.0)
-        c0 = float(front_speed(u, dx=h, gamma=g))
-        eps = 0.05
-        cs = [
-            _curved_chain.front_speed(u, g, h, delay=k * h * h / (2.0 * c0))[0] for k in (-eps, eps)
-        ]
-        return float(-(cs[1] - cs[0]) / (2.0 * eps))
-    h = dx if direction == "x" else dy
-    e = 0.01
-    c = [float(front_speed(u, dx=h, gamma=g + i * e)) for i in range(3)]
-    dc_dgamma = (-3.0 * c[0] + 4.0 * c[1] - c[2]) / (2.0 * e)
-    return float(-dc_dgamma / (2.0 * c[0]))
+    q, p = _direction(direction)
+    if q == 0 or p == 0:
+        h = dx if p == 0 else dy
+        e = 0.01
+        c = [float(front_speed(u, dx=h, gamma=g + i * e)) for i in range(3)]
+        dc_dgamma = (-3.0 * c[0] + 4.0 * c[1] - c[2]) / (2.0 * e)
+        return float(-dc_dgamma / (2.0 * c[0]))
+    if dy != dx:
+        raise ValueError(
+            f"direction {direction!r} off the axes needs dy = dx, got dx = {dx}, dy = {dy}"
+        )
+    c0 = lattice_front_speed(u, g, dx, (q, p))
+    eps = 0.05
+    cs = [_curved_chain.front_speed(u, g, dx, (q, p), kappa=k, c_ref=c0)[0] for k in (-eps, eps)]
+    return float(-(cs[1] - cs[0]) / (2.0 * eps))
