@@ -59,11 +59,12 @@ def catalog_numbers(ru, side: float, span: float) -> dict:
 
 
 def run(job: dict) -> dict:
-    side, t_end = job["side"], job["t_end"]
-    ru, cpu = pr.gr_catalog(job["rate"], side, job["h"], t_end, job["seed"])
+    side, t_end, v = job["side"], job["t_end"], job.get("v", pr.GR_V)
+    ru, cpu = pr.gr_catalog(job["rate"], side, job["h"], t_end, job["seed"], v)
     out = dict(job, cpu_s=cpu, windows={})
+    t0 = T0 * pr.GR_V / v
     for w in job.get("windows", [t_end]):
-        out["windows"][f"{w:g}"] = catalog_numbers(ru[ru.t_start <= w], side, w - T0)
+        out["windows"][f"{w:g}"] = catalog_numbers(ru[ru.t_start <= w], side, w - t0)
     return out
 
 
@@ -83,6 +84,17 @@ def jobs(seeds: int) -> list[dict]:
     return js
 
 
+def extra_jobs(seeds: int) -> list[dict]:
+    """The second run (--extra): Lambda = 0.1 on squares of 256 (the square of 128 cuts its
+    largest ruptures), and the loading rate doubled with Lambda doubled (Lambda/v fixed,
+    the same 15 loadings after 5 discarded)."""
+    js = []
+    for s in range(1, seeds + 1):
+        js.append(dict(case="rate", rate=0.1, side=256.0, h=0.5, t_end=20000.0, seed=s))
+        js.append(dict(case="v", rate=2.0, side=128.0, h=0.5, t_end=10000.0, seed=s, v=2e-3))
+    return js
+
+
 KEYS = ("b", "fit_p", "m_c", "n_above", "beta", "mean_area", "max_area_frac", "per_time")
 
 
@@ -91,10 +103,11 @@ def combine(runs: list[dict]) -> list[dict]:
     groups: dict = {}
     for r in runs:
         for w, c in r["windows"].items():
-            groups.setdefault((r["rate"], r["side"], r["h"], float(w)), []).append(c)
+            key = (r["rate"], r["side"], r["h"], float(w), r.get("v", pr.GR_V))
+            groups.setdefault(key, []).append(c)
     rows = []
-    for (rate, side, h, w), cs in sorted(groups.items()):
-        row = dict(rate=rate, side=side, h=h, t_end=w, seeds=len(cs))
+    for (rate, side, h, w, v), cs in sorted(groups.items()):
+        row = dict(rate=rate, side=side, h=h, t_end=w, v=v, seeds=len(cs))
         for k in KEYS:
             x = np.array([c[k] for c in cs], float)
             ok = x[np.isfinite(x)]
@@ -111,10 +124,11 @@ def combine(runs: list[dict]) -> list[dict]:
 
 def table(rows: list[dict]) -> None:
     print(
-        "| rate | side (nodes) | h | t_end | seeds | ruptures / time | mean area | largest / L^2 "
-        "| b (mean +- se) | per-seed b [95 %] | KS p (mean) | Mc | n >= Mc | beta (area >= 25) |"
+        "| rate | v | side (nodes) | h | t_end | seeds | ruptures / time | mean area "
+        "| largest / L^2 | b (mean +- se) | per-seed b [95 %] | KS p (mean) | Mc | n >= Mc "
+        "| beta (area >= 25) |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         per = ", ".join(
             f"{b:.2f} [{lo:.2f}, {hi:.2f}]" if np.isfinite(b) else "none"
@@ -122,7 +136,8 @@ def table(rows: list[dict]) -> None:
         )
         nodes = int(round(r["side"] / r["h"]))
         print(
-            f"| {r['rate']:g} | {r['side']:g} ({nodes}^2) | {r['h']:g} | {r['t_end']:g} "
+            f"| {r['rate']:g} | {r.get('v', pr.GR_V):g} | {r['side']:g} ({nodes}^2) "
+            f"| {r['h']:g} | {r['t_end']:g} "
             f"| {r['seeds']} | {r['per_time']:.4g} +- {r['per_time_se']:.2g} "
             f"| {r['mean_area']:.3g} +- {r['mean_area_se']:.2g} "
             f"| {r['max_area_frac']:.2f} +- {r['max_area_frac_se']:.2f} "
@@ -135,13 +150,17 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--extra", action="store_true", help="only the second run's cases")
     ap.add_argument("--json", default=None)
     ap.add_argument("--from-json", default=None, help="only print a saved run")
     args = ap.parse_args()
     if args.from_json:
         table(json.loads(Path(args.from_json).read_text())["rows"])
         return
-    js = sorted(jobs(args.seeds), key=lambda j: -(j["side"] ** 2) * j["t_end"] / j["h"] ** 2)
+    js = sorted(
+        (extra_jobs if args.extra else jobs)(args.seeds),
+        key=lambda j: -(j["side"] ** 2) * j["t_end"] / j["h"] ** 2,
+    )
     with ProcessPoolExecutor(args.workers) as ex:
         runs = list(ex.map(run, js))
     rows = combine(runs)

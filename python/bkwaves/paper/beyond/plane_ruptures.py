@@ -32,7 +32,7 @@ FIT_FROM = 10
 BOOT = 2000
 
 
-def gr_catalog(rate: float, side: float, h: float, t_end: float, seed: int):
+def gr_catalog(rate: float, side: float, h: float, t_end: float, seed: int, v: float = GR_V):
     """A noisy periodic square: u0 = 0.3 x a random field (correlation length 3), creep
     rule "stop", noise law power (g = u^8) at ``rate`` per unit area and time, seeds
     ``seed`` (field) and 1000 + seed (noise).
@@ -49,11 +49,14 @@ def gr_catalog(rate: float, side: float, h: float, t_end: float, seed: int):
         End of the run (units of sqrt(m/k_p)).
     seed : int
         Seed of the field (the noise's is 1000 + seed).
+    v : float, default GR_V
+        Loading rate; the transient discarded is GR_T0 GR_V / v (the same loadings).
 
     Returns
     -------
     tuple
-        (complete ruptures with t_start > GR_T0 as a pandas.DataFrame, CPU seconds).
+        (complete ruptures with t_start > GR_T0 GR_V / v as a pandas.DataFrame, CPU
+        seconds).
     """
     import time
 
@@ -63,7 +66,7 @@ def gr_catalog(rate: float, side: float, h: float, t_end: float, seed: int):
     n = int(round(side / h))
     u0 = 0.3 * random_field((n, n), h, 3.0, seed=seed)
     fb = FreeBoundary2D(
-        Params(gamma=GR_GAMMA, v=GR_V, dx=1e-2),
+        Params(gamma=GR_GAMMA, v=v, dx=1e-2),
         (n, n),
         h,
         u0,
@@ -76,7 +79,7 @@ def gr_catalog(rate: float, side: float, h: float, t_end: float, seed: int):
     r = fb.run(t_end=t_end)
     cpu = time.process_time() - t
     ru = r.ruptures
-    return ru[ru.complete & (ru.n_nodes > 0) & (ru.t_start > GR_T0)], cpu
+    return ru[ru.complete & (ru.n_nodes > 0) & (ru.t_start > GR_T0 * GR_V / v)], cpu
 
 
 def torus_clusters(p: np.ndarray, L: float, d: float) -> int:
