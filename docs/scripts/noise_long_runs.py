@@ -16,10 +16,11 @@
    runs per engine at L = 1000 and 6 at L = 3000, each b with its bootstrap interval,
    and their mean with the standard error over runs (or why there is none); the rows
    are saved to OUT.json.
-6. (--chain-b OUT.json [SEEDS]) The chain's column of 4. at L = 1000 as an ensemble over
-   noise seeds (default 1-8): each run to t = 1e6 or until one event exceeds CHAIN_CAP
-   slips (a ring that slides on), its ruptures after the burn-in, their b
-   (bk.stats.gutenberg_richter) and rate; rows saved to OUT.json after every run.
+6. (--chain-b OUT.json [SEEDS] [--cpu S]) The chain's column of 4. at L = 1000 as an
+   ensemble over noise seeds (default 1-8): each run to t = 1e6, until one event exceeds
+   CHAIN_CAP slips (a ring that slides on) or past S s of CPU, its ruptures after the
+   burn-in, their b (bk.stats.gutenberg_richter) and rate; rows saved to OUT.json after
+   every segment of 2e4 time units.
 7. (--step-check OUT.json SEED [CHAIN_B.json]) Whether a chain that slides on in 6. does so with the
    engine's step halved: the run to just before the event that ran away, then the same
    window from that state at step 0.05 dx and 0.025 dx (the engine's fingerprint
@@ -261,8 +262,12 @@ def _sizes_chain(seed, length=1000.0, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96
     return bk.Chain(n, p, "periodic", np.full(n, 0.9), noise=noise, seed=seed, **kw)
 
 
-def chain_b(seeds, out, length=1000.0, t_end=1e6, v=1e-4, u_star=0.96):
-    """6.: one run per noise seed; a row per run (written to ``out`` after each)."""
+def chain_b(seeds, out, length=1000.0, t_end=1e6, v=1e-4, u_star=0.96, seg=2e4, cpu=None):
+    """6.: one run per noise seed, in segments of ``seg`` time units (a quiet segment end
+    changes nothing; one inside an event cuts a step short: still a sample of the same
+    ensemble); a row per run, rewritten to ``out`` after every segment, so an interrupted
+    ensemble keeps what it computed. ``cpu``: a CPU budget per run in seconds (the row then
+    says where it stopped)."""
     import time
 
     burn = 2 * (u_star + 0.1) / v
@@ -270,41 +275,54 @@ def chain_b(seeds, out, length=1000.0, t_end=1e6, v=1e-4, u_star=0.96):
     for k in seeds:
         ch = _sizes_chain(k, length, v=v, u_star=u_star)
         c0 = time.process_time()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", bk.chain.RunawayEventWarning)
-            res = ch.run(t_end=t_end, progress=False, max_event_duration=1e9,
-                         max_event_slips=CHAIN_CAP)  # fmt: skip
-        cpu = time.process_time() - c0
-        cat = res.catalog
-        runaway = cat[cat.t_end.isna()]
-        per = ns.chain_ruptures(res)
-        per = per[(per.t_start > burn) & per.t_end.notna()]
-        span = (runaway.t_start.iloc[0] if len(runaway) else res.t) - burn
-        b = bk.stats.gutenberg_richter(per.moment.to_numpy())
-        rows.append(
-            dict(
-                length=length, v=v, t_end=t_end, seed=k, engine="chain", stop=res.stop,
-                t=float(res.t), cpu_s=cpu, events=len(cat),
-                runaway_t=float(runaway.t_start.iloc[0]) if len(runaway) else None,
-                runaway_block=int(runaway.nucleation.iloc[0]) if len(runaway) else None,
-                window=float(span), ruptures=len(per),
-                rate=len(per) / span if span > 0 else None,
-                b=b.b, lo=b.lo, hi=b.hi, m_c=b.m_c, n=b.n, fit_p=b.fit_p,
-                reason=b.reason, text=b.text(),
-                m_max=float((2 / 3) * np.log10(per.moment.max())) if len(per) else None,
-                ring_wide=float(np.mean(per.swept >= (1 - 1e-9) * length)) if len(per) else None,
-                u_start=float(per.u_start.mean()) if len(per) else None,
-                energy_residual=float(res.energy["residual"]),
-                loader_work=float(res.energy.get("loader_work", math.nan)),
-            )
-        )  # fmt: skip
-        r = rows[-1]
-        print(f"seed {k}: stop {r['stop']} at t = {r['t']:.4g} (runaway from "
-              f"{r['runaway_t']}), {r['ruptures']} ruptures in {span:.3g}, {b.text()}, "
-              f"{cpu:.0f} s CPU", flush=True)  # fmt: skip
-        clean = [{a: None if x != x else x for a, x in q.items()} for q in rows]
-        Path(out).write_text(json.dumps(clean, indent=1) + "\n")
+        while True:
+            t_next = min(ch.t + seg, t_end)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", bk.chain.RunawayEventWarning)
+                res = ch.run(t_end=t_next, progress=False, max_event_duration=1e9,
+                             max_event_slips=CHAIN_CAP)  # fmt: skip
+            cpu_s = time.process_time() - c0
+            over = cpu is not None and cpu_s > cpu and res.stop == "time" and ch.t < t_end
+            done = res.stop != "time" or ch.t >= t_end or over
+            row = _chain_row(res, ch, k, length, v, t_end, burn, cpu_s, over)
+            rows = [r for r in rows if r["seed"] != k] + [row]
+            clean = [{a: None if x != x else x for a, x in q.items()} for q in rows]
+            Path(out).write_text(json.dumps(clean, indent=1) + "\n")
+            print(f"seed {k}: t = {row['t']:.4g}, {row['events']} events ({row['open']} open, "
+                  f"{row['sliding']:.3f} of the blocks sliding), {row['ruptures']} ruptures, "
+                  f"{cpu_s:.0f} s CPU", flush=True)  # fmt: skip
+            if done:
+                break
+        print(f"seed {k}: stop {row['stop']}, runaway from {row['runaway_t']}, {row['text']}")
     return rows
+
+
+def _chain_row(res, ch, k, length, v, t_end, burn, cpu_s, over):
+    """A row of chain_b: where the run is, the runaway (an open event at a long_event
+    stop), its closed ruptures after the burn-in and their b."""
+    cat = res.catalog
+    open_ = cat[cat.t_end.isna()]
+    runaway = open_ if res.stop == "long_event" else open_.iloc[:0]
+    per = ns.chain_ruptures(res)
+    per = per[(per.t_start > burn) & per.t_end.notna()]
+    end = runaway.t_start.iloc[0] if len(runaway) else ch.t
+    span = end - burn
+    b = bk.stats.gutenberg_richter(per.moment.to_numpy())
+    return dict(
+        length=length, v=v, t_end=t_end, seed=k, engine="chain",
+        stop="cpu budget" if over else res.stop, t=float(ch.t), cpu_s=cpu_s,
+        events=len(cat), open=len(open_), sliding=float(np.mean(ch.modes != 0)),
+        runaway_t=float(runaway.t_start.iloc[0]) if len(runaway) else None,
+        runaway_block=int(runaway.nucleation.iloc[0]) if len(runaway) else None,
+        window=float(span), ruptures=len(per),
+        rate=len(per) / span if span > 0 else None,
+        b=b.b, lo=b.lo, hi=b.hi, m_c=b.m_c, n=b.n, fit_p=b.fit_p,
+        reason=b.reason, text=b.text(),
+        m_max=float((2 / 3) * np.log10(per.moment.max())) if len(per) else None,
+        ring_wide=float(np.mean(per.swept >= (1 - 1e-9) * length)) if len(per) else None,
+        u_start=float(per.u_start.mean()) if len(per) else None,
+        energy_residual=float(res.energy["residual"]),
+    )  # fmt: skip
 
 
 def _chain_summary(rows, loading=9620.0):
@@ -403,14 +421,18 @@ def step_check(seed, out, t0=None, window=2000.0, probe=100.0):
 
 
 if __name__ == "__main__" and "--chain-b" in sys.argv:
-    # python docs/scripts/noise_long_runs.py --chain-b OUT.json [SEED ...]  (SEED 0: the
+    # python docs/scripts/noise_long_runs.py --chain-b OUT.json [SEED ...] [--cpu S]  (S: a
+    # CPU budget per run in seconds; SEED 0: the
     # summary of OUT.json as written, no runs)
     i = sys.argv.index("--chain-b")
-    seeds = [int(a) for a in sys.argv[i + 2 :]] or list(range(1, 9))
+    args = sys.argv[i + 2 :]
+    cpu = float(args.pop(args.index("--cpu") + 1)) if "--cpu" in args else None
+    args = [a for a in args if a != "--cpu"]
+    seeds = [int(a) for a in args] or list(range(1, 9))
     if seeds == [0]:  # --chain-b OUT.json 0: the summary of OUT.json's rows, no runs
         rows = json.loads(Path(sys.argv[i + 1]).read_text())
     else:
-        rows = chain_b(seeds, sys.argv[i + 1])
+        rows = chain_b(seeds, sys.argv[i + 1], cpu=cpu)
     _b_summary(rows)
     _chain_summary(rows)
 elif __name__ == "__main__" and "--step-check" in sys.argv:
