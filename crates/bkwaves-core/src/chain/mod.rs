@@ -210,6 +210,10 @@ pub struct Engine<G: Geometry, F: Friction, M: Medium = Uniform> {
     /// The law has a stiff onset (a finite time scale) and the integrator is RK4: blocks
     /// in it are integrated with their own sub-steps (onset.rs).
     stiff: bool,
+    /// Whether the fixed-step RK4 engine uses the onset's sub-steps (step dx), as chosen
+    /// when built; `stiff` is this unless another integrator or the step-size control
+    /// is on (restored when they are turned off again: [`Engine::choose_step`]).
+    sub_steps: bool,
     /// The step h_law of the midpoint integrator (step times the smaller of dx and the
     /// law's time scale: it has no sub-steps).
     h_law: f64,
@@ -434,6 +438,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             midpoint_contraction: 0.25 * h_law * h_law * elastic * elastic + 0.5 * h_law * damping,
             control: None,
             stiff: stiff_ok,
+            sub_steps: stiff_ok,
             h_law,
             onset: onset::Onset::default(),
             a_start: vec![0.0; len],
@@ -513,13 +518,22 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             });
         }
         self.rk = Stepper::new(method, self.st.geo.cells());
-        if method != Method::Rk4 {
-            // no sub-steps: every block at the law's step
-            self.stiff = false;
-            self.h = self.h_law;
-        }
+        self.choose_step();
         self.a_valid = false;
         Ok(())
+    }
+
+    /// The fixed step and whether the onset takes sub-steps, for the integrator and the
+    /// step-size control now chosen: RK4 at its fixed step keeps the step (and the
+    /// sub-steps) chosen when built; the midpoint rule and the step-size control step
+    /// every block at the law's step h_law (no sub-steps).
+    fn choose_step(&mut self) {
+        self.stiff = self.sub_steps && self.rk.name() == "rk4" && self.control.is_none();
+        self.h = if self.stiff {
+            self.cfg.step * self.st.geo.spacing()
+        } else {
+            self.h_law
+        };
     }
 
     /// Opt-in step-size control (before the first run; `chain/step_control.rs`): with
@@ -539,12 +553,10 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                     });
                 }
                 // the controller works from the law's step (no sub-steps)
-                let c = StepControl::new(tol, self.h_law, self.h_stable)?;
-                self.stiff = false;
-                self.h = self.h_law;
-                Some(c)
+                Some(StepControl::new(tol, self.h_law, self.h_stable)?)
             }
         };
+        self.choose_step();
         Ok(())
     }
 

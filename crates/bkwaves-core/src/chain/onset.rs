@@ -14,9 +14,19 @@
 //! So only the newest block of a front (and a block about to stick) is stiff, and only
 //! for a short time. The chain keeps its step H = `step` dx for every other block; a
 //! sliding block whose rate |R'(s)|/m exceeds 1/dx at the start or the end of a step
-//! (or whose u_t crosses v in it), together with its sliding neighbours (the patch), is
-//! taken out of the runs and integrated by RK4 with its own sub-steps,
-//! h_f = `step` min(dx, 1/(rate of the patch)), which land on the step's midpoint and end.
+//! (or whose u_t crosses v in it), or whose motion RK4 at H would shift in time by more
+//! than [`shift_tol`], together with its sliding neighbours (the patch), is taken out of
+//! the runs and integrated by RK4 with its own sub-steps, which land on the step's
+//! midpoint and end. A sub-step is sized by the time shift RK4 makes in a block's
+//! motion ([`shift`]: its error in u_t over its acceleration), held below
+//! `shift_tol` = [`SHIFT_TOL`] step^5 dx. In the exponential phase (rate nu = theta/(m v_f))
+//! that allows h nu = (120 shift_tol nu)^(1/5): the sub-steps lengthen, in units of the
+//! growth time, as v_f falls (the whole onset is a time shift of order v_f), so the
+//! ln(1/r) e-folds take ~ ln(1/r) r^(1/5)/step sub-steps instead of ln(1/r)/step; in the
+//! 1/s tail after it they grow geometrically with the time since the slip, by a factor
+//! that also grows like r^(-1/5). The tolerance falls like step^5 as the step does, so
+//! the whole front keeps RK4's order 4 in `step`.
+//!
 //! The two parts see each other as follows:
 //!
 //! - the runs' RK4 stages read the patch blocks' values at the stage times (the step's
@@ -32,9 +42,8 @@
 //! neighbour stepped with H would sample that kink at three points only (an error
 //! ~ H (v_f ln(1/r))^2/dx^2 per slip); the neighbours' own motion has the kink smoothed in
 //! its fourth derivative, which the runs' RK4 integrates to ~ H (v_f ln(1/r))^4/dx^4.
-//! Every part is a fourth-order method whose steps scale with `step`, so the whole
-//! converges at order 4 in `step`; its cost is that of the Coulomb chain plus ~ (1/step)
-//! (ln(1/r) + O(1)) sub-steps of one or two blocks per slip.
+//! Every part is a fourth-order method whose steps, or tolerances, scale with `step`,
+//! so the whole converges at order 4 in `step`.
 
 use super::events::Hermite;
 use super::geometry::{Beyond, Geometry};
@@ -46,6 +55,13 @@ use crate::friction::Friction;
 /// The largest change of the patch's stage values between two passes, times (h/dx)^2
 /// (what it changes in the runs next to the patch), accepted.
 pub(crate) const PASS_TOL: f64 = 1e-13;
+/// The largest sub-step times the rate nu of the weakening force, in units of the step:
+/// 2 at the default step (RK4 on the onset's growth e^{nu t} is then still accurate to
+/// 1/10 per sub-step; the time shift holds it far shorter until nu is ~ 1e12 dx).
+pub(crate) const Z_MAX: f64 = 40.0;
+/// The most a sub-step grows over the last (the first of a pass is step/nu: the jerk
+/// that [`shift`] needs is known from the second on).
+pub(crate) const GROWTH: f64 = 4.0;
 /// The most passes (patch, runs) per step.
 pub(crate) const MAX_PASSES: usize = 6;
 
@@ -75,11 +91,18 @@ pub(crate) struct Onset {
     pub rest_who: Vec<usize>,
     /// Sub-steps of the last pass.
     pub substeps: u64,
+    /// The first planned sub-step of the last pass (its start time, its blocks): another
+    /// pass over the same step (from the same state) starts from it instead of from
+    /// step/nu (nothing is carried from one step to the next: a run restarted from a
+    /// checkpoint takes the same sub-steps).
+    first: (f64, f64),
+    first_blocks: Vec<usize>,
     // stage buffers
     su: Vec<f64>,
     sw: Vec<f64>,
     acc: Vec<f64>,
     acc0: Vec<f64>,
+    accp: Vec<f64>,
     su0: Vec<f64>,
     sw0: Vec<f64>,
     sum_u: Vec<f64>,
@@ -106,6 +129,7 @@ impl Onset {
             &mut self.sw,
             &mut self.acc,
             &mut self.acc0,
+            &mut self.accp,
             &mut self.su0,
             &mut self.sw0,
             &mut self.sum_u,
@@ -150,14 +174,49 @@ impl Onset {
     }
 }
 
-/// Is sliding block p, at speed s over the ground and acceleration a, in its onset for
-/// a step of length h (`spacing` = dx)? Either its weakening rate R_w/(sigma m) exceeds
-/// 1/dx (the exponential phase: RK4 at step dx would not even be stable), or RK4 at h
-/// would integrate its weakening force R_w(s(t)) with an error above [`ONSET_TOL`]:
-/// R_w varies on the time sigma/|a|, and RK4's error in u_t over one step is about
-/// h R_w/m (h |a|/sigma)^4/120 (Simpson's rule on R_w ~ 1/t: the 1/s tail after the
-/// onset, which decays only like the time since the slip).
+/// The RK4 error of a sliding block's u_t over a step h, as the time shift it makes in
+/// the block's motion (the error over its acceleration), from the block's weakening
+/// force R_w (size `rw`, speed scale `sigma`), its acceleration `a` and the size `jerk`
+/// of its rate of change (0: unknown). R_w changes at the rate
+/// nu = max(R_w/(sigma m), |a|/sigma) (its own growth rate at the onset, the rate at
+/// which s crosses the scale sigma after it); what varies at that rate is at most R_w/m
+/// and at most the acceleration on the time 1/nu, A = |a| + jerk/nu. So the fifth
+/// derivative of u_t is about nu^4 min(R_w/m, A), RK4's error h^5 nu^4 min(R_w/m, A)/120,
+/// and the time shift that over A: in the exponential phase (A << R_w/m) (h nu)^5/(120 nu),
+/// in the 1/s tail after it h^5 nu^4 R_w/(120 m |a|).
 #[inline(always)]
+fn shift(rw_m: f64, sigma: f64, a: f64, jerk: f64, h: f64) -> f64 {
+    let nu = (rw_m.max(a.abs())) / sigma;
+    let big_a = a.abs() + if nu > 0.0 { jerk / nu } else { 0.0 };
+    if big_a <= 0.0 {
+        return 0.0;
+    }
+    let hn = h * nu;
+    let hn2 = hn * hn;
+    h * hn2 * hn2 * rw_m.min(big_a) / (120.0 * big_a)
+}
+
+/// The time shift a step may make in a block's motion through its weakening force:
+/// [`SHIFT_TOL`] step^5 dx (RK4's error per step in a Coulomb block's slip time is about
+/// step^5 dx times its derivatives; the onset is held far below it, so that the chain's
+/// error stays the Coulomb chain's and falls like step^4).
+#[inline(always)]
+pub(crate) fn shift_tol(step: f64, spacing: f64) -> f64 {
+    let s2 = step * step;
+    SHIFT_TOL * s2 * s2 * step * spacing
+}
+
+/// The time shift per step, in units of step^5 dx, that the onset's sub-steps (and a
+/// block left in the runs) may make ([`shift_tol`]).
+pub(crate) const SHIFT_TOL: f64 = 1e-4;
+
+/// Is sliding block p, at speed s over the ground and acceleration a, in its onset for
+/// a step of length h (`spacing` = dx, `step` = h/dx of the chain)? Either its weakening
+/// rate R_w/(sigma m) exceeds 1/dx (the exponential phase: RK4 at step dx would not even
+/// be stable), or RK4 at h would shift its motion by more than [`shift_tol`] ([`shift`]:
+/// in the 1/s tail after the onset R_w ~ 1/t decays only like the time since the slip).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn is_stiff<G: Geometry, F: Friction, M: Medium>(
     st: &State<G>,
     blk: &Blocks<F, M>,
@@ -165,21 +224,16 @@ pub(crate) fn is_stiff<G: Geometry, F: Friction, M: Medium>(
     s: f64,
     a: f64,
     h: f64,
+    step: f64,
     spacing: f64,
 ) -> bool {
     let (rw, sigma) = blk.fr.weakening(s, st.dir[p], st.onset[p]);
-    let inv_m = blk.med.inv_mass(p);
-    if rw * inv_m * spacing > sigma {
+    let rw_m = rw * blk.med.inv_mass(p);
+    if rw_m * spacing > sigma {
         return true;
     }
-    let rho = h * a.abs() / sigma;
-    let rho2 = rho * rho;
-    h * rw * inv_m * rho2 * rho2 > 120.0 * ONSET_TOL
+    shift(rw_m, sigma, a, 0.0, h) > shift_tol(step, spacing)
 }
-
-/// The error of a chain step in a block's u_t from its weakening force below which the
-/// block stays in the runs ([`is_stiff`]).
-pub(crate) const ONSET_TOL: f64 = 1e-12;
 
 /// Accelerations of the patch blocks at stage values (su, sw) at time t, `outside(r, t)`
 /// the displacement of a real block r outside the patch.
@@ -250,27 +304,59 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
     on.kw.extend_from_slice(&on.w);
     on.ka.extend_from_slice(&on.acc0);
     let h_max = step * spacing;
+    let tol = shift_tol(step, spacing);
+    // the last sub-step (0: none yet in this pass) and the accelerations at its start;
+    // the last planned sub-step (before it was cut to land on the segment's end)
+    let (mut h_prev, mut h_grow) = (0.0, 0.0);
+    if on.first.0 == t0 && on.first_blocks == blocks {
+        h_grow = on.first.1 / GROWTH;
+    }
+    let mut first_h = f64::NAN;
     for seg in 0..2 {
         let t_end = if seg == 0 { t0 + 0.5 * h } else { t0 + h };
         while t < t_end {
-            // the sub-step: step / (the fastest weakening rate of the patch), at most
-            // step dx; the last two of a segment share what is left
-            // (the fastest of: the weakening rate R_w/(sigma m), the rate |a|/sigma at
-            // which the weakening force changes)
-            let mut rate: f64 = 0.0;
+            // the sub-step: each block's RK4 time shift (`shift`) at most `shift_tol`,
+            // h nu at most Z_MAX step, at most step dx; at the pass's first sub-step (no
+            // jerk known yet) step/nu, then growing at most GROWTH-fold per sub-step
+            let mut hf = h_max;
+            let mut nu_max: f64 = 0.0;
             for (k, &p) in blocks.iter().enumerate() {
                 let (rw, sigma) = blk.fr.weakening(v - on.w[k], st.dir[p], st.onset[p]);
-                let r = (rw * blk.med.inv_mass(p)).max(on.acc0[k].abs()) / sigma;
-                rate = rate.max(r);
+                let rw_m = rw * blk.med.inv_mass(p);
+                let a = on.acc0[k];
+                let nu = rw_m.max(a.abs()) / sigma;
+                if nu.is_nan() || nu <= 0.0 {
+                    continue;
+                }
+                nu_max = nu_max.max(nu);
+                let jerk = if h_prev > 0.0 {
+                    (a - on.accp[k]).abs() / h_prev
+                } else {
+                    0.0
+                };
+                // shift(h) = h^5 shift(1): the longest h with shift <= tol (the fifth
+                // root only when it binds)
+                let unit = shift(rw_m, sigma, a, jerk, 1.0);
+                let hk = hf.min(Z_MAX * step / nu);
+                let hk2 = hk * hk;
+                hf = if unit * hk2 * hk2 * hk > tol {
+                    (tol / unit).powf(0.2)
+                } else {
+                    hk
+                };
             }
-            let hf = if rate * h_max > step {
-                step / rate
-            } else {
-                h_max
-            };
+            if h_grow > 0.0 {
+                hf = hf.min(GROWTH * h_grow);
+            } else if nu_max > 0.0 {
+                hf = hf.min(step / nu_max);
+            }
             // (never below the clock's resolution: a v_f so small that its onset is
             // shorter than that is taken as a Coulomb slip, not stepped for ever)
             let hf = hf.max(8.0 * f64::EPSILON * t.abs().max(h));
+            let h_plan = hf;
+            if first_h.is_nan() {
+                first_h = h_plan;
+            }
             let left = t_end - t;
             let t_next = if left <= hf {
                 t_end
@@ -345,6 +431,21 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
                 if g.g0 == 0.0 && g.g1 == 0.0 && g.m0 <= 0.0 && g.m1 <= 0.0 {
                     continue;
                 }
+                // g0 <= 0 (inside) and g1 < 0 with slopes whose cubic is monotone (h m0,
+                // h m1 of the sign of g1 - g0 and at most 3 times it: Fritsch and
+                // Carlson's box): g stays below max(g0, g1), no crossing, no search (a
+                // block in its onset or slowing down, every sub-step)
+                let fall = g.g1 - g.g0;
+                let box3 = |x: f64| {
+                    if fall < 0.0 {
+                        x <= 0.0 && x >= 3.0 * fall
+                    } else {
+                        x >= 0.0 && x <= 3.0 * fall
+                    }
+                };
+                if g.g1 < 0.0 && fall != 0.0 && box3(hf * g.m0) && box3(hf * g.m1) {
+                    continue;
+                }
                 if let Some(s) = g.first_crossing(hf) {
                     let te = t + s * hf;
                     if te < on.rest_t {
@@ -356,6 +457,9 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
                     }
                 }
             }
+            on.accp.copy_from_slice(&on.acc0);
+            h_prev = hf;
+            h_grow = h_plan;
             std::mem::swap(&mut on.acc0, &mut on.acc);
             t = t_next;
             on.substeps += 1;
@@ -368,6 +472,8 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
             on.mid.copy_from_slice(&on.u);
         }
     }
+    on.first = (t0, first_h);
+    on.first_blocks.clone_from(&blocks);
     on.blocks = blocks;
 }
 
@@ -378,6 +484,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
     /// their sliding neighbours. True if there is any (else the patch is left empty).
     pub(super) fn onset_patch(&mut self, h: f64, after: bool) -> bool {
         let spacing = self.st.geo.spacing();
+        let step = self.cfg.step;
         let v = self.cfg.v;
         let mut fast = std::mem::take(&mut self.onset.blocks);
         fast.clear();
@@ -395,7 +502,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 } else {
                     (s1, self.a_start[p])
                 };
-                if is_stiff(&self.st, &self.blk, p, s, a, h, spacing) {
+                if is_stiff(&self.st, &self.blk, p, s, a, h, step, spacing) {
                     fast.push(p);
                 }
             }
@@ -430,6 +537,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
     /// the patch grew.
     fn onset_grow(&mut self, h: f64) -> bool {
         let spacing = self.st.geo.spacing();
+        let step = self.cfg.step;
         let v = self.cfg.v;
         let mut more = Vec::new();
         for &(a, b) in &self.st.runs {
@@ -444,7 +552,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                     s0.abs().min(s1.abs())
                 };
                 let a = self.a_start[p].abs().max(self.a_end[p].abs());
-                if is_stiff(&self.st, &self.blk, p, s, a, h, spacing) {
+                if is_stiff(&self.st, &self.blk, p, s, a, h, step, spacing) {
                     more.push(p);
                 }
             }

@@ -189,3 +189,56 @@ fn a_front_keeps_the_fixed_step_and_its_speed() {
     );
     assert!(controlled.1 as f64 > 0.9 * fixed.1 as f64);
 }
+
+/// A velocity-weakening chain at v_f/dx = 1e-4 (onset sub-steps on by default) with one
+/// kicked block, run to t = 3.
+fn weakening_run(
+    setup: impl Fn(&mut Chain<crate::friction::VelocityWeakening>),
+) -> Chain<crate::friction::VelocityWeakening> {
+    let cfg = ChainConfig {
+        dx: 0.05,
+        v: 0.0,
+        step: DEFAULT_STEP,
+    };
+    let fr = crate::friction::VelocityWeakening {
+        gamma: 0.3,
+        v_f: 5e-6,
+        beta: f64::INFINITY,
+    };
+    let mut ch = Chain::new(cfg, fr, &Free, &[0.55; 60], None).unwrap();
+    setup(&mut ch);
+    ch.add_trigger(Trigger {
+        t: 0.0,
+        block: 0,
+        kind: TriggerKind::Kick { du_t: -0.5 },
+    })
+    .unwrap();
+    ch.run(3.0, usize::MAX, u64::MAX).unwrap();
+    ch
+}
+
+#[test]
+fn turning_the_step_control_or_the_midpoint_rule_off_restores_the_onset_sub_steps() {
+    // the step-size control and the midpoint rule step every block at the law's step
+    // (step v_f/theta here); turned off again, the chain is the default one bit for bit
+    // (its step dx and the onset's sub-steps), not the law's step
+    let plain = weakening_run(|_| {});
+    let controlled = weakening_run(|ch| ch.set_step_control(Some(1e-10)).unwrap());
+    let restored = weakening_run(|ch| {
+        ch.set_step_control(Some(1e-10)).unwrap();
+        ch.set_step_control(None).unwrap();
+    });
+    let via_midpoint = weakening_run(|ch| {
+        ch.set_integrator(Method::Midpoint).unwrap();
+        ch.set_integrator(Method::Rk4).unwrap();
+    });
+    assert!(plain.counters.switches > 20, "the front must cross");
+    // the law's step takes ~ dx/v_f times more steps
+    assert!(controlled.counters.steps > 10 * plain.counters.steps);
+    for ch in [&restored, &via_midpoint] {
+        assert_eq!(ch.counters.steps, plain.counters.steps);
+        assert_eq!(ch.counters.block_steps, plain.counters.block_steps);
+        assert_eq!(ch.u(), plain.u());
+        assert_eq!(ch.u_t(), plain.u_t());
+    }
+}
