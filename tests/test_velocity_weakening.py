@@ -266,3 +266,26 @@ def test_the_front_tends_to_the_coulomb_chain_as_v_f_over_dx_goes_to_zero():
             da = abs(getattr(fronts[a], key) - coulomb)
             db = abs(getattr(fronts[b], key) - coulomb)
             assert db < 2.5 * shrink * da, (key, a, b, da, db)
+
+
+def test_onset_work_does_not_grow_as_v_f_falls_and_the_default_step_is_converged():
+    """The onset's sub-steps are sized by the time shift RK4 makes in the block's motion
+    (chain/onset.rs): their number per onset falls as v_f does (the whole onset shifts a
+    block by a time of order v_f), so the front's work (block-steps, a count: no timing)
+    does not grow from v_f/dx = 2e-3 to 2e-5 and stays within 5 Coulomb fronts' (with a
+    fixed sub-step h nu = step it grew like ln(1/r): 2.6e6 to 3.6e6, 8.2 Coulomb fronts).
+    At v_f/dx = 2e-5 c at the default step is within 3e-9 of step 0.0125 (measured 2.0e-9,
+    below the Coulomb chain's own 4.0e-9 on this front; the fixed sub-step left 3.4e-9)."""
+    from bkwaves import _core
+
+    def run(law, step=0.05, **kw):
+        return _core.front_measure(
+            0.5, 0.05, 400, step=step, law=law, friction={"gamma": 0.3, **kw}
+        )
+
+    coulomb = run("coulomb")["block_steps"]
+    work = {v: run("velocity_weakening", v_f=v)["block_steps"] for v in (1e-4, 1e-6)}
+    assert work[1e-6] <= work[1e-4], work
+    assert work[1e-6] < 5 * coulomb, (work, coulomb)
+    c = [run("velocity_weakening", step=s, v_f=1e-6)["c"] for s in (0.05, 0.0125)]
+    assert abs(c[0] / c[1] - 1) < 3e-9, c
