@@ -232,3 +232,21 @@ def test_the_re_sticking_bracket_does_not_move_when_the_window_is_twice_as_far(
             assert np.mean(far.sliding) == pytest.approx(np.mean(near.sliding), rel=1e-3)
     with pytest.raises(bk.ParameterError, match="settle"):
         loaded_pulse(u_plus, gamma, v_c, dx, settle=0.5)
+
+
+def test_critical_stress_under_load_with_the_chains_speed_law_at_finite_dx():
+    """With the chain's speed at dx = 0.1, gamma = 0.45 the tip solver refuses u_+ below
+    about 0.3 (subsonic discrete fronts); the bisection counts those stresses as creeping
+    instead of failing, and the answer re-sticks at exactly v."""
+    from bkwaves import theory
+
+    def speed(u):
+        return bk.front_speed(u, dx=0.1, gamma=0.45)
+
+    with pytest.raises(ValueError):
+        speed(0.25)
+    u_c0 = theory.critical_stress(0.45, speed)
+    assert 0.45 < u_c0 < 0.55  # above the continuum's u_c = gamma at this dx
+    u_c = theory.critical_stress_under_load(0.45, 0.02, speed=speed)
+    assert u_c0 < u_c < 0.7
+    assert theory.restick_velocity(u_c, 0.45, c=speed(u_c)) == pytest.approx(0.02, rel=1e-9)
