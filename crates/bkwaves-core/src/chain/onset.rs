@@ -321,6 +321,11 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
             let mut hf = h_max;
             let mut nu_max: f64 = 0.0;
             for (k, &p) in blocks.iter().enumerate() {
+                if st.dir[p] * (on.w[k] - v) > 0.0 {
+                    // past its rest in this pass (located: the step is redone up to
+                    // it), its motion beyond is not used: it sets no sub-step
+                    continue;
+                }
                 let (rw, sigma) = blk.fr.weakening(v - on.w[k], st.dir[p], st.onset[p]);
                 let rw_m = rw * blk.med.inv_mass(p);
                 let a = on.acc0[k];
@@ -419,8 +424,13 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
                 &outside,
                 &mut on.acc,
             );
-            // rest of a patch block in the sub-step (the rule of Engine::detect)
+            // rest of a patch block in the sub-step (the rule of Engine::detect); none
+            // once the sub-step starts at or after the earliest rest found (a later one
+            // cannot come first)
             for (k, &p) in blocks.iter().enumerate() {
+                if t >= on.rest_t {
+                    break;
+                }
                 let d = st.dir[p];
                 let g = Hermite {
                     g0: d * (on.sw0[k] - v),
