@@ -414,6 +414,10 @@ FB2D = {
         ("disorder.mass", 1.0, r"disorder\.mass: unknown key; valid keys here: threshold"),
         ("initial.kind", "bumps", r"initial\.kind: .*uniform, ramp, random, file"),
         ("domain.spacing", 200.0, r"domain\.spacing: invalid spacing h = 200 .*allowed v h <= 1"),
+        ("speed", {"curvature": -0.1}, r"speed\.curvature: invalid curvature = -0\.1"),
+        ("speed", {"curvature": [0.1, 0.2, 0.3]}, r"speed\.curvature: .*pair"),
+        ("speed", {"diagonal": {"u_plus": [0.5]}}, r"speed\.diagonal\.c: missing required key"),
+        ("speed", {"twist": 1.0}, r"speed\.twist: unknown key; valid keys here: u_plus, c, curv"),
     ],
 )
 def test_free_boundary_2d_config_errors_name_the_key_and_the_range(path, value, message):
@@ -448,6 +452,34 @@ def test_free_boundary_2d_config_runs_as_the_engine_built_by_hand():
     one = arr[arr["rupture"] == first]
     mine[one["j"], one["i"]] = one["t"]
     np.testing.assert_array_equal(mine, fb.arrival_time(first))
+
+
+def test_free_boundary_2d_front_shape_from_the_speed_table():
+    # [speed] curvature and [speed.diagonal] (the lattice's front shape) run as the
+    # engine built by hand with curvature= and speed_diagonal=; the 1D model refuses them
+    diag = {"u_plus": [0.3, 0.6, 0.9], "c": [1.06, 1.26, 2.3]}
+    doc = _with(FB2D, "speed", {"curvature": [0.02, 0.04], "diagonal": diag})
+    cfg = parse_config(doc)
+    assert parse_config(cfg.to_dict()) == cfg
+    res = bk.run(cfg)
+    u0 = 0.5 + 0.3 * bk.disorder.smooth_field((32, 40), (0.5, 0.5), 1.0, periodic=True, seed=3)
+    p = bk.Params(gamma=0.3, v=0.01, dx=0.001)
+    kw = dict(curvature=(0.02, 0.04), speed_diagonal=diag)
+    ref = bk.FreeBoundary2D(p, (40, 32), 0.5, u0, "periodic", **kw).run(t_end=140.0)
+    plain = bk.FreeBoundary2D(p, (40, 32), 0.5, u0, "periodic").run(t_end=140.0)
+    rup = res.tables["ruptures"]
+    assert len(rup) == len(ref.ruptures) >= 3
+    np.testing.assert_array_equal(rup["t_end"], ref.ruptures["t_end"])
+    assert not np.array_equal(rup["t_end"], plain.ruptures["t_end"][: len(rup)])
+    one_d = {
+        "model": "free_boundary",
+        "params": {"gamma": 0.3, "v": 0.01, "dx": 0.001},
+        "domain": {"length": 20.0, "grid": 64},
+        "run": {"t_end": 10.0},
+        "speed": {"curvature": 0.1},
+    }
+    with pytest.raises(bk.ParameterError, match=r"speed\.curvature: unknown key"):
+        parse_config(one_d)
 
 
 def test_free_boundary_2d_moments_add_up_to_the_stress_dropped():

@@ -19,7 +19,13 @@ difference, the largest, and the largest after removing the median (the start: a
 is not a point source), for
 - "plain": the exact law c = 1/sqrt(1 - u_+^2), no curvature correction;
 - "speed": the lattice's planar speed along x at this dx (bk.tip_solve, the chain's c at
-  dx) as the speed law.
+  dx) as the speed law;
+- "speed_diag": that law along the axes and the chain's c at dx/sqrt(2) (the lattice's
+  exact diagonal reduction) along the diagonals (``speed_diagonal=``);
+- "speed_curv": the axis law with the lattice's curvature correction c_n = c - D kappa,
+  D = a dx with a = 0.24 along the axes and 0.44 along the diagonals (docs/lattice.md,
+  "Measured: the curvature correction"; ``curvature=``);
+- "shape": both (the diagonal law and the curvature correction).
 """
 
 from __future__ import annotations
@@ -33,6 +39,8 @@ import numpy as np
 import bkwaves as bk
 
 L, GAMMA = 8.0, 0.45
+A_AXIS, A_DIAG = 0.24, 0.44
+VARIANTS = ("plain_u", "plain", "speed", "speed_diag", "speed_curv", "shape")
 
 
 def field(x, y):
@@ -64,16 +72,22 @@ def compare(dx: float) -> dict:
     out = {"dx": dx, "blocks": n * n, "lattice_cpu_s": time.process_time() - t0}
     far = np.hypot(xx, yy) > L / 4
     out["phi_minus_u_max"] = float(np.abs(phi - u0).max())
+    axis, diag = speed_at(dx), speed_at(dx / np.sqrt(2.0))
+    curv = (A_AXIS * dx, A_DIAG * dx)
     variants = {
         "plain_u": dict(u=u0),
         "plain": dict(u=phi),
-        "speed": dict(u=phi, speed=speed_at(dx)),
+        "speed": dict(u=phi, speed=axis),
+        "speed_diag": dict(u=phi, speed=axis, speed_diagonal=diag),
+        "speed_curv": dict(u=phi, speed=axis, curvature=curv),
+        "shape": dict(u=phi, speed=axis, speed_diagonal=diag, curvature=curv),
     }
     for name, kw in variants.items():
         t0 = time.process_time()
         fb = bk.FreeBoundary2D(
             p, (n, n), dx, kw["u"], "free", origin=(x[0], x[0]), record_arrivals=True,
-            speed=kw.get("speed"),
+            speed=kw.get("speed"), speed_diagonal=kw.get("speed_diagonal"),
+            curvature=kw.get("curvature"),
         )  # fmt: skip
         fb.trigger(x[0], x[0])
         fb.run(max_events=1, progress=False)
@@ -103,7 +117,7 @@ def main() -> None:
     for dx in a.dx:
         r = compare(dx)
         rows.append(r)
-        for name in ("plain_u", "plain", "speed"):
+        for name in VARIANTS:
             q = r[name]
             print(
                 f"| {dx} | {name} | {q['mean']:.4f} | {q['max_abs']:.4f} | "
@@ -112,7 +126,8 @@ def main() -> None:
             )
     if a.json:
         with open(a.json, "w") as f:
-            json.dump({"L": L, "gamma": GAMMA, "rows": rows}, f, indent=1)
+            doc = {"L": L, "gamma": GAMMA, "a_axis": A_AXIS, "a_diag": A_DIAG, "rows": rows}
+            json.dump(doc, f, indent=1)
 
 
 if __name__ == "__main__":

@@ -263,6 +263,9 @@ class FreeBoundary2DEngine:
         speed_u: NDArray[np.float64] | None = None,
         speed_c: NDArray[np.float64] | None = None,
         threshold: NDArray[np.float64] | None = None,
+        curvature: tuple[float, float] | None = None,
+        diagonal_u: NDArray[np.float64] | None = None,
+        diagonal_c: NDArray[np.float64] | None = None,
     ) -> FreeBoundary2DEngine: ...
     def advance(
         self, t_stop: float, max_steps: int, max_events: int

@@ -50,7 +50,10 @@ Schema (all sections optional except those marked)::
     [speed]     (free boundary) the front-speed law as a table: u_plus = [...] (strictly
                 increasing in (0, 1)), c = [...] (> 1, strictly increasing), e.g. the
                 renormalised c_eff of a disordered medium; default: c = 1/sqrt(1 - u^2)
-                (bk.free_boundary.speed_table, docs/free_boundary.md)
+                (bk.free_boundary.speed_table, docs/free_boundary.md); free_boundary_2d
+                also: curvature = D or [D_axis, D_diag] (c_n = c - D kappa) and
+                [speed.diagonal] u_plus, c (the planar speed along the diagonals; the
+                lattice's front shape, docs/free_boundary_2d.md)
 
     [domain]    blocks (chain) | length + grid (free boundary) |
                 shape = [nx, ny], dy (lattice) | shape, spacing (free_boundary_2d),
@@ -612,25 +615,53 @@ def _noise(doc: dict, model: _models.Model, ts: float, ls: float, vs: float) -> 
     return model.scale_noise(noise, ts, ls, vs)
 
 
-def _speed(doc: dict, model: _models.Model) -> dict | None:
-    """The [speed] table (free boundary): the front-speed law {u_plus, c}, validated."""
-    if "speed" not in doc:
+def _speed_table_keys(t: dict, path: str, required: bool) -> dict | None:
+    """The {u_plus, c} arrays of a [speed] table (or None when both are absent and not
+    required), validated."""
+    if not required and "u_plus" not in t and "c" not in t:
         return None
-    if not model.speed_law:
-        _err("speed", f"a front-speed law applies to {_models_with('speed_law')}")
-    t = _table(doc["speed"], "speed")
-    _keys(t, "speed", ("u_plus", "c"), ("u_plus", "c"))
     for k in ("u_plus", "c"):
+        if k not in t:
+            _err(f"{path}.{k}", "missing required key")
         x = t[k]
         if not (
             isinstance(x, list)
             and x
             and all(isinstance(y, int | float) and not isinstance(y, bool) for y in x)
         ):
-            _err(f"speed.{k}", f"expected a non-empty array of numbers, got {V._show(x)}")
+            _err(f"{path}.{k}", f"expected a non-empty array of numbers, got {V._show(x)}")
     from .free_boundary import speed_table
 
     return speed_table({"u_plus": t["u_plus"], "c": t["c"]})
+
+
+def _speed(doc: dict, model: _models.Model, ls: float = 1.0) -> dict | None:
+    """The [speed] table (free boundary): the front-speed law {u_plus, c}, validated; for
+    the plane also the lattice's front shape, curvature = D or [D_axis, D_diag] (a length:
+    metres with [physical], divided here by the length unit ls) and [speed.diagonal]
+    {u_plus, c} (then u_plus and c may be absent: the exact law)."""
+    if "speed" not in doc:
+        return None
+    if not model.speed_law:
+        _err("speed", f"a front-speed law applies to {_models_with('speed_law')}")
+    t = _table(doc["speed"], "speed")
+    shape = getattr(model, "front_shape", False)
+    extra = ("curvature", "diagonal") if shape else ()
+    _keys(t, "speed", ("u_plus", "c", *extra))
+    out = _speed_table_keys(t, "speed", required=not any(k in t for k in extra))
+    out = dict(out) if out is not None else {}
+    if "curvature" in t:
+        from .free_boundary_2d import _curvature
+
+        try:
+            out["curvature"] = [d / ls for d in _curvature(t["curvature"])]
+        except V.ParameterError as e:
+            _err("speed.curvature", str(e))
+    if "diagonal" in t:
+        d = _table(t["diagonal"], "speed.diagonal")
+        _keys(d, "speed.diagonal", ("u_plus", "c"), ("u_plus", "c"))
+        out["diagonal"] = _speed_table_keys(d, "speed.diagonal", required=True)
+    return out
 
 
 def _scaled_disorder(disorder: tuple, ls: float) -> tuple:
@@ -981,7 +1012,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         title=title,
         disorder=_scaled_disorder(_disorder(doc, entry), ls),
         noise=_noise(doc, entry, ts, ls, vs),
-        speed=_speed(doc, entry),
+        speed=_speed(doc, entry, ls),
         base_dir=base_dir,
     )
     # a random config without a seed gets a fresh one now: the drawn properties checked
@@ -1115,7 +1146,10 @@ def _to_doc(cfg: RunConfig) -> dict:
     if cfg.noise is not None:
         doc["noise"] = dict(cfg.noise)
     if cfg.speed is not None:
-        doc["speed"] = {k: list(v) for k, v in cfg.speed.items()}
+        doc["speed"] = {
+            k: {q: list(w) for q, w in v.items()} if isinstance(v, dict) else list(v)
+            for k, v in cfg.speed.items()
+        }
     if cfg.disorder:
         doc["disorder"] = {k: list(x) if isinstance(x, tuple) else x for k, x in cfg.disorder}
     doc["domain"] = _models.get(cfg.model).domain_doc(cfg)

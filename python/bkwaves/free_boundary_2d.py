@@ -98,6 +98,19 @@ def random_field(
     return f / m if m > 0 else f
 
 
+def _curvature(value):
+    """The curvature option as [D_axis, D_diag] (or None)."""
+    if value is None:
+        return None
+    allowed = "D >= 0 (finite), or a pair (D along the axes, D along the diagonals)"
+    if np.ndim(value) == 0:
+        d = V.number("curvature", value, lo=0.0)
+        return [d, d]
+    if np.ndim(value) != 1 or len(value) != 2:
+        V._fail("curvature", value, allowed)
+    return [V.number("curvature", value[0], lo=0.0), V.number("curvature", value[1], lo=0.0)]
+
+
 def _field(name, value, xx, yy, hi=None):
     """A number, an (ny, nx) array or a callable f(x, y) on the grid, validated."""
     if callable(value):
@@ -203,6 +216,16 @@ class FreeBoundary2D:
         The front-speed law, as in :class:`bkwaves.FreeBoundary`.
     threshold : float or array_like or callable, optional
         The static threshold field s(x, y) (dimensionless; default 1 everywhere).
+    curvature : float or tuple of float, optional
+        The lattice's curvature correction c_n = c - D kappa (kappa = 1/R for an
+        expanding circle): D >= 0 (dimensionless length) in every direction, or a pair
+        (D along the axes, D along the diagonals), interpolated as
+        D_axis cos^2(2 theta) + D_diag sin^2(2 theta) in the angle theta of the normal
+        (docs/free_boundary_2d.md, "The lattice's front shape"). Default: none.
+    speed_diagonal : optional
+        The planar front speed along the diagonals, in any form of ``speed``; ``speed``
+        is then the speed along the axes, and c(theta) = c_axis + (c_diag - c_axis)
+        sin^2(2 theta). Default: the same as along the axes (an isotropic front).
 
     Examples
     --------
@@ -235,6 +258,8 @@ class FreeBoundary2D:
         seed: int | None = None,
         speed=None,
         threshold=None,
+        curvature=None,
+        speed_diagonal=None,
     ):
         if not isinstance(params, Params):
             V._fail("params", params, "a bkwaves.Params instance")
@@ -273,6 +298,8 @@ class FreeBoundary2D:
         self.noise = None if noise is None else _noise.check_noise(noise)
         self.seed = _noise.noise_seed(seed, self.noise)
         self.speed = speed_table(speed)
+        self.curvature = _curvature(curvature)
+        self.speed_diagonal = speed_table(speed_diagonal)
         self._engine = self._new_engine(u0)
         self._set_noise()
         self._snap_t: list[float] = []
@@ -282,6 +309,7 @@ class FreeBoundary2D:
 
     def _new_engine(self, u0):
         table = self.speed or {}
+        diag = self.speed_diagonal
         return _core.FreeBoundary2DEngine(
             self.nx,
             self.ny,
@@ -301,6 +329,9 @@ class FreeBoundary2D:
             threshold=None
             if self.threshold is None
             else np.ascontiguousarray(self.threshold).ravel(),
+            curvature=None if self.curvature is None else tuple(self.curvature),
+            diagonal_u=None if diag is None else np.array(diag["u_plus"]),
+            diagonal_c=None if diag is None else np.array(diag["c"]),
         )
 
     def _set_noise(self):
@@ -562,6 +593,10 @@ class FreeBoundary2D:
             "speed": "exact" if self.speed is None else json.dumps(self.speed),
             "threshold": "uniform 1" if self.threshold is None else "field: variable threshold",
         }
+        if self.curvature is not None:
+            meta["curvature"] = json.dumps(self.curvature)
+        if self.speed_diagonal is not None:
+            meta["speed_diagonal"] = json.dumps(self.speed_diagonal)
         counters = self._engine.noise_counters
         if counters is not None:
             meta["noise_candidates"], meta["noise_nucleations"] = counters
@@ -598,6 +633,8 @@ class FreeBoundary2D:
             "noise": self.noise,
             "seed": self.seed,
             "speed": self.speed,
+            "curvature": self.curvature,
+            "speed_diagonal": self.speed_diagonal,
         }
         arrays = {
             "engine": np.frombuffer(self._engine.checkpoint(), dtype=np.uint8),
@@ -679,6 +716,9 @@ class FreeBoundary2D:
         fb.second_order = bool(meta["second_order"])
         fb.record_arrivals = bool(meta["record_arrivals"])
         fb.noise, fb.seed, fb.speed = meta.get("noise"), meta.get("seed"), meta.get("speed")
+        # (checkpoints from before the shape options have neither key)
+        fb.curvature = meta.get("curvature")
+        fb.speed_diagonal = meta.get("speed_diagonal")
         fb.x = fb.origin[0] + fb.h * np.arange(fb.nx)
         fb.y = fb.origin[1] + fb.h * np.arange(fb.ny)
         th = arrays.get("threshold")

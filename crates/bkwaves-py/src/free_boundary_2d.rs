@@ -40,7 +40,8 @@ impl PyFreeBoundary2D {
     #[new]
     #[pyo3(signature = (nx, ny, h, x0, y0, u0, gamma, v, boundary_x="periodic",
                         boundary_y="periodic", creep="zero", second_order=true,
-                        record_arrivals=false, speed_u=None, speed_c=None, threshold=None))]
+                        record_arrivals=false, speed_u=None, speed_c=None, threshold=None,
+                        curvature=None, diagonal_u=None, diagonal_c=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         nx: usize,
@@ -59,6 +60,9 @@ impl PyFreeBoundary2D {
         speed_u: Option<PyReadonlyArray1<'_, f64>>,
         speed_c: Option<PyReadonlyArray1<'_, f64>>,
         threshold: Option<PyReadonlyArray1<'_, f64>>,
+        curvature: Option<(f64, f64)>,
+        diagonal_u: Option<PyReadonlyArray1<'_, f64>>,
+        diagonal_c: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         let bx = Boundary::parse(boundary_x).map_err(to_py)?;
         let by = Boundary::parse(boundary_y).map_err(to_py)?;
@@ -69,6 +73,7 @@ impl PyFreeBoundary2D {
             creep: CreepRule::parse(creep).map_err(to_py)?,
             second_order,
             record_arrivals,
+            curvature,
         };
         let law = match (speed_u, speed_c) {
             (Some(u), Some(c)) => {
@@ -78,8 +83,13 @@ impl PyFreeBoundary2D {
         };
         let u0 = u0.as_array().to_vec();
         let threshold = threshold.map(|t| t.as_array().to_vec());
-        let inner =
+        let mut inner =
             FreeBoundary2D::new(grid, &u0, opts, law, threshold.as_deref()).map_err(to_py)?;
+        if let (Some(u), Some(c)) = (diagonal_u, diagonal_c) {
+            let law =
+                SpeedLaw::table(&u.as_array().to_vec(), &c.as_array().to_vec()).map_err(to_py)?;
+            inner.set_diagonal_law(law).map_err(to_py)?;
+        }
         Ok(PyFreeBoundary2D { inner })
     }
 

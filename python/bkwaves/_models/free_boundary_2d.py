@@ -185,6 +185,15 @@ def _run_free_boundary_2d(model, cfg, out, progress, overwrite, flush_every, chu
     )
 
 
+def _speed_args(speed: dict | None) -> dict:
+    """The [speed] table as FreeBoundary2D's speed, curvature and speed_diagonal."""
+    speed = dict(speed or {})
+    out = {"curvature": speed.pop("curvature", None)}
+    out["speed_diagonal"] = speed.pop("diagonal", None)
+    out["speed"] = speed or None
+    return out
+
+
 class FreeBoundary2DModel(Model):
     name = "free_boundary_2d"
     boundaries = ("free", "periodic")
@@ -194,6 +203,7 @@ class FreeBoundary2DModel(Model):
     disorder_keys = ("threshold",)
     correlated_disorder = True
     speed_law = True
+    front_shape = True
     coulomb_only = True
     noise_kind = "free_boundary"
     noise_per = "unit area"
@@ -371,7 +381,7 @@ class FreeBoundary2DModel(Model):
             record_arrivals=cfg.arrivals,
             noise=cfg.noise,
             seed=cfg.seed,
-            speed=cfg.speed,
+            **_speed_args(cfg.speed),
             threshold=self.threshold(cfg),
         )
 

@@ -4,7 +4,7 @@
 //!
 //! The bytes hold a fingerprint of the configuration (grid, boundaries, gamma, v, creep
 //! rule, stencil order, record_arrivals, noise law and seed, front-speed law, threshold
-//! field) and are refused by an engine configured otherwise. Stored: the field and its
+//! field, and the shape options when they are on) and are refused by an engine configured otherwise. Stored: the field and its
 //! epoch, the time, every per-node array of the march (arrival, label, stop time, trial
 //! time and rupture, entry version, seed flag), the catalog with the running ruptures'
 //! node lists, the counters, the noise generator and the noise's tile bounds, weights and
@@ -57,6 +57,28 @@ impl FreeBoundary2D {
             Some(th) => {
                 w.u(1);
                 w.fs(th);
+            }
+        }
+        // the shape options (appended only when on: a checkpoint without them has the
+        // bytes it had before they existed)
+        if self.shaped() {
+            w.s("shape");
+            match o.curvature {
+                None => w.u(0),
+                Some((da, dd)) => {
+                    w.u(1);
+                    w.f(da);
+                    w.f(dd);
+                }
+            }
+            match &self.law_diag {
+                None => w.u(0),
+                Some(SpeedLaw::Exact) => w.u(1),
+                Some(SpeedLaw::Table(t)) => {
+                    w.u(2);
+                    w.fs(&t.u_plus);
+                    w.fs(&t.c);
+                }
             }
         }
     }

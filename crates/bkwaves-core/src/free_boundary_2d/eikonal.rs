@@ -32,9 +32,10 @@ pub struct Term {
     pub d: f64,
 }
 
-/// tau >= 0 with sum_a alpha_a (tau - d_a)_+^2 = h^2 y(u_lo + v tau): the arrival time
-/// after min m. `y` is the squared slowness Y(u) in [0, 1].
-pub fn solve(terms: &[Term], h: f64, u_lo: f64, v: f64, y: impl Fn(f64) -> f64) -> f64 {
+/// tau >= 0 with sum_a alpha_a (tau - d_a)_+^2 = h^2 y(u_lo + v tau, tau): the arrival
+/// time after min m. `y` is the squared slowness Y(u, tau) in [0, 1] (tau: for a speed
+/// that depends on the direction of the stencil's gradient, see the `shape` module).
+pub fn solve(terms: &[Term], h: f64, u_lo: f64, v: f64, y: impl Fn(f64, f64) -> f64) -> f64 {
     let g = |tau: f64| -> f64 {
         let mut s = 0.0;
         for t in terms {
@@ -43,7 +44,7 @@ pub fn solve(terms: &[Term], h: f64, u_lo: f64, v: f64, y: impl Fn(f64) -> f64) 
                 s += t.alpha * e * e;
             }
         }
-        s - h * h * y(u_lo + v * tau)
+        s - h * h * y(u_lo + v * tau, tau)
     };
     let a0 = terms
         .iter()
@@ -104,7 +105,7 @@ mod tests {
         let h = 0.1;
         let f: f64 = 0.6;
         // one axis: tau = h f
-        let t = solve(&[Term { alpha: 1.0, d: 0.0 }], h, 0.5, 0.0, |_| f * f);
+        let t = solve(&[Term { alpha: 1.0, d: 0.0 }], h, 0.5, 0.0, |_, _| f * f);
         assert!((t - h * f).abs() < 1e-16, "{t}");
         // two axes, d = 0.02: (tau)^2 + (tau - d)^2 = h^2 f^2
         let d = 0.02;
@@ -113,7 +114,7 @@ mod tests {
             h,
             0.5,
             0.0,
-            |_| f * f,
+            |_, _| f * f,
         );
         let exact = (d + (2.0 * h * h * f * f - d * d).sqrt()) / 2.0;
         assert!((t - exact).abs() < 1e-16, "{t} {exact}");
@@ -123,7 +124,7 @@ mod tests {
             h,
             0.5,
             0.0,
-            |_| f * f,
+            |_, _| f * f,
         );
         assert!((t - h * f).abs() < 1e-16);
         // second order: (9/4) tau^2 = h^2 f^2
@@ -135,7 +136,7 @@ mod tests {
             h,
             0.5,
             0.0,
-            |_| f * f,
+            |_, _| f * f,
         );
         assert!((t - h * f / 1.5).abs() < 1e-16);
     }
@@ -144,7 +145,9 @@ mod tests {
     fn the_speed_is_taken_at_the_arrival_time() {
         // Y = 1 - u^2, u = u_lo + v tau: tau^2 = h^2 (1 - (u_lo + v tau)^2), a quadratic
         let (h, u_lo, v) = (0.1, 0.7, 0.3);
-        let t = solve(&[Term { alpha: 1.0, d: 0.0 }], h, u_lo, v, |u| 1.0 - u * u);
+        let t = solve(&[Term { alpha: 1.0, d: 0.0 }], h, u_lo, v, |u, _| {
+            1.0 - u * u
+        });
         // (1 + h^2 v^2) tau^2 + 2 h^2 u_lo v tau - h^2 (1 - u_lo^2) = 0
         let (a, b, c) = (
             1.0 + h * h * v * v,
@@ -155,7 +158,8 @@ mod tests {
         assert!((t - exact).abs() < 1e-15, "{t} {exact}");
         // at the threshold the front arrives at once
         assert_eq!(
-            solve(&[Term { alpha: 1.0, d: 0.0 }], h, 1.0, v, |u| (1.0 - u * u)
+            solve(&[Term { alpha: 1.0, d: 0.0 }], h, 1.0, v, |u, _| (1.0
+                - u * u)
                 .max(0.0)),
             0.0
         );

@@ -39,6 +39,9 @@ pub mod eikonal;
 pub mod grid;
 mod noise2d;
 pub mod rupture;
+mod shape;
+#[cfg(test)]
+mod shape_tests;
 #[cfg(test)]
 mod tests;
 
@@ -68,6 +71,9 @@ pub struct Options2D {
     pub second_order: bool,
     /// Keep each rupture's arrival times.
     pub record_arrivals: bool,
+    /// The curvature correction c_n = c - D kappa: (D along the axes, D along the
+    /// diagonals), or None (the `shape` module).
+    pub curvature: Option<(f64, f64)>,
 }
 
 impl Default for Options2D {
@@ -78,6 +84,7 @@ impl Default for Options2D {
             creep: CreepRule::Zero,
             second_order: true,
             record_arrivals: false,
+            curvature: None,
         }
     }
 }
@@ -110,6 +117,8 @@ pub struct FreeBoundary2D {
     grid: Grid,
     opts: Options2D,
     law: SpeedLaw,
+    /// The planar speed along the diagonals (the `shape` module), or None.
+    law_diag: Option<SpeedLaw>,
     u_c: f64,
     u_stop: f64,
     threshold: Option<Vec<f64>>,
@@ -169,6 +178,17 @@ impl FreeBoundary2D {
                 allowed: "finite v >= 0",
             });
         }
+        if let Some((da, dd)) = opts.curvature {
+            for (name, d) in [("curvature D_axis", da), ("curvature D_diag", dd)] {
+                if !(d.is_finite() && d >= 0.0) {
+                    return Err(Error::InvalidParameter {
+                        name,
+                        value: d,
+                        allowed: "finite D >= 0 (c_n = c - D kappa)",
+                    });
+                }
+            }
+        }
         let n = grid.n();
         if u0.len() != n {
             return Err(Error::InvalidParameter {
@@ -213,6 +233,7 @@ impl FreeBoundary2D {
             grid,
             opts,
             law,
+            law_diag: None,
             u_c,
             u_stop,
             threshold: threshold.map(<[f64]>::to_vec),
@@ -537,7 +558,10 @@ impl FreeBoundary2D {
             return;
         }
         let t = self.update(q, r).max(self.now);
-        if other == NONE || t < self.tent[q] {
+        // with the curvature term a later update of the same rupture sees more of the
+        // front around q: it replaces the earlier one, later or not (the `shape` module)
+        let newer = other == r && self.opts.curvature.is_some();
+        if other == NONE || t < self.tent[q] || newer {
             if other != NONE && other != r {
                 self.ruptures[r as usize].contacts += 1;
                 self.ruptures[other as usize].contacts += 1;
@@ -554,6 +578,7 @@ impl FreeBoundary2D {
         let tb = self.stopped[q];
         let ok = |j: usize| self.label[j] == r && self.t_arr[j] >= tb;
         let mut terms = [Term { alpha: 1.0, d: 0.0 }; 2];
+        let mut axes = [0usize; 2];
         let mut m = [f64::INFINITY; 2];
         let mut na = 0;
         for axis in 0..2 {
@@ -582,6 +607,7 @@ impl FreeBoundary2D {
             }
             if let Some((_, alpha, mm)) = best {
                 terms[na].alpha = alpha;
+                axes[na] = axis;
                 m[na] = mm;
                 na += 1;
             }
@@ -593,12 +619,23 @@ impl FreeBoundary2D {
         }
         let s = self.thr(q);
         let law = &self.law;
-        let y = |u: f64| {
+        let u_lo = self.u_at(q, m_lo);
+        let (h, v) = (self.grid.h, self.opts.v);
+        if self.shaped() {
+            let kappa = if self.opts.curvature.is_some() {
+                self.curvature_at(q, r)
+            } else {
+                0.0
+            };
+            let (tm, ax) = (&terms[..na], &axes[..na]);
+            let y = |u: f64, tau: f64| self.shaped_y(u, s, kappa, tm, ax, tau);
+            return m_lo + eikonal::solve(tm, h, u_lo, v, y);
+        }
+        let y = |u: f64, _: f64| {
             let f = law.slowness(u / s);
             f * f
         };
-        let u_lo = self.u_at(q, m_lo);
-        m_lo + eikonal::solve(&terms[..na], self.grid.h, u_lo, self.opts.v, y)
+        m_lo + eikonal::solve(&terms[..na], h, u_lo, v, y)
     }
 
     fn maybe_end(&mut self, r: u32) {
