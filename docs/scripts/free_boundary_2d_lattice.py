@@ -25,7 +25,10 @@ is not a point source), for
 - "speed_curv": the axis law with the lattice's curvature correction c_n = c - D kappa,
   D = a dx with a = 0.24 along the axes and 0.44 along the diagonals (docs/lattice.md,
   "Measured: the curvature correction"; ``curvature=``);
-- "shape": both (the diagonal law and the curvature correction).
+- "shape": both (the diagonal law and the curvature correction);
+- "curv_theory", "shape_theory": as "speed_curv" and "shape" with the derived D at the
+  axis and the diagonal (bk.theory.curvature_coefficient at the field's mean u_+ = 0.62)
+  instead of the measured a.
 """
 
 from __future__ import annotations
@@ -40,7 +43,10 @@ import bkwaves as bk
 
 L, GAMMA = 8.0, 0.45
 A_AXIS, A_DIAG = 0.24, 0.44
-VARIANTS = ("plain_u", "plain", "speed", "speed_diag", "speed_curv", "shape")
+VARIANTS = (
+    "plain_u", "plain", "speed", "speed_diag", "speed_curv", "shape", "curv_theory",
+    "shape_theory",
+)  # fmt: skip
 
 
 def field(x, y):
@@ -74,6 +80,11 @@ def compare(dx: float) -> dict:
     out["phi_minus_u_max"] = float(np.abs(phi - u0).max())
     axis, diag = speed_at(dx), speed_at(dx / np.sqrt(2.0))
     curv = (A_AXIS * dx, A_DIAG * dx)
+    theory = tuple(
+        float(bk.theory.curvature_coefficient(0.62, GAMMA, dx, direction=d))
+        for d in ("x", "diagonal")
+    )
+    out["curvature_theory"] = list(theory)
     variants = {
         "plain_u": dict(u=u0),
         "plain": dict(u=phi),
@@ -81,6 +92,8 @@ def compare(dx: float) -> dict:
         "speed_diag": dict(u=phi, speed=axis, speed_diagonal=diag),
         "speed_curv": dict(u=phi, speed=axis, curvature=curv),
         "shape": dict(u=phi, speed=axis, speed_diagonal=diag, curvature=curv),
+        "curv_theory": dict(u=phi, speed=axis, curvature=theory),
+        "shape_theory": dict(u=phi, speed=axis, speed_diagonal=diag, curvature=theory),
     }
     for name, kw in variants.items():
         t0 = time.process_time()
