@@ -242,6 +242,65 @@ fn engine(size: usize) -> (f64, f64, u64, u64, u64) {
     )
 }
 
+/// The engine's RK4 step alone (no event search, no redo) over an m x m square of
+/// sliding blocks inside a held ring of stuck ones: (block-steps per CPU second, a
+/// checksum), `steps` steps, each with the end accelerations the next one starts from.
+fn engine_step(m: usize, steps: u64) -> (f64, f64) {
+    use bkwaves_core::boundary::Ghost;
+    use bkwaves_core::chain::geometry::{Geometry, Grid};
+    use bkwaves_core::chain::integrator::{Method, Stepper};
+    use bkwaves_core::chain::medium::Blocks;
+    use bkwaves_core::chain::state::State;
+    let n = m + 2;
+    let geo = Grid::new(
+        n,
+        n,
+        DX,
+        DX,
+        (Ghost::Mirror, Ghost::Mirror),
+        (Ghost::Mirror, Ghost::Mirror),
+    );
+    let u0: Vec<f64> = (0..n * n)
+        .map(|q| 0.6 - 1e-3 * (0.1 * q as f64).sin())
+        .collect();
+    let mut st = State::with_geometry(geo, &u0, 0.0);
+    for j in 1..=m {
+        for i in 1..=m {
+            let p = geo.at(i, j);
+            st.dir[p] = 1.0;
+            st.onset[p] = 1.0;
+            st.w[p] = -1e-2 * (0.1 * p as f64).cos();
+            st.add_to_runs(p);
+        }
+    }
+    let fr = Blocks {
+        fr: Coulomb::new(GAMMA, f64::INFINITY).unwrap(),
+        med: Uniform,
+    };
+    let len = geo.cells();
+    let mut rk = Stepper::new(Method::Rk4, len);
+    let (mut a0, mut a1) = (vec![0.0; len], vec![0.0; len]);
+    let (mut us, mut ws) = (vec![0.0; len], vec![0.0; len]);
+    rk.accel_only(&mut st, &fr, 0.0, &mut a0);
+    let h = STEP * DX;
+    let t = cpu_seconds();
+    for k in 0..steps {
+        rk.step(
+            &mut st,
+            &fr,
+            k as f64 * h,
+            h,
+            &a0,
+            &mut us,
+            &mut ws,
+            &mut a1,
+        );
+        std::mem::swap(&mut a0, &mut a1);
+    }
+    let s = cpu_seconds() - t;
+    ((m * m) as f64 * steps as f64 / s, st.u.iter().sum::<f64>())
+}
+
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
@@ -262,6 +321,21 @@ fn main() {
                     .filter(|s| !s.is_empty())
                     .map(|s| s.parse().expect("--memory N1,N2"))
                     .collect()
+            }
+            "--kernel" => {
+                // the step alone against the reference, over m x m blocks
+                let m: usize = args[k + 1].parse().expect("--kernel M");
+                let steps = (4e8 / (m * m) as f64).ceil() as u64;
+                for _ in 0..repeat {
+                    let (e, c) = engine_step(m, steps);
+                    let r = reference(m, 4e8);
+                    println!(
+                        "kernel {m} x {m}: engine step {e:.3e}/s, reference {r:.3e}/s, \
+                         ratio {:.3} (checksum {c:.6})",
+                        e / r
+                    );
+                }
+                return;
             }
             "--full" => {
                 let v: Vec<&str> = args[k + 1].split(',').collect();

@@ -325,14 +325,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         if r.i != bytes.len() {
             return Err(bad(r.i, "a checkpoint with nothing after its end"));
         }
-        next.st.runs.clear();
-        next.st.n_active = 0;
-        let blocks: Vec<usize> = next.st.geo.blocks().collect();
-        for p in blocks {
-            if next.st.dir[p] != 0.0 {
-                next.st.add_to_runs(p);
-            }
-        }
+        next.st.rebuild_runs();
         // scratch of the integrator: as a freshly built chain has it
         next.u0 = vec![0.0; n2];
         next.w0 = vec![0.0; n2];

@@ -26,6 +26,7 @@ pub mod dynamic;
 pub mod energy;
 pub mod events;
 pub mod front;
+pub mod frontier;
 pub mod geometry;
 pub mod integrator;
 pub mod medium;
@@ -628,6 +629,12 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         &self.st.geo
     }
 
+    /// The state of the blocks (for tests).
+    #[cfg(test)]
+    pub(crate) fn state(&self) -> &State<G> {
+        &self.st
+    }
+
     /// Energy (kinetic, coupling springs, loader springs) now.
     pub fn energy(&self) -> (f64, f64, f64) {
         energy::energy(&self.st, &self.blk.med, self.beta(), self.t)
@@ -850,6 +857,22 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             if self.full_check {
                 let st = &self.st;
                 cands.extend(st.geo.blocks().filter(|&p| !st.sliding(p)));
+            } else if G::FRONTIER {
+                // the stuck blocks next to the runs from their lists, those over a
+                // threshold in the order the walk around the runs meets them
+                // (frontier.rs: the same bits as the walk)
+                let st = &self.st;
+                let mut over: Vec<((usize, usize), usize)> = Vec::new();
+                for p in st.frontier.stuck_blocks(&st.dir) {
+                    let phi = self.blk.phi(st, p, t);
+                    if phi >= self.blk.upper(p) || phi <= self.blk.lower(p) {
+                        let key = frontier::walk_order(&st.geo, &st.runs, p);
+                        over.push((key.unwrap_or((usize::MAX, 0)), p));
+                    }
+                }
+                over.sort_unstable();
+                over.dedup();
+                cands.extend(over.iter().map(|&(_, p)| p));
             } else {
                 let st = &self.st;
                 for &(a, b) in &st.runs {
@@ -996,7 +1019,6 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         skip: &[usize],
     ) -> f64 {
         let v = self.cfg.v;
-        let t1 = t0 + h;
         let mut best = f64::INFINITY;
         who.clear();
         for &(a, b) in &self.st.runs {
@@ -1036,42 +1058,72 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 }
                 consider(g.first_crossing(h), (p, 0), &mut best, who);
             }
+            if G::FRONTIER {
+                continue;
+            }
             for (q, _, _) in self.st.geo.around_run(a, b) {
                 let Some(p) = self.st.resolve(q) else {
                     continue;
                 };
-                if self.st.sliding(p) {
-                    continue;
+                if !self.st.sliding(p) {
+                    self.slip_crossing(p, t0, h, &mut best, who);
                 }
-                let up = self.herm_u(p, t0, t1);
-                let phi = self.st.geo.phi_hermite(
-                    &self.blk.med,
-                    p,
-                    up,
-                    #[inline(always)]
-                    |q| self.herm_neighbour(q, p, t0, t1),
-                );
-                let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
-                let fwd = Hermite {
-                    g0: phi.g0 - hi,
-                    m0: phi.m0,
-                    g1: phi.g1 - hi,
-                    m1: phi.m1,
-                };
-                consider(fwd.first_crossing(h), (p, 1), &mut best, who);
-                let bwd = Hermite {
-                    g0: lo - phi.g0,
-                    m0: -phi.m0,
-                    g1: lo - phi.g1,
-                    m1: -phi.m1,
-                };
-                consider(bwd.first_crossing(h), (p, -1), &mut best, who);
+            }
+        }
+        if G::FRONTIER {
+            // the stuck blocks next to the runs from their lists (frontier.rs); the
+            // events at the earliest time in the order of the walk (the same bits)
+            for p in self.st.frontier.stuck_blocks(&self.st.dir) {
+                self.slip_crossing(p, t0, h, &mut best, who);
+            }
+            if best.is_finite() && who.len() > 1 {
+                let st = &self.st;
+                who.sort_by_cached_key(|&(p, kind)| {
+                    if kind == 0 {
+                        let (a, _) = frontier::run_of(&st.runs, p).unwrap_or((usize::MAX, 0));
+                        (a, 0, p.wrapping_sub(a), 0)
+                    } else {
+                        let (a, pos) =
+                            frontier::walk_order(&st.geo, &st.runs, p).unwrap_or((usize::MAX, 0));
+                        (a, 1, pos, u8::from(kind < 0))
+                    }
+                });
             }
         }
         if !best.is_finite() {
             who.clear();
         }
         best
+    }
+
+    /// The crossings of its thresholds by the phi of stuck block p in the step of length
+    /// h from t0 (forward, then backward), offered to the earliest events so far.
+    #[inline(always)]
+    fn slip_crossing(&self, p: usize, t0: f64, h: f64, best: &mut f64, who: &mut Vec<(usize, i8)>) {
+        let t1 = t0 + h;
+        let up = self.herm_u(p, t0, t1);
+        let phi = self.st.geo.phi_hermite(
+            &self.blk.med,
+            p,
+            up,
+            #[inline(always)]
+            |q| self.herm_neighbour(q, p, t0, t1),
+        );
+        let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
+        let fwd = Hermite {
+            g0: phi.g0 - hi,
+            m0: phi.m0,
+            g1: phi.g1 - hi,
+            m1: phi.m1,
+        };
+        consider(fwd.first_crossing(h), (p, 1), best, who);
+        let bwd = Hermite {
+            g0: lo - phi.g0,
+            m0: -phi.m0,
+            g1: lo - phi.g1,
+            m1: -phi.m1,
+        };
+        consider(bwd.first_crossing(h), (p, -1), best, who);
     }
 
     /// Snapshots due in (t0, t0 + h] from the dense output of the last step.

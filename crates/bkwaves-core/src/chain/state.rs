@@ -6,6 +6,7 @@
 //! lattice, rows of nx + 2 cells. A stuck block is never stepped: its `u` holds the value
 //! at time `tref` and it drifts exactly, u(t) = u + v (t - tref), u_t = v.
 
+use super::frontier::Frontier;
 pub use super::geometry::Beyond;
 use super::geometry::{Geometry, Line};
 use crate::boundary::Ghost;
@@ -40,6 +41,9 @@ pub struct State<G: Geometry = Line> {
     pub ext: Vec<(usize, f64, f64)>,
     /// The end time of the step the `ext` values belong to.
     pub ext_t1: f64,
+    /// The cells next to the runs (a geometry with [`Geometry::FRONTIER`]; ../frontier.rs),
+    /// kept by [`State::add_to_runs`] and [`State::remove_from_runs`].
+    pub frontier: Frontier,
 }
 
 impl State<Line> {
@@ -60,7 +64,6 @@ impl<G: Geometry> State<G> {
         }
         State {
             n: geo.n(),
-            geo,
             v,
             u,
             w: vec![v; len],
@@ -71,6 +74,8 @@ impl<G: Geometry> State<G> {
             n_active: 0,
             ext: Vec::new(),
             ext_t1: 0.0,
+            frontier: Frontier::new(len, G::FRONTIER),
+            geo,
         }
     }
 
@@ -139,7 +144,21 @@ impl<G: Geometry> State<G> {
             .filter_map(|q| self.resolve(q))
     }
 
-    /// Insert sliding block p into the runs (merging with neighbours).
+    /// The runs again from the modes (every sliding block in them), as after a
+    /// checkpoint's state is read.
+    pub fn rebuild_runs(&mut self) {
+        self.runs.clear();
+        self.n_active = 0;
+        self.frontier.clear();
+        let blocks: Vec<usize> = self.geo.blocks().collect();
+        for p in blocks {
+            if self.sliding(p) {
+                self.add_to_runs(p);
+            }
+        }
+    }
+
+    /// Insert sliding block p into the runs (merging with neighbours; its `dir` set).
     pub fn add_to_runs(&mut self, p: usize) {
         let k = self.runs.partition_point(|r| r.0 <= p);
         let joins_left = k > 0 && self.runs[k - 1].1 == p;
@@ -154,9 +173,13 @@ impl<G: Geometry> State<G> {
             (false, false) => self.runs.insert(k, (p, p + 1)),
         }
         self.n_active += 1;
+        if G::FRONTIER {
+            self.frontier.enter(&self.geo, &self.dir, p);
+        }
     }
 
-    /// Remove block p (which must be in a run) from the runs (splitting its run).
+    /// Remove block p (which must be in a run) from the runs (splitting its run; its
+    /// `dir` set: 0 if it sticks).
     pub fn remove_from_runs(&mut self, p: usize) {
         let k = self.runs.partition_point(|r| r.0 <= p) - 1;
         let (a, b) = self.runs[k];
@@ -173,6 +196,9 @@ impl<G: Geometry> State<G> {
             }
         }
         self.n_active -= 1;
+        if G::FRONTIER {
+            self.frontier.leave(&self.geo, &self.dir, p);
+        }
     }
 }
 

@@ -78,3 +78,5 @@ impl<F: Friction, M: Medium> Engine<Grid, F, M> {
 mod tests;
 #[cfg(test)]
 mod tests_bonds;
+#[cfg(test)]
+mod tests_frontier;

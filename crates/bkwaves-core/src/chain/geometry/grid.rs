@@ -29,6 +29,9 @@ pub struct Grid {
     pub x: (Ghost, Ghost),
     /// Ghosts beyond y = 0 and y = ny - 1.
     pub y: (Ghost, Ghost),
+    /// ceil(2^64 / s): q / s = (q inv_s) >> 64 for q, s < 2^32 (Lemire, Kaser and Kurz,
+    /// "Faster remainder by direct computation", 2019), without a division.
+    inv_s: u64,
 }
 
 impl Grid {
@@ -51,13 +54,20 @@ impl Grid {
             ky: 1.0 / (dy * dy),
             x,
             y,
+            inv_s: (u64::MAX / (nx as u64 + 2)).wrapping_add(1),
         }
     }
 
     /// (column, row) of padded index q (0..=nx + 1, 0..=ny + 1).
     #[inline(always)]
     pub fn cell(&self, q: usize) -> (usize, usize) {
-        (q % self.s, q / self.s)
+        const SMALL: usize = 1 << 32;
+        if q < SMALL && self.s < SMALL {
+            let j = ((u128::from(self.inv_s) * q as u128) >> 64) as usize;
+            (q - j * self.s, j)
+        } else {
+            (q % self.s, q / self.s)
+        }
     }
 
     /// Padded index of block (i, j) (0-based).
@@ -136,6 +146,7 @@ impl Geometry for Grid {
     type Stencil<'a> = GridStencil<'a>;
     type Nbrs = [usize; 4];
     type Around = GridAround;
+    const FRONTIER: bool = true;
 
     #[inline(always)]
     fn n(&self) -> usize {
@@ -214,6 +225,42 @@ impl Geometry for Grid {
             down: j == 1,
             up: j == self.ny,
         }
+    }
+    fn sightings(&self, r: usize) -> ([(usize, u8); 8], usize) {
+        let (i, j) = self.cell(r);
+        let (s, nx, ny) = (self.s, self.nx, self.ny);
+        let mut out = [(0, 0); 8];
+        let mut k = 0;
+        let mut add = |p: usize, side: u8| {
+            out[k] = (p, side);
+            k += 1;
+        };
+        if i < nx {
+            add(r + 1, 0);
+        }
+        if i > 1 {
+            add(r - 1, 1);
+        }
+        if j < ny {
+            add(r + s, 2);
+        }
+        if j > 1 {
+            add(r - s, 3);
+        }
+        // periodic ghosts standing for r, next to the block on the far side
+        if i == 1 && self.x.1 == Ghost::Wrap {
+            add(r + nx - 1, 1);
+        }
+        if i == nx && self.x.0 == Ghost::Wrap {
+            add(r + 1 - nx, 0);
+        }
+        if j == 1 && self.y.1 == Ghost::Wrap {
+            add(r + (ny - 1) * s, 3);
+        }
+        if j == ny && self.y.0 == Ghost::Wrap {
+            add(r + s - ny * s, 2);
+        }
+        (out, k)
     }
     #[inline(always)]
     fn stencil<'a>(&self, su: &'a [f64], a: usize, b: usize) -> GridStencil<'a> {

@@ -60,6 +60,7 @@ impl Geometry for Line {
     type Stencil<'a> = LineStencil<'a>;
     type Nbrs = [usize; 2];
     type Around = std::array::IntoIter<(usize, usize, bool), 2>;
+    const FRONTIER: bool = false;
 
     #[inline(always)]
     fn n(&self) -> usize {
@@ -110,6 +111,28 @@ impl Geometry for Line {
     #[inline(always)]
     fn around_run(&self, a: usize, b: usize) -> Self::Around {
         [(a - 1, a, a == 1), (b, b - 1, b == self.n + 1)].into_iter()
+    }
+    fn sightings(&self, r: usize) -> ([(usize, u8); 8], usize) {
+        let mut out = [(0, 0); 8];
+        let mut k = 0;
+        let mut add = |p: usize, side: u8| {
+            out[k] = (p, side);
+            k += 1;
+        };
+        if r < self.n {
+            add(r + 1, 0);
+        }
+        if r > 1 {
+            add(r - 1, 1);
+        }
+        // periodic ghosts: 0 stands for block n, n + 1 for block 1
+        if r == self.n && self.left == Ghost::Wrap {
+            add(1, 0);
+        }
+        if r == 1 && self.right == Ghost::Wrap {
+            add(self.n, 1);
+        }
+        (out, k)
     }
     #[inline(always)]
     fn stencil<'a>(&self, su: &'a [f64], a: usize, b: usize) -> LineStencil<'a> {

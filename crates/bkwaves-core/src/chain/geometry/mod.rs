@@ -55,6 +55,10 @@ pub trait Geometry: Clone + Send + Sync + std::fmt::Debug + 'static {
     type Nbrs: IntoIterator<Item = usize> + Copy;
     /// The cells around a run ([`Geometry::around_run`]).
     type Around: Iterator<Item = (usize, usize, bool)>;
+    /// Whether the engine keeps the cells next to the runs as lists
+    /// ([`super::frontier`]) instead of walking around every run: a lattice, where the
+    /// walk visits the cells above and below every block of a run.
+    const FRONTIER: bool;
 
     /// Number of real blocks.
     fn n(&self) -> usize;
@@ -80,6 +84,11 @@ pub trait Geometry: Clone + Send + Sync + std::fmt::Debug + 'static {
     /// blocks of the run). (An iterator, not a callback: the engine's loops over it
     /// inline, which a closure called per cell did not: 25 % of a loading run.)
     fn around_run(&self, a: usize, b: usize) -> Self::Around;
+    /// The real blocks p next to a cell q standing for stuck block r (q = r itself, or a
+    /// periodic ghost of r), each with the side of p that q is on: 0 left (q = p - 1),
+    /// 1 right (q = p + 1), 2 below (the previous row), 3 above; the first `k` of the
+    /// array returned as (array, k). ([`super::frontier::walk_order`].)
+    fn sightings(&self, r: usize) -> ([(usize, u8); 8], usize);
     /// The stencil of the run [a, b) over stage values `su` (neighbours filled in).
     fn stencil<'a>(&self, su: &'a [f64], a: usize, b: usize) -> Self::Stencil<'a>;
     /// The coupling force on real block p with displacement `up`, `value(q)` giving the

@@ -113,6 +113,20 @@ pub(crate) fn fill_neighbours<G: Geometry>(st: &State<G>, su: &mut [f64], ts: f6
             su[p] = if ts < st.ext_t1 { mid } else { end };
         }
     }
+    if G::FRONTIER {
+        // the stuck cells and ghosts next to the runs, from their lists (../frontier.rs)
+        for q in st.frontier.stuck(&st.dir) {
+            su[q] = st.stuck_u(q, ts);
+        }
+        for (q, b) in st.frontier.ghosts() {
+            su[q] = match b {
+                Beyond::Block(r) if st.sliding(r) => su[r],
+                Beyond::Block(r) => st.stuck_u(r, ts),
+                Beyond::Wall(g0) => g0 + st.v * ts,
+            };
+        }
+        return;
+    }
     for &(a, b) in &st.runs {
         for (q, p, ghost) in st.geo.around_run(a, b) {
             if ghost {
