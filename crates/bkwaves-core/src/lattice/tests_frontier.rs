@@ -137,8 +137,7 @@ fn the_lists_next_to_the_runs_give_the_walks_bits() {
             (by.left(), by.right()),
         );
         let fr = Coulomb::new(0.3, if k == 1 { 1.5 } else { f64::INFINITY }).unwrap();
-        let mut a =
-            crate::chain::Engine::build(grid, cfg, fr.clone(), Uniform, "", &u0, None).unwrap();
+        let mut a = crate::chain::Engine::build(grid, cfg, fr, Uniform, "", &u0, None).unwrap();
         let mut b =
             crate::chain::Engine::build(Walked(grid), cfg, fr, Uniform, "", &u0, None).unwrap();
         let kick = Trigger {
