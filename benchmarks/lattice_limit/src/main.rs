@@ -16,7 +16,11 @@
 //!
 //! All times are CPU times of the work (the machine is shared).
 //!
+//! 4. `--kernel M` (alone): the engine's RK4 step by itself (no event search, no redo)
+//!    over an M x M square of sliding blocks, against the reference over M x M.
+//!
 //! cargo run --release -- [--repeat R] [--size L] [--memory N1,N2,..] [--full N,dx,gamma]
+//!     [--kernel M]
 
 use bkwaves_core::boundary::Free;
 use bkwaves_core::chain::medium::Uniform;
