@@ -405,28 +405,9 @@ class FreeBoundary2DModel(Model):
 
     def convert_ruptures(self, units, rup):
         """The ruptures table in the output units (moment: slip times an area)."""
-        from ..runner import _SCALES
+        from ._planar import convert_ruptures
 
-        rows, ru, rs = units.convert_table(
-            rup,
-            times=("t_start", "t_end", "duration"),
-            xs=("x_start", "y_start", "perimeter"),
-            moments=("moment",),
-        )
-        if units.si:
-            rows["moment"] = units.x(rows["moment"].to_numpy())
-            rows["area"] = units.x(units.x(rows["area"].to_numpy()))
-            rows["mean_slip"] = units.slip(rows["mean_slip"].to_numpy())
-            ru.update(moment="m3", area="m2", mean_slip="m")
-        else:
-            ru.update(area="1", mean_slip="1")
-            rs["area"] = f"(x')^2, {_SCALES['x']}"
-            rs["moment"] = f"int (u_+ - u_-) dA: {_SCALES['slip']} times (x')^2"
-        if len(rows):
-            from ..stats import moment_magnitude
-
-            rows["magnitude"] = moment_magnitude(rows["moment"].to_numpy(dtype=float))
-        return rows, ru, rs
+        return convert_ruptures(units, rup, "(x')^2", "int (u_+ - u_-) dA")
 
     def arrivals_table(self, cfg, eng, rup):
         """The arrival time of every node in every complete rupture (rupture, i, j, x, y,

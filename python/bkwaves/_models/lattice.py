@@ -435,27 +435,12 @@ class LatticeModel(ChainModel):
         """The ruptures table in the output units (area, moment, perimeter as the planar
         free boundary model's: SI m^2, m^3, m)."""
         from .._lattice_ruptures import DESCRIPTIONS
-        from ..runner import _SCALES, _described
-        from ..stats import moment_magnitude
+        from ..runner import _described
+        from ._planar import convert_ruptures
 
         if writer is None or rup is None:
             return
-        rows, ru, rs = units.convert_table(
-            rup,
-            times=("t_start", "t_end", "duration"),
-            xs=("x_start", "y_start", "perimeter"),
-            moments=("moment",),
-        )
-        if units.si:  # int slip dA: slip (m) times an area (m^2)
-            rows["moment"] = units.x(rows["moment"].to_numpy())
-            rows["area"] = units.x(units.x(rows["area"].to_numpy()))
-            rows["mean_slip"] = units.slip(rows["mean_slip"].to_numpy())
-            ru.update(moment="m3", area="m2", mean_slip="m")
-        else:
-            ru.update(area="1", mean_slip="1")
-            rs["area"] = f"(x')^2: blocks slipped x dx dy, {_SCALES['x']}"
-            rs["moment"] = f"int slip dA: {_SCALES['slip']} times (x')^2"
-        rows["magnitude"] = moment_magnitude(rows["moment"].to_numpy(dtype=float))
+        rows, ru, rs = convert_ruptures(units, rup, "(x')^2: blocks slipped x dx dy", "int slip dA")
         described = {**_described(rows), **DESCRIPTIONS}
         writer.append_rows("ruptures", rows, ru, scales=rs, descriptions=described)
 
