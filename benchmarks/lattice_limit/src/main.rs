@@ -21,6 +21,7 @@
 //!
 //! cargo run --release -- [--repeat R] [--size L] [--memory N1,N2,..] [--full N,dx,gamma]
 //!     [--kernel M]
+//!     [--events local|global]
 
 use bkwaves_core::boundary::Free;
 use bkwaves_core::chain::medium::Uniform;
@@ -198,12 +199,12 @@ fn reference(m: usize, work: f64) -> f64 {
     best
 }
 
-fn lattice(n: usize) -> Lattice<Coulomb> {
-    lattice_at(n, DX, GAMMA, 0)
+fn lattice(n: usize, local: bool) -> Lattice<Coulomb> {
+    lattice_at(n, DX, GAMMA, 0, local)
 }
 
 /// An n x n lattice at uniform u_+ (free edges), kicked at block `at`.
-fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize) -> Lattice<Coulomb> {
+fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize, local: bool) -> Lattice<Coulomb> {
     let spec = LatticeSpec {
         nx: n,
         ny: n,
@@ -219,6 +220,7 @@ fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize) -> Lattice<Coulomb> {
     let fr = Coulomb::new(gamma, f64::INFINITY).unwrap();
     let u0 = vec![U_PLUS; n * n];
     let mut la = Lattice::lattice(cfg, spec, fr, Uniform, &u0, None).unwrap();
+    la.set_local_events(local);
     la.add_trigger(Trigger {
         t: 0.0,
         block: at,
@@ -229,8 +231,8 @@ fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize) -> Lattice<Coulomb> {
 }
 
 /// The engine's rupture: (block-steps per CPU second, mean sliding blocks, block-steps).
-fn engine(size: usize) -> (f64, f64, u64, u64, u64) {
-    let mut la = lattice(size);
+fn engine(size: usize, local: bool) -> (f64, f64, u64, u64, u64) {
+    let mut la = lattice(size, local);
     // the front crosses 90 % of the quadrant: c ~ 1/sqrt(1 - u_+^2) = 1.25 (in x per time)
     let t_end = 0.9 * size as f64 * DX / 1.25;
     let t = cpu_seconds();
@@ -314,6 +316,8 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let (mut repeat, mut size, mut memory) = (3usize, 512usize, vec![1024usize, 2048]);
     let mut full: Option<(usize, f64, f64)> = None;
+    // the engine's events: local (the lattice's default) or the global cut
+    let mut local = true;
     let mut k = 1;
     while k < args.len() {
         match args[k].as_str() {
@@ -351,16 +355,26 @@ fn main() {
                     v[2].parse().expect(bad),
                 ));
             }
+            "--events" => {
+                local = match args[k + 1].as_str() {
+                    "local" => true,
+                    "global" => false,
+                    e => panic!("--events {e}: local or global"),
+                }
+            }
             a => panic!(
-                "unknown argument {a} (--repeat R, --size L, --memory N1,N2, --full N,dx,gamma)"
+                "unknown argument {a} (--repeat R, --size L, --memory N1,N2, --full N,dx,gamma, \
+                 --events local|global)"
             ),
         }
         k += 2;
     }
-    println!("lattice rupture: quadrant {size} x {size}, u+ = {U_PLUS}, gamma = {GAMMA}, dx = dy = {DX}, step {STEP}");
+    println!("lattice rupture: quadrant {size} x {size}, u+ = {U_PLUS}, gamma = {GAMMA}, dx = dy = {DX}, step {STEP}, events {}",
+        if local { "local" } else { "global" }
+    );
     let mut ratios = Vec::new();
     for round in 0..repeat {
-        let (eng, mean, work, steps, switches) = engine(size);
+        let (eng, mean, work, steps, switches) = engine(size, local);
         let m = (mean.sqrt().round() as usize).max(2);
         let refr = reference(m, work as f64);
         let ratio = eng / refr;
@@ -381,7 +395,7 @@ fn main() {
     );
     for n in memory {
         let (data0, rss0) = (status_bytes("VmData:"), status_bytes("VmRSS:"));
-        let la = lattice(n);
+        let la = lattice(n, local);
         let (data1, rss1) = (status_bytes("VmData:"), status_bytes("VmRSS:"));
         let blocks = (n * n) as f64;
         println!(
@@ -395,7 +409,7 @@ fn main() {
     if let Some((n, dx, gamma)) = full {
         // a rupture from the centre across the whole lattice: the front (speed about
         // c = 1/sqrt(1 - u_+^2) = 1.25) stopped at 95 % of the way to the edges
-        let mut la = lattice_at(n, dx, gamma, n / 2 + n * (n / 2));
+        let mut la = lattice_at(n, dx, gamma, n / 2 + n * (n / 2), local);
         let t_end = 0.95 * 0.5 * n as f64 * dx / 1.25;
         let t = cpu_seconds();
         la.run(t_end, usize::MAX, u64::MAX).unwrap();
@@ -412,7 +426,7 @@ fn main() {
             "full: {n} x {n} lattice, dx = {dx}, gamma = {gamma}, u+ = {U_PLUS}, to t = {t_end:.2}: \
              {s:.1} s CPU, {} steps, {} block-steps ({:.3e}/s, mean sliding {:.0}), \
              {} switches, {} slips, {slipped} blocks slipped ({:.1} %), peak resident {:.1} \
-             bytes per block (VmHWM {:.0} MB)",
+             bytes per block (VmHWM {:.0} MB); events {}: {:?}",
             c.steps,
             c.block_steps,
             c.block_steps as f64 / s,
@@ -422,6 +436,8 @@ fn main() {
             100.0 * slipped as f64 / (n * n) as f64,
             status_bytes("VmHWM:") / (n * n) as f64,
             status_bytes("VmHWM:") / 1e6,
+            if local { "local" } else { "global" },
+            la.local_stats(),
         );
     }
 }

@@ -219,6 +219,10 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             w.s("step_tolerance");
             w.f(c.tol);
         }
+        // local events, when chosen (a chain's bytes are unchanged)
+        if self.local_events() {
+            w.s("local_events");
+        }
         w.u(self.sources.len() as u64);
         for s in &self.sources {
             s.fingerprint(w);

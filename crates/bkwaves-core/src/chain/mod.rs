@@ -29,6 +29,7 @@ pub mod front;
 pub mod frontier;
 pub mod geometry;
 pub mod integrator;
+mod local_events;
 pub mod medium;
 mod onset;
 pub mod sources;
@@ -44,6 +45,7 @@ use energy::Ledger;
 use events::{Hermite, SlipQueue};
 use geometry::{Beyond, Geometry, Line};
 use integrator::{Method, Simd, Stepper};
+pub use local_events::LocalStats;
 use medium::{Blocks, Medium, Uniform};
 use sources::{Cause, Source, View};
 use state::State;
@@ -221,6 +223,8 @@ pub struct Engine<G: Geometry, F: Friction, M: Medium = Uniform> {
     /// The patch of blocks in their stiff onset and its integration (not part of the
     /// state: rebuilt every step).
     onset: onset::Onset,
+    /// Local events (local_events.rs: whether chosen, and the work of one step).
+    local: local_events::Local,
     a_start: Vec<f64>,
     a_end: Vec<f64>,
     a_valid: bool,
@@ -442,6 +446,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             sub_steps: stiff_ok,
             h_law,
             onset: onset::Onset::default(),
+            local: local_events::Local::default(),
             a_start: vec![0.0; len],
             a_end: vec![0.0; len],
             a_valid: false,
@@ -1143,7 +1148,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             let mut u = Vec::with_capacity(n);
             let mut w = Vec::with_capacity(n);
             for p in self.st.geo.blocks() {
-                if let Some((ou, ow)) = self.onset_dense(p, ts) {
+                if let Some((ou, ow)) = self.onset_dense(p, ts).or_else(|| self.local_dense(p, ts))
+                {
                     // a block in its onset: its own dense output
                     u.push(ou);
                     w.push(ow);
@@ -1446,6 +1452,10 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             self.rk.accel_only(&mut self.st, &self.blk, t0, &mut a);
             self.a_start = a;
             self.a_valid = true;
+        }
+        if self.local_active() && self.local_step(t0, h, t_cap)? {
+            // local events (local_events.rs); false: this step takes the global cut
+            return Ok(());
         }
         if self.stiff {
             // blocks in their stiff onset at the start: their own sub-steps (onset.rs)

@@ -80,3 +80,5 @@ mod tests;
 mod tests_bonds;
 #[cfg(test)]
 mod tests_frontier;
+#[cfg(test)]
+mod tests_local;
