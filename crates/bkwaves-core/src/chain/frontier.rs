@@ -98,6 +98,20 @@ impl Frontier {
         self.compact(dir);
     }
 
+    /// Real block p is stuck again after being marked sliding outside the runs (a member
+    /// of a local-event component, ../local_events.rs): list it again if it has a
+    /// neighbour in a run and a compaction dropped it meanwhile.
+    pub fn relist(&mut self, dir: &[f64], p: usize) {
+        if self.mark.is_empty() {
+            return;
+        }
+        let m = self.mark[p];
+        if m & COUNT != 0 && m & LISTED == 0 && dir[p] == 0.0 {
+            self.stuck.push(p);
+            self.mark[p] |= LISTED;
+        }
+    }
+
     /// Drop the dead entries once they may outnumber the live ones.
     fn compact(&mut self, dir: &[f64]) {
         if self.dead <= (self.stuck.len() + self.ghosts.len()) / 2 + 64 {

@@ -1132,6 +1132,15 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             }
             self.local.out[i] = false;
         }
+        self.relist_stuck_members();
+    }
+
+    /// The members stuck now back in the frontier's lists (a compaction while they were
+    /// marked sliding may have dropped them; ../frontier.rs).
+    fn relist_stuck_members(&mut self) {
+        for &p in &self.local.members {
+            self.st.frontier.relist(&self.st.dir, p);
+        }
     }
 
     /// One step of length h from t0 (capped at t_cap) with local events (module docs).
@@ -1309,6 +1318,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             recs.extend_from_slice(&c.recs);
         }
         self.local.comps = comps;
+        self.relist_stuck_members();
         recs.sort_by(|a, b| a.t.total_cmp(&b.t));
         for r in &recs {
             let k = self.st.geo.index(r.p);
