@@ -327,6 +327,50 @@ def test_lattice_runs_write_ruptures_and_stats_reads_them(tmp_path):
     assert {"y_start", "area", "perimeter"} <= set(rep["largest"])
 
 
+def test_lattice_arrivals_are_per_rupture_and_plot_draws_the_largest(tmp_path):
+    """Two ruptures in one event: the arrivals table holds the first slip of each block in
+    each rupture (its rows per rupture are the ruptures table's n_blocks), and
+    bkwaves plot's arrival map is the largest rupture's (its blocks only), not the
+    event's."""
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    from bkwaves import _plot_plane
+
+    doc = {
+        "model": "lattice",
+        "params": {"gamma": 0.45, "v": 0.0, "dx": 0.1},
+        "domain": {"shape": [24, 18]},
+        "initial": {"kind": "uniform", "value": 0.7},
+        "triggers": [
+            {"time": 0.0, "block": [3, 3], "kind": "kick", "velocity": 2.0},
+            {"time": 0.6, "block": [20, 14], "kind": "kick", "velocity": 2.0},
+        ],
+        "run": {"t_end": 6.0},
+        "output": {"arrivals": True},
+    }
+    out = tmp_path / "la.nc"
+    res = bk.run(doc, out)
+    ev, ru, arr = res.tables["events"], res.tables["ruptures"], res.tables["arrivals"]
+    assert len(ev) == 1 and len(ru) == 2 and ru["id"].tolist() == [0, 1]
+    counts = arr.groupby("rupture").size()
+    np.testing.assert_array_equal(counts.loc[ru["id"]].to_numpy(), ru["n_blocks"].to_numpy())
+    assert not arr.duplicated(["rupture", "i", "j"]).any()
+    assert len(arr.groupby(["i", "j"])) == 24 * 18  # every block, each in its ruptures
+    # the first rupture started 0.6 earlier and is the larger: the map draws its blocks
+    big = int(ru.loc[ru["moment"].idxmax(), "id"])
+    assert big == 0
+    ds, tables = bk.io.load_tables(out)
+    ax = _plot_plane.arrival_map(ds, tables, "t")
+    assert ax.get_title().endswith(f"(rupture {big})")
+    mine = tables["arrivals"][tables["arrivals"]["rupture"] == big]
+    grid = _plot_plane._grid_of(ds, mine, "t")
+    assert np.isfinite(grid).sum() == ru.loc[big, "n_blocks"] < 24 * 18
+    # without the arrivals table the map falls back to the largest event
+    del tables["arrivals"]
+    ax = _plot_plane.arrival_map(ds, tables, "t")
+    assert ax.get_title().endswith("(event 0)")
+
+
 # --- an event's duration, the initial file --------------------------------------------------
 def test_the_default_duration_bound_stops_creep_and_spares_ruptures():
     """gamma >= 1: sliding blocks never re-stick, the event never ends; the default bound

@@ -37,6 +37,7 @@ import numpy as np
 
 #: The columns of the lattice's ruptures table, in order.
 COLUMNS = (
+    "id",
     "t_start",
     "t_end",
     "duration",
@@ -59,6 +60,8 @@ COLUMNS = (
 
 #: Definitions of the columns the shared catalog definitions do not have.
 DESCRIPTIONS = {
+    "id": "the rupture's number: 0, 1, ... in the order the ruptures start (the arrivals "
+    "table's rupture column)",
     "x_start": "where the rupture started: x = i dx of its first block",
     "y_start": "where the rupture started: y = j dy of its first block",
     "i_start": "column of the block that slipped first",
@@ -173,6 +176,32 @@ def perimeter(rid, blk, m: int, nx: int, ny: int, dx: float, dy: float, periodic
     return out
 
 
+def _sorted_ids(slips, nx: int, ny: int, boundary):
+    """The slips in (event, start, block) order with the rupture of each: (order, rid,
+    starts), ``order`` indexing ``slips``' rows, ``rid`` and ``starts`` as
+    ``rupture_ids``'."""
+    periodic = tuple(b == "periodic" for b in boundary)
+    order = np.lexsort((slips.block.to_numpy(), slips.t_start.to_numpy(), slips.event.to_numpy()))
+    s = slips.iloc[order]
+    blk = s.block.to_numpy().astype(np.int64)
+    spont = s.kind.to_numpy() == "noise"
+    rid, starts = rupture_ids(
+        s.event.to_numpy(), blk, s.t_start.to_numpy(dtype=float), spont, nx, ny, periodic
+    )
+    return order, rid, starts
+
+
+def slip_ruptures(slips, nx: int, ny: int, boundary) -> np.ndarray:
+    """The rupture (the ruptures table's ``id``) of each of ``slips``' rows, in their
+    order (the engine's slip columns: event, block, t_start, kind)."""
+    if not len(slips):
+        return np.empty(0, dtype=np.int64)
+    order, rid, _ = _sorted_ids(slips, nx, ny, boundary)
+    out = np.empty(len(slips), dtype=np.int64)
+    out[order] = rid
+    return out
+
+
 def lattice_ruptures(slips, nx: int, ny: int, dx: float, dy: float, boundary):
     """The ruptures table (``COLUMNS``, dimensionless) of a lattice of nx x ny blocks
     spaced dx, dy with ``boundary`` = (along x, along y), from its slips (the engine's
@@ -187,12 +216,10 @@ def lattice_ruptures(slips, nx: int, ny: int, dx: float, dy: float, boundary):
         for c in ("t_start", "t_end", "duration", "x_start", "y_start", "u_start"):
             out[c] = out[c].astype(float)
         return out
-    order = np.lexsort((slips.block.to_numpy(), slips.t_start.to_numpy(), slips.event.to_numpy()))
+    order, rid, starts = _sorted_ids(slips, nx, ny, boundary)
     s = slips.iloc[order]
     blk = s.block.to_numpy().astype(np.int64)
-    t0 = s.t_start.to_numpy(dtype=float)
     spont = s.kind.to_numpy() == "noise"
-    rid, starts = rupture_ids(s.event.to_numpy(), blk, t0, spont, nx, ny, periodic)
     m = starts.size
     first = s.iloc[starts]
     # a slip still running (a run stopped mid-event) has no slip yet: the finished count
@@ -207,6 +234,7 @@ def lattice_ruptures(slips, nx: int, ny: int, dx: float, dy: float, boundary):
     area = count * dx * dy
     out = pd.DataFrame(
         {
+            "id": np.arange(m, dtype=np.int64),
             "t_start": first.t_start.to_numpy(dtype=float),
             "t_end": t_end,
             "duration": t_end - first.t_start.to_numpy(dtype=float),

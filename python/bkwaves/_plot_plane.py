@@ -2,11 +2,12 @@
 map, the arrival-time contours of the largest rupture, the catalog on a map and the
 stress at the last snapshot (the frequency-magnitude plot is ``bkwaves.plot``'s).
 
-The tables they read: a lattice's slips (i, j, slip), events (hypocentre_x/y: its
-arrival map is of the largest event) and ruptures (x_start, y_start, area: its catalog
-map), its arrivals (event, x, y, t) when written; a planar free boundary run's ruptures
-(x_start, y_start, area) and arrivals (rupture, x, y, t), and its snapshots (the slip of
-a rupture is u_+ - u_-: the stress dropped under the loading, u(0) + v t - u(t)).
+The tables they read: a lattice's slips (i, j, slip), ruptures (id, x_start, y_start,
+area: its catalog map and its arrival map) and arrivals (rupture, x, y, t) when written
+(without them: the largest event's arrivals, from the slips and events); a planar free
+boundary run's ruptures (id, x_start, y_start, area) and arrivals (rupture, x, y, t),
+and its snapshots (the slip of a rupture is u_+ - u_-: the stress dropped under the
+loading, u(0) + v t - u(t)).
 """
 
 from __future__ import annotations
@@ -103,17 +104,20 @@ def _largest(cat):
 
 
 def arrival_map(ds, tables, title: str):
-    """Arrival (first slip) times of the largest event or rupture: filled contours, the
-    contour lines labelled, its hypocentre marked (a lattice's: its largest event; its
-    arrivals and slips are recorded per event, not per rupture)."""
+    """Arrival (first slip) times of the largest rupture: filled contours, the contour
+    lines labelled, its hypocentre marked. From the arrivals table when it has a rupture
+    column (the free boundary model's; a lattice's written with ``arrivals = true``);
+    else the largest event's, from the arrivals or the slips per event (a lattice run
+    without its arrivals table, or one written before they were per rupture)."""
     ru = tables.get("ruptures")
-    what = "ruptures" if ru is not None and "id" in ru else "events"
+    arr = tables.get("arrivals")
+    per_rupture = ru is not None and "id" in ru and arr is not None and "rupture" in arr
+    what = "ruptures" if per_rupture else "events"
     cat = tables.get(what)
     row = _largest(cat)
     if row is None:
         return None
     key = "id" if what == "ruptures" else "event"
-    arr = tables.get("arrivals")
     if arr is not None and len(arr):
         col = "rupture" if "rupture" in arr else "event"
         one = arr[arr[col] == row[key]]

@@ -19,7 +19,8 @@ Its entry in the model registry (``bkwaves._models``): the chain's engine on a g
   disc ``disc = [[i, j], radius]`` (``bk.Lattice.blocks``); [noise] per block as the
   chain's; [run] as the chain's;
 - [output] ``arrivals = true``: the arrivals table, the first slip time of every block
-  in every event (event, i, j, x, y, t).
+  in every rupture (event, rupture, i, j, x, y, t; ``rupture`` is the ruptures table's
+  ``id``).
 
 Outputs: snapshots u, u_t, sliding with dims (t, y, x); the events table with each
 event's hypocentre (i, j, x, y), area and moment (int slip dA); the slips table with
@@ -445,28 +446,33 @@ class LatticeModel(ChainModel):
         writer.append_rows("ruptures", rows, ru, scales=rs, descriptions=described)
 
     def arrivals_table(self, cfg, eng):
-        """The first slip time of every block in every event (event, i, j, x, y, t),
-        dimensionless, from the engine's whole record of slips."""
+        """The first slip time of every block in every rupture (event, rupture, i, j, x, y,
+        t; ``rupture`` is the ruptures table's ``id``), dimensionless, from the engine's
+        whole record of slips."""
         import pandas as pd
 
+        from .._lattice_ruptures import slip_ruptures
         from ..runner import _frame
 
+        cols = ("event", "rupture", "i", "j", "x", "y", "t")
         sl = _frame(eng.slips())
         if not len(sl):
-            return pd.DataFrame({k: [] for k in ("event", "i", "j", "x", "y", "t")})
-        first = sl.groupby(["event", "block"], as_index=False)["t_start"].min()
+            return pd.DataFrame({k: [] for k in cols})
+        sl = sl.assign(rupture=slip_ruptures(sl, *cfg.shape, cfg.boundary))
+        first = sl.groupby(["event", "rupture", "block"], as_index=False)["t_start"].min()
         nx = cfg.shape[0]
         i, j = first["block"] % nx, first["block"] // nx
         return pd.DataFrame(
             {
                 "event": first["event"],
+                "rupture": first["rupture"],
                 "i": i,
                 "j": j,
                 "x": i * cfg.params.dx,
                 "y": j * self._dy(cfg),
                 "t": first["t_start"],
             }
-        )
+        )[list(cols)]
 
     # --- cost --------------------------------------------------------------------------
     def work(self, cfg):
