@@ -1,5 +1,7 @@
 """bk.Lattice: the plane (docs/lattice.md), against the chain it reduces to."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -90,7 +92,8 @@ def test_a_diagonal_front_has_the_speed_of_the_chain_at_dx_over_sqrt2():
     # blocks at spacing dx/sqrt(2) kicked at block 0, stepped with the same time step:
     # the same window of the normal coordinate gives the same c (docs/lattice.md)
     nn, dx = 32, 0.2
-    diag = bk.lattice.front(0.6, 0.45, dx, angle=45, blocks=nn)
+    # tolerance inf: measured at nn (and checked at 2 nn) only, not doubled further
+    diag = bk.lattice.front(0.6, 0.45, dx, angle=45, blocks=nn, tolerance=math.inf)
     h = dx / np.sqrt(2)
     ring = bk.Chain(
         nn,

@@ -27,6 +27,7 @@ from . import _validate as V
 from .chain import DEFAULT_STEP, INTEGRATORS, UNITS, Chain, ChainResult
 
 __all__ = [
+    "FRONT_TOLERANCE",
     "Lattice",
     "LatticeResult",
     "PlanarFront",
@@ -35,6 +36,11 @@ __all__ = [
     "front",
     "rupture",
 ]
+
+
+#: The largest change of a planar front's c (units of the sound speed) when the lattice is
+#: doubled that ``front`` accepts as converged (the chain's ``FRONT_TOLERANCE`` for c).
+FRONT_TOLERANCE = 1e-6
 
 
 def default_max_event_duration(shape, dx: float, dy: float | None = None) -> float:
@@ -751,6 +757,8 @@ class PlanarFront:
     times of a window of the normal coordinate; c_check: the same from a lattice twice as
     long (the measurement's convergence: |c - c_check|); spacing: the spacing of the
     chain the front reduces to exactly (dx along an axis, dx/sqrt(2) along the diagonal).
+    status: "converged" when |c - c_check| <= tolerance, else "undecided" (``reason``
+    says why); lengths: the lattice lengths measured, each twice the last.
 
     Parameters
     ----------
@@ -771,13 +779,21 @@ class PlanarFront:
         The spacing of the equivalent chain (dimensionless).
     window : tuple of float
         The window, as fractions of the blocks crossed.
+    tolerance : float
+        The largest |c - c_check| accepted (units of the sound speed).
+    status : {"converged", "undecided"}
+        Whether the last doubling moved c by at most ``tolerance``.
+    reason : str
+        What the last doubling did, in words.
+    lengths : tuple of int
+        The lengths (blocks along the normal) measured.
 
     Examples
     --------
     >>> import bkwaves as bk
     >>> f = bk.lattice.front(0.6, 0.3, 0.2, blocks=32)
-    >>> f.spacing, bool(f.convergence < 1e-3)
-    (0.2, True)
+    >>> f.spacing, f.status, bool(f.convergence <= f.tolerance)
+    (0.2, 'converged', True)
     """
 
     u_plus: float
@@ -789,6 +805,10 @@ class PlanarFront:
     c_check: float
     spacing: float
     window: tuple[float, float]
+    tolerance: float = math.inf
+    status: str = "converged"
+    reason: str = ""
+    lengths: tuple = ()
 
     @property
     def convergence(self) -> float:
@@ -843,6 +863,8 @@ def front(
     step: float = DEFAULT_STEP,
     beta: float = math.inf,
     window: tuple[float, float] = (0.5, 0.75),
+    tolerance: float = FRONT_TOLERANCE,
+    max_blocks: int | None = None,
 ) -> PlanarFront:
     """A planar front on the lattice (dx = dy) at uniform u_+, v = 0, and its normal speed.
 
@@ -851,7 +873,11 @@ def front(
     anti-diagonal (the normal coordinate n = i + j; the window is a fraction of the
     blocks/2 rows of n a front crosses before it meets the other one). Both reduce
     exactly to a chain (at dx, at dx/sqrt(2): docs/lattice.md), whose c they must give.
-    The measurement is repeated on a lattice twice as long (``c_check``).
+    The measurement is repeated on a lattice twice as long (``c_check``), and the
+    lattice doubled again until that moves c by at most ``tolerance`` (status
+    "converged") or the length reaches ``max_blocks`` (status "undecided", with the
+    reason). The trigger's transient decays over a number of blocks that grows as c -> 1
+    (docs/validation.md): at u_+ = 0.3, gamma = 0, dx = 0.1, 128 blocks move by 3e-5.
 
     Parameters
     ----------
@@ -871,11 +897,18 @@ def front(
         f_s/(f_r - f_s) (dimensionless).
     window : tuple of float, default (0.5, 0.75)
         The measuring window, as fractions of the blocks crossed.
+    tolerance : float, default FRONT_TOLERANCE = 1e-6
+        The largest change of c (units of the sound speed) when the lattice is doubled,
+        > 0 (``math.inf``: measure at ``blocks`` and its double only).
+    max_blocks : int, optional
+        The longest lattice measured before the double that checks it, >= blocks
+        (default 2048 along x, 256 along the diagonal, whose torus has blocks^2 blocks).
 
     Returns
     -------
     PlanarFront
-        c and c_check (units of the sound speed) and the equivalent chain's spacing.
+        c and c_check (units of the sound speed), the equivalent chain's spacing, the
+        status ("converged" or "undecided") and its reason.
 
     Examples
     --------
@@ -887,7 +920,7 @@ def front(
     >>> f = bk.lattice.front(0.6, 0.3, 0.2, blocks=32)
     >>> round(float(f.c_check), 5), round(float(bk.front_speed(0.6, dx=0.2, gamma=0.3)), 5)
     (1.21525, 1.21525)
-    >>> d = bk.lattice.front(0.6, 0.3, 0.2, angle=45, blocks=32)
+    >>> d = bk.lattice.front(0.6, 0.3, 0.2, angle=45, blocks=64, tolerance=1e-3)
     >>> chain = float(bk.front_speed(0.6, dx=0.2 / math.sqrt(2), gamma=0.3))
     >>> round(float(d.c_check), 3), round(chain, 3)
     (1.226, 1.226)
@@ -898,9 +931,32 @@ def front(
     if angle not in (0, 45):
         V._fail("angle", angle, "0 (along x) or 45 (along the diagonal)")
     blocks = V.integer("blocks", blocks, lo=16, hi=4096)
+    if not (isinstance(tolerance, float) and tolerance == math.inf):
+        tolerance = V.number("tolerance", tolerance, lo=0.0, lo_open=True)
+    top = max(blocks, 2048 if angle == 0 else 256) if max_blocks is None else max_blocks
+    top = V.integer("max_blocks", top, lo=blocks, hi=4096)
     c, spacing = _planar_c(u_plus, gamma, dx, angle, blocks, step, beta, window)
     c2, _ = _planar_c(u_plus, gamma, dx, angle, 2 * blocks, step, beta, window)
-    return PlanarFront(u_plus, gamma, dx, angle, blocks, c, c2, spacing, tuple(window))
+    lengths = [blocks, 2 * blocks]
+    while not abs(c - c2) <= tolerance and 2 * blocks <= top:
+        blocks *= 2
+        c = c2
+        c2, _ = _planar_c(u_plus, gamma, dx, angle, 2 * blocks, step, beta, window)
+        lengths.append(2 * blocks)
+    moved = abs(c - c2)
+    if moved <= tolerance:
+        status = "converged"
+        reason = f"doubling the lattice from {blocks} to {2 * blocks} blocks moved c by {moved:.1e}"
+    else:
+        status = "undecided"
+        reason = (
+            f"doubling the lattice from {blocks} to {2 * blocks} blocks moved c by {moved:.1e}, "
+            f"more than the tolerance {tolerance:.1e}, and max_blocks = {top} stops the doubling"
+        )
+    return PlanarFront(
+        u_plus, gamma, dx, angle, blocks, c, c2, spacing, tuple(window),
+        tolerance, status, reason, tuple(lengths),
+    )  # fmt: skip
 
 
 @dataclass
@@ -918,8 +974,9 @@ class Rupture:
     diagonal when dx = dy: the exact reductions of docs/lattice.md). eikonal: for each
     direction D = (c_planar - c(R)) R with c0 fixed at the planar speed, averaged over
     the lower and the upper half of ``fit_range`` (equal halves: c = c0 - D/R holds).
-    check: the fits and eikonal D of the same rupture on a quadrant twice as large, over
-    the same fractions of it (the measurement's convergence).
+    check: the fits, eikonal D and ``curvature_limit`` of the same rupture on a quadrant
+    twice as large, over the same fractions of it (the measurement's convergence;
+    ``convergence`` gives the changes).
 
     Parameters
     ----------
@@ -1067,6 +1124,64 @@ class Rupture:
         with np.errstate(divide="ignore", invalid="ignore"):
             d = (self.planar[direction] - c) / kappa
         return {"r": r, "c": c, "kappa": kappa, "D": d}
+
+    def curvature_limit(self, direction: str = "x") -> tuple[float, float]:
+        """The kappa -> 0 limit of the local eikonal coefficient: a line D + E kappa
+        through the outer third of ``curvature(direction)``'s local D (the flattest
+        points), as in docs/lattice.md "Derived: the curvature coefficient".
+
+        Parameters
+        ----------
+        direction : {"x", "y", "diagonal"}
+            Where the front is measured ("diagonal" needs dx = dy).
+
+        Returns
+        -------
+        tuple of float
+            (D, E): D a length (compare ``bk.theory.curvature_coefficient``), E a length
+            squared (the local D's growth with kappa). Doubling the quadrant moves D by
+            less than 2 % from 32 to 64 blocks and 0.5 % from 64 to 128 (``check``;
+            docs/validation.md).
+
+        Examples
+        --------
+        >>> import bkwaves as bk
+        >>> r = bk.lattice.rupture(0.6, 0.45, 0.2, size=32, check=False)
+        >>> d, e = r.curvature_limit("x")
+        >>> bool(abs(d / bk.theory.curvature_coefficient(0.6, 0.45, 0.2) - 1) < 0.02)
+        True
+        """
+        m = self.curvature(direction)
+        n = m["kappa"].size
+        if n < 6:
+            return (math.nan, math.nan)
+        e, d0 = np.polyfit(m["kappa"][2 * n // 3 :], m["D"][2 * n // 3 :], 1)
+        return (float(d0), float(e))
+
+    @property
+    def convergence(self) -> dict | None:
+        """The change of each measured number when the quadrant is doubled (``check``),
+        per direction: ``c0`` (absolute, sound speeds) of the fit c0 - D/R, ``D_fit``,
+        ``D_eikonal`` (the mean of the two halves) and ``D_limit`` (``curvature_limit``)
+        relative. None without ``check``. The 1/R fits drift by about 10 % per doubling
+        (a rupture is not a circle and the local D grows with kappa): only ``D_limit``
+        is a converged measurement of D (docs/lattice.md)."""
+        if self.check is None:
+            return None
+        out = {}
+        for k in self.fits:
+            c0, d = self.fits[k]
+            c2, d2 = self.check["fits"][k]
+            e1, e2 = np.mean(self.eikonal[k]), np.mean(self.check["eikonal"][k])
+            twice = self.check.get("limit", {}).get(k)
+            lim = abs(twice[0] / self.curvature_limit(k)[0] - 1) if twice else math.nan
+            out[k] = {
+                "c0": abs(c2 - c0),
+                "D_fit": abs(d2 / d - 1),
+                "D_eikonal": abs(e2 / e1 - 1),
+                "D_limit": lim,
+            }
+        return out
 
 
 def _front_at(arrival: np.ndarray, t: float) -> float:
@@ -1217,8 +1332,15 @@ def rupture(
     out = Rupture(u_plus, gamma, dx, dy, (nx, ny), a, prof, fits, planar, rng)
     out.eikonal = _eikonals(prof, planar, rng)
     if check:
-        _, prof2, fits2, rng2 = _rupture_once(
+        a2, prof2, fits2, rng2 = _rupture_once(
             u_plus, gamma, dx, dy, 2 * nx, 2 * ny, step, beta, fit
         )
-        out.check = {"fits": fits2, "eikonal": _eikonals(prof2, planar, rng2), "range": rng2}
+        twice = Rupture(u_plus, gamma, dx, dy, (2 * nx, 2 * ny), a2, prof2, fits2, planar, rng2)
+        dirs = ("x", "y", "diagonal") if dx == dy else ("x", "y")
+        out.check = {
+            "fits": fits2,
+            "eikonal": _eikonals(prof2, planar, rng2),
+            "range": rng2,
+            "limit": {k: twice.curvature_limit(k) for k in dirs},
+        }
     return out
