@@ -193,3 +193,31 @@ def test_memory_and_output_size_are_foreseen(monkeypatch):
     assert any("101 snapshots" in m and "of output" in m for m in messages), messages
     assert not any("in memory" in m for m in messages), messages
     assert all("\n" not in m for m in messages)
+
+
+def test_velocity_weakening_onset_work_is_estimated_within_2x_in_block_steps():
+    """Below v_f/dx = 1/50 the chain keeps step dx and gives each block's onset its own
+    sub-steps (chain/onset.rs): the estimate counts them apart (``onset_substeps`` per
+    slip, the patch blocks times its sub-steps), because one costs ~13 chain block-steps.
+    Work in the engine's own counter (block-steps, a count: no timing): the estimated
+    chain plus onset block-steps within 2x of the measured ones from v_f/dx = 2e-2 down
+    to 2e-5 and for the Coulomb front (the old estimate divided the step by 3 and
+    counted every block-step alike: its wall time was 4-6x short in this range)."""
+    from bkwaves import _core
+    from bkwaves.chain import front_cost
+    from bkwaves.friction import law
+    from bkwaves.limits import LIMITS
+
+    u, gamma, dx, n = 0.5, 0.3, 0.05, 400
+    for v_f in (None, 1e-3, 1e-4, 1e-6):
+        fr = None if v_f is None else law("velocity_weakening", v_f=v_f)
+        work, _ = front_cost(u, gamma, dx, n, friction=fr)
+        name = "coulomb" if v_f is None else "velocity_weakening"
+        kw = {"gamma": gamma} if v_f is None else {"gamma": gamma, "v_f": v_f}
+        measured = _core.front_measure(u, dx, n, law=name, friction=kw)["block_steps"]
+        est = work.block_steps + work.onset_block_steps
+        assert 0.5 < est / measured < 2.0, (v_f, est, measured)
+        # the onset's share: none for Coulomb, most of the work below v_f/dx = 1/50
+        assert (work.onset_block_steps > work.block_steps) == (v_f is not None), (v_f, work)
+    per = LIMITS["chain_seconds_per_onset_block_step"]
+    assert per > 10 * LIMITS["chain_seconds_per_block_step"]

@@ -2,8 +2,10 @@
 (docs/usage.md, "Limits"; calibrated per unit of work in ``bkwaves.limits.LIMITS``).
 
 The chain engine steps only its sliding blocks (step h = step dx, or step times the
-friction law's own time scale m v_f / theta for velocity weakening, if shorter) and jumps
-over quiet stretches where every block is stuck. So its work is
+friction law's own time scale m v_f / theta for velocity weakening, if shorter and not
+below dx/50, where the onsets get sub-steps of their own instead: a number per slip,
+``bkwaves.limits.onset_substeps``) and jumps over quiet stretches where every block is
+stuck. So its work is
 
 - block-steps = S / h, S the sliding block-time (the integral over the run of the number
   of sliding blocks);
@@ -65,6 +67,7 @@ class ChainRun:
     event_duration: float = math.inf  # the runaway-event limit (run.max_event_duration)
     step_bound: bool = False  # run.step_tolerance: h is the floor, the work a bound
     open_sources: bool = False  # noise: events may start at any time
+    onset_per_slip: float = 0.0  # the onset's patch block-steps per slip (limits.onset_substeps)
 
 
 @dataclass
@@ -72,6 +75,7 @@ class Work:
     """The estimated work of a run: engine units, time horizon and notes."""
 
     block_steps: float = 0.0
+    onset_block_steps: float = 0.0  # the onsets' sub-steps times their patch blocks
     steps: float = 0.0
     slips: float = 0.0
     crossings: float = 0.0  # free boundary: shock-node crossings
@@ -165,10 +169,13 @@ def chain_work(r: ChainRun) -> Work:
     w.block_steps = s_total / r.h
     w.steps = active / r.h
     w.slips = r.n * ruptures
+    w.onset_block_steps = w.slips * r.onset_per_slip
     w.events = ruptures
     w.sliding_fraction = min(1.0, s_total / (r.n * w.horizon)) if w.horizon > 0 else 0.0
     bound = "at most " if r.step_bound else ""
     w.notes.append(f"{bound}~{w.block_steps:.2g} block-steps in ~{w.steps:.2g} steps")
+    if w.onset_block_steps:
+        w.notes.append(f"~{w.onset_block_steps:.2g} block-steps in the onsets' sub-steps")
     return w
 
 

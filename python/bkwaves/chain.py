@@ -787,7 +787,7 @@ class Chain:
         """(work, wall seconds, memory bytes) of a run from the current state over
         ``span`` (None: until ``max_events``): bkwaves._cost, docs/usage.md "Limits"."""
         from ._cost import ChainRun, chain_work
-        from .limits import LIMITS, chain_step, chain_wall, memory_bytes
+        from .limits import LIMITS, chain_step, chain_wall, memory_bytes, onset_substeps
 
         thr = np.asarray(self._engine.thresholds(), dtype=float)
         mass = self.properties.get("mass")
@@ -795,6 +795,9 @@ class Chain:
         substeps = self.integrator == "rk4" and self.step_tolerance is None
         h = chain_step(
             self.params.dx, self.step, self.params.law, float(thr.max()), m_min, substeps
+        )
+        onset = onset_substeps(
+            self.params.law, self.params.dx, self.step, float(thr.max()), m_min, substeps
         )
         # flat, block by block as the engine numbers them (a Lattice shapes them (ny, nx))
         phi, modes, u = (np.ravel(a) for a in (self.phi, self.modes, self.u))
@@ -816,6 +819,7 @@ class Chain:
             event_duration=max_duration,
             step_bound=self.step_tolerance is not None,
             open_sources=self.noise is not None,
+            onset_per_slip=onset,
         )
         work = chain_work(run)
         wall = chain_wall(work, self.n, snapshots, output=False)
@@ -1336,7 +1340,7 @@ def front_cost(u_plus, gamma, dx, blocks, step=DEFAULT_STEP, friction=None):
     (bkwaves._cost: the front's pulse slides, not the whole chain)."""
     from ._cost import ChainRun, chain_work
     from .friction import Law
-    from .limits import chain_step, chain_wall
+    from .limits import chain_step, chain_wall, onset_substeps
 
     law = Law(friction) if isinstance(friction, str) else (friction or Law())
     run = ChainRun(
@@ -1352,6 +1356,7 @@ def front_cost(u_plus, gamma, dx, blocks, step=DEFAULT_STEP, friction=None):
         t_span=None,
         max_events=1,
         event_duration=default_max_event_duration(int(blocks), dx),
+        onset_per_slip=onset_substeps(law, dx, step),
     )
     work = chain_work(run)
     return work, chain_wall(work, int(blocks), 0, output=False)

@@ -97,6 +97,11 @@ LIMITS = {
     "chain_seconds_per_block_step": 3.7e-9,
     "chain_seconds_per_step": 1.7e-7,
     "chain_seconds_per_slip": 5e-7,
+    # chain: one block of a velocity-weakening onset's patch over one of its sub-steps
+    # (scalar RK4 with neighbour look-ups, the rest test, the dense output): 13x a chain
+    # block-step on the benchmark front (docs/benchmarks.md, "Onset": 0.12 s of CPU for
+    # 1.06e6 patch block-steps, the chain's 8 ns per block-step in the same run)
+    "chain_seconds_per_onset_block_step": 5e-8,
     # the lattice: one sliding block over one step (four neighbours, sliding blocks in
     # short runs of a row): examples/lattice_rupture.toml, 3.4e7 block-steps in 1.35 s
     # of CPU (bkwaves._models.lattice's estimate)
@@ -304,14 +309,35 @@ def snapshot_count(snapshot_every, snapshot_events, t_span, events, open_ended=F
     return 2
 
 
-#: The work of a velocity-weakening chain with v_f below dx, in Coulomb steps: the chain
-#: keeps step dx and gives each block's onset its own sub-steps (crates/bkwaves-core/src/
-#: chain/onset.rs), 4-7x the Coulomb block-steps and 1.5-3x its CPU time at v_f/dx =
-#: 0.2 ... 2e-5 (docs/benchmarks.md, "Onset").
-ONSET_WORK = 3.0
-#: The sub-steps are used where the law's step is shorter than dx/ONSET_GAIN (the engine's
-#: chain::ONSET_GAIN).
+#: The onset's sub-steps (crates/bkwaves-core/src/chain/onset.rs): a velocity-weakening
+#: chain whose law's step m_min v_f/theta_max is shorter than dx/ONSET_GAIN (the engine's
+#: chain::ONSET_GAIN) keeps step dx for its runs and integrates each block's onset (the
+#: block and its sliding neighbours, the patch) with sub-steps of its own. Their work per
+#: slip, in patch block-steps (sub-steps times patch blocks, every pass counted, as the
+#: engine's block_steps counter does), is ONSET_BLOCK_STEPS step^(-1/2): measured 1600-3700
+#: at step 0.1, 2000-4300 at 0.05, 3200-6800 at 0.025 on fronts at u_+ = 0.5, 0.7,
+#: gamma = 0.3, dx = 0.025-0.1, v_f/dx = 2e-2 ... 2e-5 (docs/benchmarks.md, "Onset"; within
+#: 2x of the fit everywhere; tests/test_estimate.py counts them). It does not grow as
+#: v_f falls.
+ONSET_BLOCK_STEPS = 630.0
 ONSET_GAIN = 50.0
+
+
+def onset_substeps(
+    law, dx: float, step: float, threshold_max=1.0, mass_min=1.0, substeps: bool = True
+) -> float:
+    """The onset's patch block-steps per slip (``ONSET_BLOCK_STEPS`` step^(-1/2)) where
+    the engine gives the onsets sub-steps (RK4 at its fixed step, ``substeps``, and a
+    velocity-weakening law whose step m_min v_f/theta_max is shorter than
+    dx/ONSET_GAIN), else 0."""
+    values = dict(law.params) if law is not None else {}
+    v_f = values.get("v_f")
+    if not substeps or v_f is None or getattr(law, "name", "") != "velocity_weakening":
+        return 0.0
+    h_law = step * mass_min * v_f / max(threshold_max, 1e-300)
+    if h_law * ONSET_GAIN < step * dx:
+        return ONSET_BLOCK_STEPS / math.sqrt(step)
+    return 0.0
 
 
 def chain_step(
@@ -322,9 +348,9 @@ def chain_step(
     mass_min=1.0,
     substeps: bool = True,
 ):
-    """The chain's effective time step. RK4 at its fixed step (``substeps``) keeps step dx
-    for every law and resolves a velocity-weakening block's onset with sub-steps of its
-    own: step dx / ONSET_WORK when that applies (m_min v_f/theta_max < dx/ONSET_GAIN).
+    """The chain's time step. RK4 at its fixed step (``substeps``) keeps step dx for
+    every law and resolves a velocity-weakening block's onset with sub-steps of its own
+    when m_min v_f/theta_max < dx/ONSET_GAIN (their work: :func:`onset_substeps`).
     Otherwise, and for the midpoint rule and RK4 under step-size control, every block
     steps at step m_min v_f/theta_max if that is shorter than step dx (the engine's rule)."""
     h = step * dx
@@ -332,8 +358,8 @@ def chain_step(
     v_f = values.get("v_f")
     if v_f is not None and getattr(law, "name", "") == "velocity_weakening":
         h_law = step * mass_min * v_f / max(threshold_max, 1e-300)
-        if h_law < h:
-            h = h / ONSET_WORK if substeps and h_law * ONSET_GAIN < h else h_law
+        if h_law < h and not (substeps and h_law * ONSET_GAIN < h):
+            h = h_law
     return max(h, 1e-300)  # (v_f = 5e-324: no division by zero, an enormous estimate)
 
 
@@ -353,6 +379,7 @@ def chain_wall(work, n: int, snapshots: int | None, output: bool) -> float:
         work.block_steps * LIMITS["chain_seconds_per_block_step"]
         + work.steps * LIMITS["chain_seconds_per_step"]
         + work.slips * LIMITS["chain_seconds_per_slip"]
+        + work.onset_block_steps * LIMITS["chain_seconds_per_onset_block_step"]
         + _snapshot_wall("chain", snapshots, n, output)
     )
 
@@ -437,6 +464,7 @@ def _chain_run(cfg, t_span, max_events):
     steps = cfg.chain_integration()
     substeps = steps["integrator"] == "rk4" and steps["step_tolerance"] is None
     h = chain_step(p.dx, steps["step"], p.law, thr_max, m_min, substeps)
+    onset = onset_substeps(p.law, p.dx, steps["step"], thr_max, m_min, substeps)
     phi_max = top - thr_min + 1.0
     if cfg.blocks <= EXACT_PHI_BLOCKS:  # phi = u - Lap u/dx^2 itself (ends, curvature)
         phi_max = _chain_phi_max(cfg, 1.0 if thr is None else np.asarray(thr))
@@ -462,6 +490,7 @@ def _chain_run(cfg, t_span, max_events):
         event_duration=duration,
         step_bound=steps["step_tolerance"] is not None,
         open_sources=cfg.noise is not None,
+        onset_per_slip=onset,
     )
 
 
