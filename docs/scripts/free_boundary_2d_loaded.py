@@ -77,10 +77,11 @@ def speed_at(dx, gamma=GAMMA):
     return {"u_plus": list(u), "c": [bk.tip_solve(float(q), dx=dx, gamma=gamma)["c"] for q in u]}
 
 
-def lattice_ruptures(slips, nx, ny, dx, gap=GAP):
+def lattice_ruptures(slips, nx, ny, dx, gap=GAP, first=None):
     """Split the lattice's slip records into ruptures (module docstring): a list of dicts
-    (t_start, i, j, area, moment, blocks) in order of start, and the label of each
-    record."""
+    (t_start, i, j, area, moment, blocks) in order of start. If ``first`` (an int array
+    of nx ny) is given, it receives the rupture of each block's first slip (-1 if none):
+    the lattice's partition of the square by first arrival."""
     s = slips.sort_values(["t_start", "block"], kind="stable")
     blocks = s["block"].to_numpy()
     t0, t1 = s["t_start"].to_numpy(), s["t_end"].to_numpy()
@@ -104,6 +105,8 @@ def lattice_ruptures(slips, nx, ny, dx, gap=GAP):
             seen.append(set())
         out[best]["moment"] += sl * dx * dx
         seen[best].add(int(b))
+        if first is not None and first[b] < 0:
+            first[b] = best
         last_t[b], last_s[b], last_r[b] = max(last_t[b], tb), ta, best
     for r, bl in zip(out, seen, strict=True):
         r["blocks"] = len(bl)
@@ -138,13 +141,15 @@ def match(fb_rows, la_rows, size=L, t_match=T_MATCH, x_match=X_MATCH):
     return pairs, fb_left, la_left
 
 
-def run_lattice(dx, size=L, t_end=T_END, v=V_LOAD, gamma=GAMMA, **fkw):
+def run_lattice(dx, size=L, t_end=T_END, v=V_LOAD, gamma=GAMMA, lattice_kw=None, **fkw):
     n = int(round(size / dx))
     x = np.arange(n) * dx
     xx, yy = np.meshgrid(x, x)
     target = field(xx, yy, size=size, **fkw)
     u0 = displacement(target, dx)
-    la = bk.Lattice((n, n), bk.Params(gamma=gamma, v=v, dx=dx), u0=u0, boundary="periodic")
+    la = bk.Lattice(
+        (n, n), bk.Params(gamma=gamma, v=v, dx=dx), u0=u0, boundary="periodic", **(lattice_kw or {})
+    )
     phi = np.array(la.phi)
     assert np.abs(phi - target).max() < 1e-12, "the lattice's stress is the field"
     t0 = time.process_time()
@@ -159,28 +164,32 @@ def run_lattice(dx, size=L, t_end=T_END, v=V_LOAD, gamma=GAMMA, **fkw):
         u_now - slips["u_start"][live]
     )
     slips.loc[live, "t_end"] = res.t
-    rows = lattice_ruptures(slips, n, n, dx)
+    label = np.full(n * n, -1)
+    rows = lattice_ruptures(slips, n, n, dx, first=label)
     for r in rows:
         r["x"], r["y"] = r["i"] * dx, r["j"] * dx
     return {"n": n, "phi": phi, "u0": u0, "rows": rows, "cpu_s": cpu, "t": res.t,
-            "still_sliding": int(live.sum()), "phi_end": np.array(la.phi)}  # fmt: skip
+            "still_sliding": int(live.sum()), "phi_end": np.array(la.phi),
+            "t_first": res.first_slip_times(), "label": label.reshape(n, n)}  # fmt: skip
 
 
-def run_fb2d(dx, phi, speed, size=L, t_end=T_END, v=V_LOAD, gamma=GAMMA):
+def run_fb2d(dx, phi, speed, size=L, t_end=T_END, v=V_LOAD, gamma=GAMMA, **options):
+    """FreeBoundary2D on the lattice's nodes (h = dx) from the stress ``phi``; ``options``
+    go to the engine (``curvature=``, ``speed_diagonal=``, ``record_arrivals=``)."""
     n = phi.shape[0]
     p = bk.Params(gamma=gamma, v=v, dx=dx)
     t0 = time.process_time()
-    fb = bk.FreeBoundary2D(p, (n, n), dx, phi, "periodic", speed=speed)
+    fb = bk.FreeBoundary2D(p, (n, n), dx, phi, "periodic", speed=speed, **options)
     ru = fb.run(t_end=t_end).ruptures
     cpu = time.process_time() - t0
     u_end = fb.u()
     rows = [
-        {"t_start": float(r.t_start), "x": float(r.x_start), "y": float(r.y_start),
+        {"id": int(r.id), "t_start": float(r.t_start), "x": float(r.x_start), "y": float(r.y_start),
          "area": float(r.area), "moment": float(r.moment), "blocks": int(r.n_nodes),
          "origin": str(r.origin), "contacts": int(r.contacts), "complete": bool(r.complete)}
         for r in ru.itertuples()
     ]  # fmt: skip
-    return {"rows": rows, "cpu_s": cpu, "u_end": u_end}
+    return {"rows": rows, "cpu_s": cpu, "u_end": u_end, "engine": fb}
 
 
 def compare(la, fb, size=L):
