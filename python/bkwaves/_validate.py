@@ -278,6 +278,13 @@ CHAIN = table(
         hi_open=True,
         doc="step-size control: largest error indicator of one step (None: the fixed step)",
     ),  # fmt: skip
+    Spec(
+        "events",
+        "choice",
+        choices=("global", "local"),
+        doc="event location: global (every sliding block redone up to a switch) or local "
+        "(the switch's neighbourhood only)",
+    ),  # fmt: skip
     Spec("t_end", "real", lo=0.0, doc="end time (dimensionless)"),
     Spec("max_events", "int", lo=1, hi=MAX_COUNT, doc="events to finish"),
     Spec("snapshot_every", "int", lo=0, doc="snapshot at the end of every k-th event (0: never)"),
@@ -320,6 +327,14 @@ _RUN_STEP_TOLERANCE = dataclasses.replace(
     doc="chain, rk4 only: step-size control, the largest error indicator of one step "
     "(in units of u, also with [physical]; 1e-12 keeps the default step's accuracy; "
     'docs/chain.md, "Step-size control"); default none: the fixed step',
+)
+
+_RUN_EVENTS = dataclasses.replace(
+    CHAIN["events"],
+    doc="chain and lattice: how slips and sticks are located, global (every sliding block "
+    "redone up to a switch) or local (the switch's neighbourhood only; rk4 at a fixed step "
+    'and a law whose onset takes no sub-steps; docs/lattice.md, "Local events"); default '
+    "global",
 )
 
 from ._models import NAMES as MODEL_NAMES  # noqa: E402 - (after the tables it reuses)
@@ -404,6 +419,7 @@ CONFIG = {
         _RUN_STEP,
         _RUN_INTEGRATOR,
         _RUN_STEP_TOLERANCE,
+        _RUN_EVENTS,
     ),
     "output": table(
         Spec(

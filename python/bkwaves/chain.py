@@ -59,6 +59,9 @@ BOUNDARIES = tuple(b["name"] for b in _core.boundaries())
 #: Integrators by name (the core's registry): classical RK4 (order 4, default) and the
 #: implicit midpoint rule (order 2, energy books closed to round-off).
 INTEGRATORS = tuple(m["name"] for m in _core.integrators())
+#: How slips and sticks are located: the global cut (every sliding block redone up to a
+#: switch; the chain's default) or local events (the switch's neighbourhood only).
+EVENTS = ("global", "local")
 #: Trigger kinds by name (the core's registry).
 TRIGGERS = tuple(k["name"] for k in _core.triggers())
 #: What starts a slip (the ``kind`` of slips and catalog rows): a block at its threshold,
@@ -289,6 +292,13 @@ class Chain:
         below it; 1e-12 matches the default step's accuracy (docs/chain.md, "Step-size
         control"). It pays where the whole chain creeps (e.g. loading runs at
         gamma = 0.45).
+    events : {"global", "local"}, optional
+        How slips and sticks are located (``EVENTS``). "global" (the chain's default):
+        at each switch the step of every sliding block is redone up to it. "local": only
+        the switching block's neighbourhood is redone (the same order in the step;
+        docs/lattice.md, "Local events"); it needs the rk4 integrator at a fixed step and
+        a law whose onset takes no sub-steps, and is refused otherwise (ParameterError
+        naming ``events``).
     noise : dict, optional
         Spontaneous slips of stuck blocks, a ``[noise]`` table as a dict: ``law``
         ("constant", "exponential" with ``phi0``, "power" with ``exponent``, "table" with
@@ -341,6 +351,7 @@ class Chain:
         mass=None,
         loader=None,
         coupling=None,
+        events: str | None = None,
     ):
         spec = V.CHAIN
         n = spec["n"].check(n)
@@ -405,6 +416,7 @@ class Chain:
         self.integrator = integrator
         self._engine.set_step_control(step_tolerance)
         self.step_tolerance = step_tolerance
+        self._set_events(events)
         if self.noise is not None:
             params = {k: v for k, v in self.noise.items() if k not in ("law", "rate")}
             self._engine.set_noise(self.noise["law"], self.noise["rate"], self.seed, **params)
@@ -413,6 +425,21 @@ class Chain:
     def _geometry(self) -> dict:
         """The engine's layout beyond a line of blocks (the lattice adds its shape)."""
         return {}
+
+    #: The event location when ``events`` is not given.
+    default_events = "global"
+
+    def _set_events(self, events) -> None:
+        """Choose the event location (``events``; None: ``default_events``, or "global"
+        where local events cannot apply)."""
+        if events is None:
+            mode = self.default_events
+            if mode == "local" and self._engine.local_events_unavailable is not None:
+                mode = "global"
+        else:
+            mode = V.CHAIN["events"].check(events)
+        self._engine.set_events(mode)
+        self.events = mode
 
     def _property(self, name, value, boundary):
         """A per-block property (``coupling``: per bond) as the engine takes it."""
@@ -432,12 +459,13 @@ class Chain:
         --------
         >>> import bkwaves as bk
         >>> bk.Chain(10, bk.Params(gamma=0.3, v=0.0, dx=0.1)).integration_attrs()
-        {'step': 0.05, 'integrator': 'rk4', 'step_tolerance': 'none'}
+        {'step': 0.05, 'integrator': 'rk4', 'step_tolerance': 'none', 'events': 'global'}
         """
         return {
             "step": self.step,
             "integrator": self.integrator,
             "step_tolerance": "none" if self.step_tolerance is None else self.step_tolerance,
+            "events": self.events,
         }
 
     # --- checkpoints -----------------------------------------------------------------
@@ -453,6 +481,7 @@ class Chain:
             "step": self.step,
             "integrator": self.integrator,
             "step_tolerance": self.step_tolerance,
+            "events": self.events,
             "seed": self.seed,
             "noise": self.noise,
             "e0": self._e0,
@@ -475,6 +504,8 @@ class Chain:
             step=meta["step"],
             integrator=meta["integrator"],
             step_tolerance=meta.get("step_tolerance"),
+            # (checkpoints written before the choice existed ran the global cut)
+            events=meta.get("events", "global"),
             seed=meta["seed"],
             noise=meta.get("noise"),
             **{k: arrays[f"property_{k}"] for k in PROPERTIES if f"property_{k}" in arrays},

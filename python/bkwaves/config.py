@@ -74,7 +74,9 @@ Schema (all sections optional except those marked)::
                 (runaway bounds of one event; see docs/usage.md); step (time step /
                 dx, default 0.05), integrator ("rk4" default, "midpoint": step <= 0.5),
                 step_tolerance (rk4 step-size control; default none: the fixed step),
-                as bkwaves.Chain takes them (docs/chain.md, "Algorithm")
+                events ("global" | "local": local events redo only a switch's
+                neighbourhood; rk4 at a fixed step), as bkwaves.Chain takes them
+                (docs/chain.md, "Algorithm"; docs/lattice.md, "Local events")
     [output]    path, snapshot_every (time) or snapshot_events (every k events),
                 units = "native" | "dimensionless", arrivals (planar models: the
                 arrival time of every node in every event or rupture, a table)
@@ -268,6 +270,8 @@ class RunConfig:
         The chain's integrator.
     step_tolerance : float, optional
         Error per step of the adaptive step control.
+    events : {"global", "local"}, optional
+        How the chain's engine locates slips and sticks (None: the model's default).
     output_path : str, optional
         ``[output] path``.
     snapshot_every : float, optional
@@ -321,6 +325,7 @@ class RunConfig:
     step: float | None = None
     integrator: str | None = None
     step_tolerance: float | None = None
+    events: str | None = None
     output_path: str | None = None
     snapshot_every: float | None = None
     snapshot_events: int | None = None
@@ -444,7 +449,7 @@ class RunConfig:
         ...     "triggers": [{"time": 0.0, "block": 0, "kind": "kick", "velocity": 2.0}],
         ...     "run": {"t_end": 20.0}})
         >>> cfg.chain_integration()
-        {'step': 0.05, 'integrator': 'rk4', 'step_tolerance': None}
+        {'step': 0.05, 'integrator': 'rk4', 'step_tolerance': None, 'events': None}
         """
         from .chain import DEFAULT_STEP, INTEGRATORS
 
@@ -452,6 +457,7 @@ class RunConfig:
             "step": DEFAULT_STEP if self.step is None else self.step,
             "integrator": INTEGRATORS[0] if self.integrator is None else self.integrator,
             "step_tolerance": self.step_tolerance,
+            "events": self.events,
         }
 
     def x(self) -> np.ndarray:
@@ -935,12 +941,13 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
     step = _cfg(r, "step", "run", None)
     integrator = _cfg(r, "integrator", "run", None)
     step_tolerance = _cfg(r, "step_tolerance", "run", None)
+    events = _cfg(r, "events", "run", None)
     if t_end is None and max_events is None:
         _err("run", "give t_end, max_events or both")
     for key in CHAIN_RUN_KEYS:
         if key in r and not entry.chain_run_keys:
             _err(f"run.{key}", f"applies to {_models_with('chain_run_keys')}")
-    _check_integration(step, integrator, step_tolerance)
+    _check_integration(step, integrator, step_tolerance, events)
 
     o = _table(doc.get("output", {}), "output")
     _keys(o, "output", tuple(V.CONFIG["output"]))
@@ -1003,6 +1010,7 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
         step=step,
         integrator=integrator,
         step_tolerance=step_tolerance,
+        events=events,
         output_path=out_path,
         snapshot_every=None if snapshot_every is None else snapshot_every / ts,
         snapshot_events=_cfg(o, "snapshot_events", "output", None),
@@ -1046,7 +1054,14 @@ def parse_config(doc: dict, *, base_dir: Path | None = None) -> RunConfig:
 MIDPOINT_CONTRACTION = _models.chain.MIDPOINT_CONTRACTION
 
 #: [run] keys of the chain model only.
-CHAIN_RUN_KEYS = ("max_event_slips", "max_event_duration", "step", "integrator", "step_tolerance")
+CHAIN_RUN_KEYS = (
+    "max_event_slips",
+    "max_event_duration",
+    "step",
+    "integrator",
+    "step_tolerance",
+    "events",
+)
 
 
 def _speed_units(value: float, scale: float, key: str) -> float:
@@ -1063,11 +1078,23 @@ def _speed_units(value: float, scale: float, key: str) -> float:
     return x
 
 
-def _check_integration(step, integrator, step_tolerance) -> None:
-    """run.step, run.integrator and run.step_tolerance together, as bkwaves.Chain checks
-    them: the midpoint rule takes steps up to MIDPOINT_MAX_STEP and no step-size control."""
+def _check_integration(step, integrator, step_tolerance, events=None) -> None:
+    """run.step, run.integrator, run.step_tolerance and run.events together, as
+    bkwaves.Chain checks them: the midpoint rule takes steps up to MIDPOINT_MAX_STEP and
+    no step-size control; local events need rk4 at a fixed step."""
     from .chain import MIDPOINT_MAX_STEP
 
+    if events == "local" and (integrator == "midpoint" or step_tolerance is not None):
+        why = (
+            "run.integrator = 'midpoint'"
+            if integrator == "midpoint"
+            else f"run.step_tolerance = {step_tolerance}"
+        )
+        _err(
+            "run.events",
+            f"invalid events = 'local' with {why}: local events need the rk4 integrator at "
+            "a fixed step; give events = 'global' (or leave it out)",
+        )
     if integrator != "midpoint":
         return
     if step is not None and step > MIDPOINT_MAX_STEP:
@@ -1188,7 +1215,7 @@ def _to_doc(cfg: RunConfig) -> dict:
         run["max_event_slips"] = cfg.max_event_slips
     if cfg.max_event_duration is not None:
         run["max_event_duration"] = cfg.max_event_duration
-    for key in ("step", "integrator", "step_tolerance"):
+    for key in ("step", "integrator", "step_tolerance", "events"):
         if getattr(cfg, key) is not None:
             run[key] = getattr(cfg, key)
     doc["run"] = run

@@ -288,6 +288,12 @@ class Lattice(Chain):
         high)) (dimensionless; default the mean initial u of the blocks along that side).
     seed, integrator, step_tolerance, noise
         As for ``bkwaves.Chain``.
+    events : {"global", "local"}, optional
+        How slips and sticks are located, as for ``bkwaves.Chain``: "local" redoes only
+        the neighbourhood of a switch (a rupture over N x N blocks costs ~N^2
+        block-steps instead of ~N^3; docs/lattice.md, "Local events"); "local" where it
+        cannot apply (integrator "midpoint", a step_tolerance, a law whose onset takes
+        sub-steps) is refused. Default: "global".
     threshold, mass, loader : float or array_like, optional
         Per-block properties, a scalar or (ny, nx) values, in units of the reference
         values of ``params``.
@@ -331,6 +337,7 @@ class Lattice(Chain):
         mass=None,
         loader=None,
         coupling=None,
+        events: str | None = None,
     ):
         if not (isinstance(shape, tuple | list) and len(shape) == 2):
             V._fail("shape", shape, "a pair (nx, ny) of block counts >= 1")
@@ -368,6 +375,7 @@ class Lattice(Chain):
             step_tolerance=step_tolerance,
             noise=noise,
             coupling=coupling,
+            events=events,
             **props,
         )
         if self._coupling_y is not None:
@@ -457,6 +465,8 @@ class Lattice(Chain):
             step=meta["step"],
             integrator=meta["integrator"],
             step_tolerance=meta.get("step_tolerance"),
+            # (checkpoints written before the choice existed ran the global cut)
+            events=meta.get("events", "global"),
             seed=meta["seed"],
             noise=meta.get("noise"),
             coupling=coupling,

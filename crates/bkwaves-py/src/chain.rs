@@ -403,6 +403,52 @@ impl ChainEngine {
         self.inner.step_tolerance()
     }
 
+    /// How slips and sticks are located: "local" (only the neighbourhood of a switch is
+    /// redone; docs/lattice.md, "Local events") or "global" (every sliding block is
+    /// redone up to it). "local" where it cannot apply (another integrator, step-size
+    /// control, a law whose onset takes sub-steps) is refused, naming `events`.
+    fn set_events(&mut self, mode: &str) -> PyResult<()> {
+        let on = match mode {
+            "local" => true,
+            "global" => false,
+            _ => {
+                return Err(to_py(bkwaves_core::Error::Invalid {
+                    name: "events".to_string(),
+                    value: format!("{mode:?}"),
+                    allowed: "one of: local, global".to_string(),
+                }))
+            }
+        };
+        self.inner.set_local_events(on).map_err(to_py)
+    }
+
+    /// "local" or "global" (`set_events`).
+    #[getter]
+    fn events(&self) -> &'static str {
+        if self.inner.local_events() {
+            "local"
+        } else {
+            "global"
+        }
+    }
+
+    /// Why local events cannot apply to this engine as set (None: they can).
+    #[getter]
+    fn local_events_unavailable(&self) -> Option<&'static str> {
+        self.inner.local_events_unavailable()
+    }
+
+    /// What the local events did: {event_steps, passes, components, fallbacks}.
+    fn local_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.inner.local_stats();
+        let d = PyDict::new(py);
+        d.set_item("event_steps", s.event_steps)?;
+        d.set_item("passes", s.passes)?;
+        d.set_item("components", s.components)?;
+        d.set_item("fallbacks", s.fallbacks)?;
+        Ok(d)
+    }
+
     /// The whole state as bytes (restored bit for bit by `restore`).
     fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
         pyo3::types::PyBytes::new(py, &self.inner.checkpoint())

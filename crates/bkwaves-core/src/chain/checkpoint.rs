@@ -275,7 +275,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 8,
                 "a checkpoint of a chain with the same blocks, dx, v, step, boundary, \
                  friction law and parameters, per-block properties, integrator, step-size \
-                 control and event sources",
+                 control, event location (local or global) and event sources",
             ));
         }
         let (n, n2) = (self.st.n, self.st.geo.cells());

@@ -8,7 +8,7 @@ use super::energy::Ledger;
 use super::geometry::{Geometry, Grid};
 use super::integrator::Method;
 use super::medium::{Ends, Medium, PerBlock, Properties, Uniform};
-use super::{Chain, ChainConfig, Counters, Engine, Snapshots, Stop, Trigger};
+use super::{Chain, ChainConfig, Counters, Engine, LocalStats, Snapshots, Stop, Trigger};
 use crate::boundary::{Boundary, Ghost};
 use crate::error::Result;
 use crate::friction::{Friction, FrictionSpec};
@@ -56,6 +56,14 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
     fn set_step_control(&mut self, tol: Option<f64>) -> Result<()>;
     /// See [`Chain::step_tolerance`].
     fn step_tolerance(&self) -> Option<f64>;
+    /// See [`Engine::try_set_local_events`].
+    fn set_local_events(&mut self, on: bool) -> Result<()>;
+    /// Whether local events are chosen.
+    fn local_events(&self) -> bool;
+    /// See [`Engine::local_events_unavailable`].
+    fn local_events_unavailable(&self) -> Option<&'static str>;
+    /// See [`Engine::local_stats`].
+    fn local_stats(&self) -> LocalStats;
     /// See [`Chain::checkpoint`].
     fn checkpoint(&self) -> Vec<u8>;
     /// See [`Chain::restore`].
@@ -136,6 +144,18 @@ impl<G: Geometry, F: Friction, M: Medium> DynChain for Engine<G, F, M> {
     }
     fn integrator(&self) -> &'static str {
         Engine::integrator(self)
+    }
+    fn set_local_events(&mut self, on: bool) -> Result<()> {
+        Engine::try_set_local_events(self, on)
+    }
+    fn local_events(&self) -> bool {
+        Engine::local_events(self)
+    }
+    fn local_events_unavailable(&self) -> Option<&'static str> {
+        Engine::local_events_unavailable(self)
+    }
+    fn local_stats(&self) -> LocalStats {
+        Engine::local_stats(self)
     }
     fn checkpoint(&self) -> Vec<u8> {
         Engine::checkpoint(self)

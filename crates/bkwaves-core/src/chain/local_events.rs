@@ -859,7 +859,43 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
 
     /// Are the local events used for the next step?
     pub(super) fn local_active(&self) -> bool {
-        self.local.on && !self.stiff && self.control.is_none() && self.rk.name() == "rk4"
+        self.local.on && self.local_events_unavailable().is_none()
+    }
+
+    /// Why local events cannot apply to this engine as now set (another integrator, the
+    /// step-size control, a law whose onset takes sub-steps); None: they apply.
+    pub fn local_events_unavailable(&self) -> Option<&'static str> {
+        if self.rk.name() != "rk4" {
+            Some("events = \"global\" with integrator = \"midpoint\" (local events need rk4)")
+        } else if self.control.is_some() {
+            Some(
+                "events = \"global\" with a step_tolerance (local events need the fixed \
+                 step)",
+            )
+        } else if self.stiff {
+            Some(
+                "events = \"global\" for this friction law and step (its onset takes \
+                 sub-steps; local events need a law without)",
+            )
+        } else {
+            None
+        }
+    }
+
+    /// Choose local events (`true`) or the global cut, refusing local events where they
+    /// cannot apply ([`Engine::local_events_unavailable`]) instead of falling back.
+    pub fn try_set_local_events(&mut self, on: bool) -> Result<()> {
+        if on {
+            if let Some(allowed) = self.local_events_unavailable() {
+                return Err(Error::Invalid {
+                    name: "events".to_string(),
+                    value: "\"local\"".to_string(),
+                    allowed: allowed.to_string(),
+                });
+            }
+        }
+        self.local.on = on;
+        Ok(())
     }
 
     /// u and u_t of block p at time t of the last step if it was redone locally.
