@@ -441,7 +441,7 @@ CONFIG = {
             "arrivals",
             "bool",
             doc="lattice, free_boundary_2d: write the arrivals table, the arrival (first "
-            "slip) time of every node in every event or rupture (default false)",
+            "slip) time of every node in every rupture (default false)",
         ),  # fmt: skip
     ),
     "noise": table(
