@@ -68,3 +68,5 @@ def test_the_one_over_r_fits_drift_as_stated_and_their_c0_stays_near_the_planar_
         conv = rupture.convergence[k]
         assert 0.03 < conv["D_eikonal"] < 0.2, conv
         assert conv["c0"] < 0.01 * rupture.planar[k], conv
+        for c0 in (rupture.fits[k][0], rupture.check["fits"][k][0]):
+            assert abs(c0 / rupture.planar[k] - 1) < 0.01, (k, c0, rupture.planar[k])
