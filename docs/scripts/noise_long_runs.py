@@ -16,9 +16,10 @@
    runs per engine at L = 1000 and 6 at L = 3000, each b with its bootstrap interval,
    and their mean with the standard error over runs (or why there is none); the rows
    are saved to OUT.json.
-6. (--chain-b OUT.json [SEEDS] [--cpu S]) The chain's column of 4. at L = 1000 as an
-   ensemble over noise seeds (default 1-8): each run to t = 1e6, until one event exceeds
-   CHAIN_CAP slips (a ring that slides on) or past S s of CPU, its ruptures after the
+6. (--chain-b OUT.json [SEEDS] [--cpu S] [--length 3000]) The chain's column of 4. at
+   L = 1000 (or 3000: v = 3e-5, to t = 1.926e6) as an ensemble over noise seeds (default
+   1-8): each run to t = 1e6, until one event exceeds CHAIN_CAP slips per block (a ring
+   that slides on) or past S s of CPU, its ruptures after the
    burn-in, their b (bk.stats.gutenberg_richter) and rate; rows saved to OUT.json after
    every segment of 2e4 time units.
 7. (--step-check OUT.json SEED [CHAIN_B.json]) Whether a chain that slides on in 6. does so with the
@@ -248,7 +249,7 @@ def _b_summary(rows):
 
 #: Slips after which a chain event of "Ruptures of many sizes" at L = 1000 counts as a ring
 #: that slides on (10 per block; a ring-wide rupture takes about 1 per block).
-CHAIN_CAP = 200_000
+CHAIN_CAP = 10  # slips per block in one event (2e5 at L = 1000)
 
 
 def _sizes_chain(seed, length=1000.0, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96, step=None):
@@ -280,7 +281,7 @@ def chain_b(seeds, out, length=1000.0, t_end=1e6, v=1e-4, u_star=0.96, seg=2e4, 
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", bk.chain.RunawayEventWarning)
                 res = ch.run(t_end=t_next, progress=False, max_event_duration=1e9,
-                             max_event_slips=CHAIN_CAP)  # fmt: skip
+                             max_event_slips=CHAIN_CAP * ch.n)  # fmt: skip
             cpu_s = time.process_time() - c0
             over = cpu is not None and cpu_s > cpu and res.stop == "time" and ch.t < t_end
             done = res.stop != "time" or ch.t >= t_end or over
@@ -380,7 +381,7 @@ def step_check(seed, out, t0=None, window=2000.0, probe=100.0):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", bk.chain.RunawayEventWarning)
             res = ch.run(t_end=1e6, progress=False, max_event_duration=1e9,
-                         max_event_slips=CHAIN_CAP)  # fmt: skip
+                         max_event_slips=CHAIN_CAP * ch.n)  # fmt: skip
         open_ = res.catalog[res.catalog.t_end.isna()]
         if not len(open_):
             print(f"seed {seed}: no event ran away to t = {res.t:.4g}")
@@ -388,7 +389,7 @@ def step_check(seed, out, t0=None, window=2000.0, probe=100.0):
         t0 = float(open_.t_start.iloc[0])
     t_quiet = t0 - 1e-3  # events do not overlap: every block is stuck here
     ch = _sizes_chain(seed)
-    ch.run(t_end=t_quiet, progress=False, max_event_duration=1e9, max_event_slips=CHAIN_CAP)
+    ch.run(t_end=t_quiet, progress=False, max_event_duration=1e9, max_event_slips=CHAIN_CAP * ch.n)
     record = {"seed": seed, "t_runaway": t0, "t_quiet": t_quiet, "window": window, "runs": []}
     for step in (ch.step, ch.step / 2):
         run = _with_step(ch, step)
@@ -427,14 +428,17 @@ if __name__ == "__main__" and "--chain-b" in sys.argv:
     i = sys.argv.index("--chain-b")
     args = sys.argv[i + 2 :]
     cpu = float(args.pop(args.index("--cpu") + 1)) if "--cpu" in args else None
-    args = [a for a in args if a != "--cpu"]
+    length = float(args.pop(args.index("--length") + 1)) if "--length" in args else 1000.0
+    args = [a for a in args if a not in ("--cpu", "--length")]
+    # the rows of sizes(): L = 1000 at v = 1e-4 to 1e6, L = 3000 at v = 3e-5 to 1.926e6
+    t_end, v = (1e6, 1e-4) if length == 1000.0 else (1.926e6, 3e-5)
     seeds = [int(a) for a in args] or list(range(1, 9))
     if seeds == [0]:  # --chain-b OUT.json 0: the summary of OUT.json's rows, no runs
         rows = json.loads(Path(sys.argv[i + 1]).read_text())
     else:
-        rows = chain_b(seeds, sys.argv[i + 1], cpu=cpu)
+        rows = chain_b(seeds, sys.argv[i + 1], length=length, t_end=t_end, v=v, cpu=cpu)
     _b_summary(rows)
-    _chain_summary(rows)
+    _chain_summary(rows, loading=0.962 / rows[0]["v"])
 elif __name__ == "__main__" and "--step-check" in sys.argv:
     # python docs/scripts/noise_long_runs.py --step-check OUT.json SEED [CHAIN_B.json]
     i = sys.argv.index("--step-check")
