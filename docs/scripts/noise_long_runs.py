@@ -247,9 +247,9 @@ def _b_summary(rows):
         )
 
 
-#: Slips after which a chain event of "Ruptures of many sizes" at L = 1000 counts as a ring
-#: that slides on (10 per block; a ring-wide rupture takes about 1 per block).
-CHAIN_CAP = 10  # slips per block in one event (2e5 at L = 1000)
+#: Slips per block after which a chain event of "Ruptures of many sizes" counts as a ring
+#: that slides on (a ring-wide rupture takes about 1 per block; 2e5 slips at L = 1000).
+CHAIN_CAP = 10
 
 
 def _sizes_chain(seed, length=1000.0, gamma=0.85, v=1e-4, phi0=0.01, u_star=0.96, step=None):
