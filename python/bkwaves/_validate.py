@@ -334,7 +334,7 @@ _RUN_EVENTS = dataclasses.replace(
     doc="chain and lattice: how slips and sticks are located, global (every sliding block "
     "redone up to a switch) or local (the switch's neighbourhood only; rk4 at a fixed step "
     'and a law whose onset takes no sub-steps; docs/lattice.md, "Local events"); default '
-    "global",
+    "global for the chain, local for the lattice where it applies",
 )
 
 from ._models import NAMES as MODEL_NAMES  # noqa: E402 - (after the tables it reuses)

@@ -60,7 +60,8 @@ BOUNDARIES = tuple(b["name"] for b in _core.boundaries())
 #: implicit midpoint rule (order 2, energy books closed to round-off).
 INTEGRATORS = tuple(m["name"] for m in _core.integrators())
 #: How slips and sticks are located: the global cut (every sliding block redone up to a
-#: switch; the chain's default) or local events (the switch's neighbourhood only).
+#: switch; the chain's default) or local events (the switch's neighbourhood only; the
+#: lattice's default where they apply).
 EVENTS = ("global", "local")
 #: Trigger kinds by name (the core's registry).
 TRIGGERS = tuple(k["name"] for k in _core.triggers())

@@ -288,12 +288,13 @@ class Lattice(Chain):
         high)) (dimensionless; default the mean initial u of the blocks along that side).
     seed, integrator, step_tolerance, noise
         As for ``bkwaves.Chain``.
-    events : {"global", "local"}, optional
+    events : {"local", "global"}, optional
         How slips and sticks are located, as for ``bkwaves.Chain``: "local" redoes only
         the neighbourhood of a switch (a rupture over N x N blocks costs ~N^2
-        block-steps instead of ~N^3; docs/lattice.md, "Local events"); "local" where it
-        cannot apply (integrator "midpoint", a step_tolerance, a law whose onset takes
-        sub-steps) is refused. Default: "global".
+        block-steps instead of ~N^3; the same order in the step; docs/lattice.md, "Local
+        events"), "global" the step of every sliding block. Default: "local" where it
+        applies (rk4 at a fixed step, a law whose onset takes no sub-steps), else
+        "global"; "local" asked for where it cannot apply is refused.
     threshold, mass, loader : float or array_like, optional
         Per-block properties, a scalar or (ny, nx) values, in units of the reference
         values of ``params``.
@@ -380,6 +381,9 @@ class Lattice(Chain):
         )
         if self._coupling_y is not None:
             self.properties["coupling_y"] = self._coupling_y
+
+    #: Local events where they apply (``events``): a rupture's cost grows like its area.
+    default_events = "local"
 
     def _property(self, name, value, boundary):
         """Per-block properties as the chain's; ``coupling`` a pair (k_x, k_y) of per-bond
@@ -831,8 +835,11 @@ def _planar_c(u_plus, gamma, dx, angle, blocks, step, beta, window):
     p = _lattice_params(gamma, dx, beta)
     a, b = (int(round(f * blocks)) for f in window)
     if angle == 0:
-        # u depends on i only: two rows periodic in y (the chain at dx, measured here)
-        la = Lattice((blocks, 2), p, u0=u_plus, boundary=("free", "periodic"), step=step)
+        # u depends on i only: two rows periodic in y (the chain at dx, measured here;
+        # the global cut, as the chain's: the same slip times to round-off, 1e-12)
+        la = Lattice(
+            (blocks, 2), p, u0=u_plus, boundary=("free", "periodic"), step=step, events="global"
+        )
         for j in range(2):
             la.kick((0, j), -2.0)
         t_end = 2.0 * blocks * dx
@@ -844,7 +851,8 @@ def _planar_c(u_plus, gamma, dx, angle, blocks, step, beta, window):
         # u a function of n = (i + j) mod N on an N x N torus: fronts run both ways from
         # the kicked anti-diagonal and meet at n = N/2; the window is in n in [0, N/2]
         nn = blocks
-        la = Lattice((nn, nn), p, u0=u_plus, boundary="periodic", step=step)
+        # (the global cut: the ring's slip times at dx/sqrt(2) to 1e-10, as the chain's)
+        la = Lattice((nn, nn), p, u0=u_plus, boundary="periodic", step=step, events="global")
         for i in range(nn):
             la.kick((i, (nn - i) % nn), -2.0)
         spacing = dx / math.sqrt(2.0)
