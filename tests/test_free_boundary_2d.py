@@ -249,3 +249,27 @@ def test_the_shape_options_checkpoint_bit_for_bit(tmp_path):
     assert ra.ruptures.equals(rb.ruptures)
     plain = bk.FreeBoundary2D(p, shape, h, u0).run(t_end=400.0)
     assert not plain.ruptures.t_end.equals(ra.ruptures.t_end)
+
+
+@pytest.mark.parametrize("speed", [None, "table"])
+def test_a_ridge_through_diagonal_nodes_is_one_rupture(speed):
+    # u = 0.9 - a (x - y)^2: a planar problem along the normal (1, -1)/sqrt 2, whose
+    # maximum every node of the diagonal reaches together; the 1D engine has one birth
+    # per ridge, and so must the plane (the diagonal node is not a trial node of its
+    # neighbour's front: each node of the ridge used to be a rupture of its own)
+    if speed == "table":
+        uu = np.linspace(0.05, 0.9, 18)
+        speed = {"u_plus": uu, "c": 0.97 / np.sqrt(1 - uu**2) + 0.03}
+    p = bk.Params(gamma=0.3, v=1e-2, dx=1e-2)
+    n, h = 40, 0.1
+    xs = np.arange(n) * h
+    xx, yy = np.meshgrid(xs, xs)
+    u0 = 0.9 - 0.01 * (xx - yy) ** 2
+    r = bk.FreeBoundary2D(p, (n, n), h, u0, "periodic", speed=speed).run(t_end=20.0)
+    assert len(r.ruptures) == 1, r.ruptures
+    row = r.ruptures.iloc[0]
+    assert row.origin == "birth" and row.n_nodes == n * n
+    assert row.t_start == pytest.approx(10.0, abs=1e-9)
+    # the field stays symmetric about the diagonal: u(x, y) = u(y, x) at the end
+    u = r.snapshots.u.isel(t=-1).values
+    np.testing.assert_allclose(u, u.T, atol=1e-12)

@@ -31,6 +31,10 @@
 //! - a node that is a trial node of a live front is not a birth site (the front sweeps
 //!   it, at infinite speed where u reaches s): the 1D engine's "a maximum reaching 1 in a
 //!   cell a shock is crossing is swept by that shock";
+//! - a node reaching the threshold at the instant (to rounding) a live rupture sweeps one
+//!   of its eight neighbours is part of that rupture, not a birth of its own: a ridge
+//!   through diagonal nodes, or a maximum shared by two, is one rupture (the diagonal
+//!   node is no trial node of the front, whose stencil is along the axes);
 //! - ties: a front arrival before a birth before a noise candidate; among arrivals the
 //!   smaller node index.
 
@@ -57,6 +61,12 @@ use std::collections::BinaryHeap;
 
 /// No rupture / no node.
 const NONE: u32 = u32::MAX;
+
+/// Births whose stresses reached the threshold within this (relative to the threshold) of
+/// each other, on neighbouring nodes, are one rupture ([`FreeBoundary2D::birth`]): ties to
+/// rounding, far below any stress the grid resolves (a h^2 ~ 1e-4 for a maximum of
+/// curvature 1e-2 at h = 0.1).
+const BIRTH_TIE: f64 = 1e-12;
 
 /// Settings of a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -696,13 +706,45 @@ impl FreeBoundary2D {
         std::f64::consts::PI / 8.0 * (n_axis as f64 * h + n_diag as f64 * h / 2f64.sqrt())
     }
 
-    /// A birth at the node where u - s is largest, now.
+    /// A birth at the node where u - s is largest, now; absorbed by a live rupture that
+    /// swept one of the node's eight neighbours at this instant (a tie to rounding: the
+    /// two reached the threshold together, their fronts are connected: one rupture).
     fn birth(&mut self) {
         let (_, k) = self.tree.max();
+        if let Some(r) = self.absorbing_rupture(k) {
+            self.seed[k] = true;
+            self.set_trial(k, self.now, r);
+            return;
+        }
         let id = self
             .start(&[(k, self.now)], Origin::Birth, None)
             .expect("a birth node is outside live ruptures");
         self.ruptures[id].u_start = self.thr(k);
+    }
+
+    /// The live rupture that swept one of the eight neighbours of node k at this instant
+    /// (within [`BIRTH_TIE`] of stress at the loading rate), if any: a birth at k is then
+    /// part of it. Along a ridge through diagonal nodes (or a maximum shared by two diagonal
+    /// nodes) the nodes reach the threshold together, but a diagonal node is not a trial
+    /// node of its neighbour's front (the stencil is along the axes) and was born apart.
+    fn absorbing_rupture(&self, k: usize) -> Option<u32> {
+        let (i, j) = self.grid.ij(k);
+        let tie = BIRTH_TIE * self.thr(k);
+        for dj in -1i64..=1 {
+            for di in -1i64..=1 {
+                if di == 0 && dj == 0 {
+                    continue;
+                }
+                let Some(q) = self.offset(i, j, di, dj) else {
+                    continue;
+                };
+                let r = self.label[q];
+                if self.is_live(r) && self.opts.v * (self.now - self.t_arr[q]) <= tie {
+                    return Some(r);
+                }
+            }
+        }
+        None
     }
 
     /// Move the epoch to now (b and v (t - epoch) would otherwise both grow like v t).

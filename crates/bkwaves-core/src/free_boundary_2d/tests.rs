@@ -616,3 +616,66 @@ fn noise_under_loading_follows_the_integrated_rate() {
     // sd of T / E[T] < 1: the standard error of 400 is below 0.05
     assert!((mean / expect - 1.0).abs() < 0.15, "{mean} {expect}");
 }
+
+/// Births on a periodic square of 60 x 60 nodes (h = 0.1) with the field f(x, y), v =
+/// 0.01, to t = 30: the ruptures' (t_start, n_nodes).
+fn births_of(f: impl Fn(f64, f64) -> f64) -> Vec<(f64, usize)> {
+    let (n, h) = (60, 0.1);
+    let g = Grid::new(
+        n,
+        n,
+        h,
+        (0.0, 0.0),
+        (Boundary::Periodic, Boundary::Periodic),
+    )
+    .unwrap();
+    let u0: Vec<f64> = (0..g.n())
+        .map(|k| {
+            let (x, y) = g.xy(k);
+            f(x, y)
+        })
+        .collect();
+    let opts = Options2D {
+        v: 1e-2,
+        ..Default::default()
+    };
+    let mut fb = FreeBoundary2D::new(g, &u0, opts, SpeedLaw::Exact, None).unwrap();
+    fb.advance(30.0, u64::MAX, usize::MAX).unwrap();
+    fb.ruptures()
+        .iter()
+        .map(|r| (r.t_start, r.n_nodes))
+        .collect()
+}
+
+#[test]
+fn a_maximum_shared_by_diagonal_nodes_is_one_rupture() {
+    // symmetric about the diagonal, the maximum at a cell's centre: the two nodes on the
+    // diagonal reach u = 1 together (to rounding), the other two later. One rupture over
+    // the whole square (it was two: the diagonal node is not a trial node of the first)
+    let (x0, y0) = (3.05, 3.05);
+    let bowl = |x: f64, y: f64| {
+        0.9 - 0.01 * ((x - x0).powi(2) + (y - y0).powi(2)) - 0.005 * (x - y).powi(2)
+    };
+    let r = births_of(bowl);
+    assert_eq!(r.len(), 1, "{r:?}");
+    assert_eq!(r[0].1, 3600, "{r:?}");
+    // (1 - 0.9 + 0.01 (0.05^2 + 0.05^2))/v: the birth time of the two nodes
+    assert!((r[0].0 - 10.005).abs() < 1e-9, "{r:?}");
+    // a ridge along the diagonal (a planar problem along the normal (1, -1)/sqrt 2): the
+    // 1D engine's one birth per ridge, not one per node of the ridge (it was 60)
+    let ridge = |x: f64, y: f64| 0.9 - 0.01 * (x - y).powi(2);
+    let r = births_of(ridge);
+    assert_eq!(r.len(), 1, "{r:?}");
+    assert_eq!(r[0].1, 3600, "{r:?}");
+    // and along an axis, as before
+    let r = births_of(|x: f64, _y: f64| 0.9 - 0.01 * (x - 3.05).powi(2));
+    assert_eq!(r.len(), 1, "{r:?}");
+    // two maxima apart are two ruptures (the rule is local to the instant and the node)
+    let two = |x: f64, y: f64| {
+        let d1 = (x - 1.5).powi(2) + (y - 1.5).powi(2);
+        let d2 = (x - 4.5).powi(2) + (y - 4.5).powi(2);
+        0.9 - 0.02 * d1.min(d2) - 1e-3 * (x - 1.5)
+    };
+    let r = births_of(two);
+    assert_eq!(r.len(), 2, "{r:?}");
+}
