@@ -62,6 +62,12 @@ pub(crate) const Z_MAX: f64 = 40.0;
 /// The most a sub-step grows over the last (the first of a pass is step/nu: the jerk
 /// that [`shift`] needs is known from the second on).
 pub(crate) const GROWTH: f64 = 4.0;
+/// The time-shift tolerance of the first pass of a coupled patch, in units of
+/// [`shift_tol`]: its values only feed the runs' step, and the next pass (at the full
+/// tolerance) measures what their difference does to the runs (at most the shift over
+/// ~100 sub-steps times (h/dx)^2 h: far below [`PASS_TOL`] at 32, which halves the
+/// sub-steps that the time shift limits, since those scale like tol^(1/5)).
+pub(crate) const FIRST_PASS_LOOSE: f64 = 32.0;
 /// The most passes (patch, runs) per step.
 pub(crate) const MAX_PASSES: usize = 6;
 
@@ -282,6 +288,7 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
     h: f64,
     step: f64,
     spacing: f64,
+    loose: f64,
     outside: impl Fn(usize, f64) -> f64,
 ) {
     let n = on.blocks.len();
@@ -304,11 +311,11 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
     on.kw.extend_from_slice(&on.w);
     on.ka.extend_from_slice(&on.acc0);
     let h_max = step * spacing;
-    let tol = shift_tol(step, spacing);
+    let tol = loose * shift_tol(step, spacing);
     // the last sub-step (0: none yet in this pass) and the accelerations at its start;
     // the last planned sub-step (before it was cut to land on the segment's end)
     let (mut h_prev, mut h_grow) = (0.0, 0.0);
-    if on.first.0 == t0 && on.first_blocks == blocks {
+    if loose == 1.0 && on.first.0 == t0 && on.first_blocks == blocks {
         h_grow = on.first.1 / GROWTH;
     }
     let mut first_h = f64::NAN;
@@ -482,8 +489,11 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
             on.mid.copy_from_slice(&on.u);
         }
     }
-    on.first = (t0, first_h);
-    on.first_blocks.clone_from(&blocks);
+    if loose == 1.0 {
+        // (a loose pass's sub-steps are no start for a pass at the full tolerance)
+        on.first = (t0, first_h);
+        on.first_blocks.clone_from(&blocks);
+    }
     on.blocks = blocks;
 }
 
@@ -663,6 +673,14 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                         st.u[r] + tau * (st.w[r] + 0.5 * tau * a0[r])
                     }
                 };
+                // the first pass of a coupled patch only gives the runs its stage values
+                // (the next pass replaces them, and checks what the difference did to
+                // the runs: PASS_TOL): at FIRST_PASS_LOOSE times the tolerance
+                let loose = if coupled && !coarse_done {
+                    FIRST_PASS_LOOSE
+                } else {
+                    1.0
+                };
                 pass(
                     &mut self.onset,
                     st,
@@ -671,6 +689,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                     h,
                     step,
                     spacing,
+                    loose,
                     outside,
                 );
             }
