@@ -70,3 +70,26 @@ def test_the_one_over_r_fits_drift_as_stated_and_their_c0_stays_near_the_planar_
         assert conv["c0"] < 0.01 * rupture.planar[k], conv
         for c0 in (rupture.fits[k][0], rupture.check["fits"][k][0]):
             assert abs(c0 / rupture.planar[k] - 1) < 0.01, (k, c0, rupture.planar[k])
+
+
+def _aspect(dx, nx, step=None, t_end=2.6):
+    dy = dx / 1.5
+    kw = {} if step is None else {"step": step}
+    p = bk.Params(gamma=0.45, v=0.0, dx=dx)
+    la = bk.Lattice((nx, int(round(1.5 * nx))), p, 0.6, dy=dy, **kw)
+    la.kick((0, 0), -2.0)
+    a = la.run(t_end=t_end, progress=False).first_slip_times()
+    r = bk.lattice.Rupture(0.6, 0.45, dx, dy, (nx, 0), a, {}, {}, {}, (0, 0))
+    return [r.aspect(t) * dx / dy - 1.0 for t in (1.0, 1.5, 2.0, 2.5)]
+
+
+def test_rupture_aspect_does_not_move_with_the_quadrant_doubled_or_the_step_halved():
+    # docs/lattice.md, "Measured: the anisotropy as dx, dy -> 0": the quadrant 4 units wide
+    # (20 x 30 blocks at dx = 0.2) against one twice as wide (the front, at t <= 2.6, has
+    # not reached the far edges: the stuck blocks ahead are inert), and the step halved
+    # (stated: dev moves by at most 5e-8)
+    base = _aspect(0.2, 20)
+    assert base[0] == pytest.approx(0.0289, abs=1e-4)  # the docs' table, t = 1
+    assert _aspect(0.2, 40) == pytest.approx(base, abs=1e-12)
+    half = _aspect(0.2, 20, step=0.025)
+    assert max(abs(a - b) for a, b in zip(half, base, strict=True)) < 1e-7, (half, base)
