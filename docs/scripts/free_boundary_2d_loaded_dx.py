@@ -158,6 +158,20 @@ def one_dx(dx, scale, events, variants=VARIANTS, t_end=None):
             "total_moment_rel": summary["total_moment_rel"],
         }
         out["variants"][name] = res
+        if "lattice_other" not in out:
+            # the lattice's ruptures without a partner: when they start (against the
+            # sweep's end, T_SWEEP s) and how large they are
+            left = summary["lattice_unmatched"]
+            ts = np.array([r["t_start"] for r in left]) if left else np.zeros(0)
+            ar = np.array([r["area"] for r in left]) if left else np.zeros(0)
+            out["lattice_other"] = {
+                "count": len(left),
+                "before_sweep_end": int((ts < T_SWEEP * scale).sum()),
+                "t_first": float(ts.min()) if left else None,
+                "area_total": float(ar.sum()),
+                "area_max": float(ar.max()) if left else 0.0,
+                "area_median": float(np.median(ar)) if left else 0.0,
+            }
         a, af = res["arrival"], res["arrival_far"]
         print(
             f"dx {dx} {name:10s} births {res['births_matched']}/{res['fb_ruptures']} "
@@ -168,7 +182,8 @@ def one_dx(dx, scale, events, variants=VARIANTS, t_end=None):
             + " ".join(f"{q:+.3f}" for q in res["dmoment_rel"]),
             flush=True,
         )
-    print(f"dx {dx}: {n}^2 blocks, lattice CPU {la['cpu_s']:.1f} s", flush=True)
+    print(f"dx {dx}: {n}^2 blocks, lattice CPU {la['cpu_s']:.1f} s; other lattice ruptures",
+          out["lattice_other"], flush=True)  # fmt: skip
     return out
 
 
