@@ -109,3 +109,14 @@ def test_the_lattice_s_speed_and_curvature_improve_the_agreement(first_cycle_by_
         exact, chain, curv = (v[k]["arrival"]["rms"] for k in CONVERGENCE_VARIANTS)
         assert curv < 0.75 * chain and chain < 0.85 * exact, (exact, chain, curv)
         assert v["chain_curv"]["partition_mismatch"] < 0.6 * v["chain"]["partition_mismatch"]
+
+
+def test_the_moments_excess_scales_like_the_pulse_width_over_the_field(first_cycle_by_dx):
+    # the moments do not converge with dx but with the field's scale: the same problem
+    # twice as large (side 24, bumps of width 3, v = 0.01, to t = 20) halves the
+    # lattice's excess over FreeBoundary2D's local slip (+11 % -> +5.5 %; w/sigma)
+    small = first_cycle_by_dx[0.2]["chain"]["total_moment_rel"]
+    large = loaded_dx.one_dx(0.2, 2.0, "local", variants=("chain",))["variants"]["chain"]
+    assert large["births_matched"] == 3
+    ratio = small / large["total_moment_rel"]
+    assert 1.7 < ratio < 2.3, (small, large["total_moment_rel"])
