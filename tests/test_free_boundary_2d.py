@@ -125,6 +125,10 @@ def test_a_threshold_field_scales_the_speed():
         (dict(curvature=-0.1), "curvature"),
         (dict(curvature=(0.1, 0.2, 0.3)), "curvature"),
         (dict(curvature=(0.1, float("nan"))), "curvature"),
+        (dict(curvature={"theta": [0.0, 0.5], "D": [0.1, 0.1]}), "curvature.theta"),
+        (dict(curvature={"theta": [0.0, 0.3, 0.2, np.pi / 4], "D": [0.1] * 4}), "theta"),
+        (dict(curvature={"theta": [0.0, np.pi / 4], "D": [0.1, -1.0]}), "curvature.D"),
+        (dict(curvature={"theta": [0.0, np.pi / 4]}), "curvature"),
         (dict(speed_diagonal={"u_plus": [0.5], "c": [0.9]}), "c"),
     ],
 )
@@ -273,3 +277,58 @@ def test_a_ridge_through_diagonal_nodes_is_one_rupture(speed):
     # the field stays symmetric about the diagonal: u(x, y) = u(y, x) at the end
     u = r.snapshots.u.isel(t=-1).values
     np.testing.assert_allclose(u, u.T, atol=1e-12)
+
+
+def test_a_curvature_table_checkpoints_bit_for_bit(tmp_path):
+    p = bk.Params(gamma=0.3, v=1e-2, dx=1e-2)
+    shape, h = (40, 32), 0.25
+    u0 = 0.6 + 0.35 * fb2d.random_field(shape, h, 2.0, seed=4)
+    table = {"theta": [0.0, 0.32, 0.46, 0.59, np.pi / 4], "D": [0.03, 0.06, 0.07, 0.075, 0.08]}
+    a = bk.FreeBoundary2D(p, shape, h, u0, curvature=table)
+    a.run(t_end=150.0)
+    a.save(tmp_path / "c.npz")
+    b = bk.FreeBoundary2D.load(tmp_path / "c.npz")
+    assert b.curvature == table
+    ra, rb = a.run(t_end=400.0), b.run(t_end=400.0)
+    assert len(ra.ruptures) > 3
+    assert ra.ruptures.equals(rb.ruptures)
+    # the pair of the table's ends is another engine: it refuses the checkpoint, and runs
+    # otherwise (the table between the ends matters)
+    pair = bk.FreeBoundary2D(p, shape, h, u0, curvature=(0.03, 0.08))
+    assert pair._engine.curvature_at(0.46) < a._engine.curvature_at(0.46)
+    with pytest.raises(bk.ParameterError, match="checkpoint"):
+        pair._engine.restore(a._engine.checkpoint())
+
+
+@pytest.fixture(scope="module")
+def lattice_table():
+    # the lattice's D along five directions (u_+ = 0.6, gamma = 0.45, dx = 0.2), and at
+    # two more to check the interpolation between them
+    table = fb2d.lattice_curvature(0.6, 0.45, 0.2)
+    check = {qp: bk.theory.curvature_coefficient(0.6, 0.45, 0.2, direction=qp)
+             for qp in [(4, 1), (5, 2)]}  # fmt: skip
+    return table, check
+
+
+def test_the_lattice_curvature_table_interpolates_the_derived_coefficient(lattice_table):
+    # the engine's D(theta) through the five directions against the derived D at two
+    # directions between them, and against the old interpolation D_axis cos^2(2 theta) +
+    # D_diag sin^2(2 theta) of the two ends (6-10 % low near the axis)
+    table, check = lattice_table
+    np.testing.assert_allclose(table["theta"], np.arctan2([0, 1, 1, 2, 1], [1, 3, 2, 3, 1]))
+    p = bk.Params(gamma=0.45, v=0.0, dx=0.2)
+    fb = bk.FreeBoundary2D(p, (8, 8), 0.5, 0.5, curvature=table)
+    pair = bk.FreeBoundary2D(p, (8, 8), 0.5, 0.5, curvature=(table["D"][0], table["D"][-1]))
+    for theta, d in zip(table["theta"], table["D"], strict=True):
+        assert fb._engine.curvature_at(theta) == pytest.approx(d, rel=1e-12)
+        # symmetric directions: -theta, pi/2 - theta
+        assert fb._engine.curvature_at(np.pi / 2 - theta) == pytest.approx(d, rel=1e-12)
+    errors = {}
+    for (q, pp), d in check.items():
+        theta = np.arctan2(pp, q)
+        errors[(q, pp)] = (fb._engine.curvature_at(theta) / d - 1,
+                           pair._engine.curvature_at(theta) / d - 1)  # fmt: skip
+    print(errors)
+    for table_err, pair_err in errors.values():
+        assert abs(table_err) < 0.02
+        assert abs(table_err) < 0.3 * abs(pair_err)

@@ -1,6 +1,7 @@
 """FreeBoundary2D against the lattice (bk.Lattice): one rupture in a smooth stress field.
 
-Run: python docs/scripts/free_boundary_2d_lattice.py [--dx 0.2 0.1 0.05] [--json FILE]
+Run: python docs/scripts/free_boundary_2d_lattice.py [--dx 0.2 0.1 0.05] [--table]
+[--json FILE]
 
 The physical domain is a quadrant [0, L]^2, L = 8 (in the paper's units), with free
 edges: the lattice's free edge is a mirror plane at half a spacing, so blocks sit at
@@ -28,7 +29,11 @@ is not a point source), for
 - "shape": both (the diagonal law and the curvature correction);
 - "curv_theory", "shape_theory": as "speed_curv" and "shape" with the derived D at the
   axis and the diagonal (bk.theory.curvature_coefficient at the field's mean u_+ = 0.62)
-  instead of the measured a.
+  instead of the measured a;
+- with --table, "curv_table", "shape_table": as "curv_theory" and "shape_theory" with the
+  derived D along five lattice directions (1, 0), (3, 1), (2, 1), (3, 2), (1, 1) as a table
+  in theta (bk.free_boundary_2d.lattice_curvature at u_+ = 0.62), interpolated in
+  cos(4 theta) instead of the sin^2(2 theta) between the axis and the diagonal.
 """
 
 from __future__ import annotations
@@ -64,7 +69,7 @@ def speed_at(dx):
     return {"u_plus": list(u), "c": [bk.tip_solve(float(q), dx=dx, gamma=GAMMA)["c"] for q in u]}
 
 
-def compare(dx: float) -> dict:
+def compare(dx: float, table: bool = False) -> dict:
     n = int(round(L / dx))
     x = (np.arange(n) + 0.5) * dx
     xx, yy = np.meshgrid(x, x)
@@ -95,6 +100,13 @@ def compare(dx: float) -> dict:
         "curv_theory": dict(u=phi, speed=axis, curvature=theory),
         "shape_theory": dict(u=phi, speed=axis, speed_diagonal=diag, curvature=theory),
     }
+    if table:
+        t0 = time.process_time()
+        dirs = bk.free_boundary_2d.lattice_curvature(0.62, GAMMA, dx)
+        out["curvature_table"] = dirs
+        out["curvature_table_cpu_s"] = time.process_time() - t0
+        variants["curv_table"] = dict(u=phi, speed=axis, curvature=dirs)
+        variants["shape_table"] = dict(u=phi, speed=axis, speed_diagonal=diag, curvature=dirs)
     for name, kw in variants.items():
         t0 = time.process_time()
         fb = bk.FreeBoundary2D(
@@ -122,15 +134,16 @@ def compare(dx: float) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--dx", type=float, nargs="+", default=[0.2, 0.1, 0.05])
+    ap.add_argument("--table", action="store_true", help="also the D(theta) table variants")
     ap.add_argument("--json")
     a = ap.parse_args()
     rows = []
     print("| dx | variant | mean | max abs | max abs - median | rms - median |")
     print("|---|---|---|---|---|---|")
     for dx in a.dx:
-        r = compare(dx)
+        r = compare(dx, a.table)
         rows.append(r)
-        for name in VARIANTS:
+        for name in VARIANTS + (("curv_table", "shape_table") if a.table else ()):
             q = r[name]
             print(
                 f"| {dx} | {name} | {q['mean']:.4f} | {q['max_abs']:.4f} | "

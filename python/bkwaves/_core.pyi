@@ -272,7 +272,10 @@ class FreeBoundary2DEngine:
         curvature: tuple[float, float] | None = None,
         diagonal_u: NDArray[np.float64] | None = None,
         diagonal_c: NDArray[np.float64] | None = None,
+        curvature_theta: NDArray[np.float64] | None = None,
+        curvature_d: NDArray[np.float64] | None = None,
     ) -> FreeBoundary2DEngine: ...
+    def curvature_at(self, theta: float) -> float | None: ...
     def advance(
         self, t_stop: float, max_steps: int, max_events: int
     ) -> Literal["time", "steps", "events"]: ...

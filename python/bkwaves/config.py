@@ -51,7 +51,8 @@ Schema (all sections optional except those marked)::
                 increasing in (0, 1)), c = [...] (> 1, strictly increasing), e.g. the
                 renormalised c_eff of a disordered medium; default: c = 1/sqrt(1 - u^2)
                 (bk.free_boundary.speed_table, docs/free_boundary.md); free_boundary_2d
-                also: curvature = D or [D_axis, D_diag] (c_n = c - D kappa) and
+                also: curvature = D, [D_axis, D_diag] or {theta = [...], D = [...]}
+                (c_n = c - D kappa) and
                 [speed.diagonal] u_plus, c (the planar speed along the diagonals; the
                 lattice's front shape, docs/free_boundary_2d.md)
 
@@ -643,7 +644,8 @@ def _speed_table_keys(t: dict, path: str, required: bool) -> dict | None:
 
 def _speed(doc: dict, model: _models.Model, ls: float = 1.0) -> dict | None:
     """The [speed] table (free boundary): the front-speed law {u_plus, c}, validated; for
-    the plane also the lattice's front shape, curvature = D or [D_axis, D_diag] (a length:
+    the plane also the lattice's front shape, curvature = D, [D_axis, D_diag] or a table
+    {theta, D} over directions (D a length:
     metres with [physical], divided here by the length unit ls) and [speed.diagonal]
     {u_plus, c} (then u_plus and c may be absent: the exact law)."""
     if "speed" not in doc:
@@ -660,7 +662,12 @@ def _speed(doc: dict, model: _models.Model, ls: float = 1.0) -> dict | None:
         from .free_boundary_2d import _curvature
 
         try:
-            out["curvature"] = [d / ls for d in _curvature(t["curvature"])]
+            curv = _curvature(t["curvature"])
+            if isinstance(curv, dict):
+                curv["D"] = [d / ls for d in curv["D"]]
+                out["curvature"] = curv
+            else:
+                out["curvature"] = [d / ls for d in curv]
         except V.ParameterError as e:
             _err("speed.curvature", str(e))
     if "diagonal" in t:

@@ -99,16 +99,78 @@ def random_field(
 
 
 def _curvature(value):
-    """The curvature option as [D_axis, D_diag] (or None)."""
+    """The curvature option as [D_axis, D_diag], or {"theta": [...], "D": [...]} (a table
+    over directions), or None."""
     if value is None:
         return None
-    allowed = "D >= 0 (finite), or a pair (D along the axes, D along the diagonals)"
+    allowed = (
+        "D >= 0 (finite), a pair (D along the axes, D along the diagonals), or a table "
+        '{"theta": [0, ..., pi/4], "D": [...]} over directions (radians, increasing)'
+    )
+    if isinstance(value, dict):
+        if set(value) != {"theta", "D"}:
+            V._fail("curvature", sorted(value), allowed)
+        theta = np.asarray(value["theta"], dtype=float)
+        d = np.asarray(value["D"], dtype=float)
+        if theta.ndim != 1 or d.shape != theta.shape or not 2 <= theta.size <= 16:
+            V._fail("curvature", value, "2 to 16 directions theta, as many as values D")
+        if abs(theta[0]) > 1e-12 or abs(theta[-1] - np.pi / 4) > 1e-12:
+            V._fail("curvature.theta", theta.tolist(), "from 0 (an axis) to pi/4 (a diagonal)")
+        if not np.all(np.diff(theta) > 1e-6):
+            V._fail("curvature.theta", theta.tolist(), "strictly increasing in [0, pi/4]")
+        for x in d:
+            V.number("curvature.D", x, lo=0.0)
+        return {"theta": theta.tolist(), "D": d.tolist()}
     if np.ndim(value) == 0:
         d = V.number("curvature", value, lo=0.0)
         return [d, d]
     if np.ndim(value) != 1 or len(value) != 2:
         V._fail("curvature", value, allowed)
     return [V.number("curvature", value[0], lo=0.0), V.number("curvature", value[1], lo=0.0)]
+
+
+#: The lattice directions (q, p) of :func:`lattice_curvature`'s table: 0, 18.4, 26.6,
+#: 33.7 and 45 degrees.
+LATTICE_DIRECTIONS = ((1, 0), (3, 1), (2, 1), (3, 2), (1, 1))
+
+
+def lattice_curvature(u_plus, gamma, dx, directions=LATTICE_DIRECTIONS) -> dict:
+    """The lattice's curvature coefficient D(theta) as the table the ``curvature=``
+    option takes: D derived along each lattice direction (q, p) by
+    :func:`bkwaves.theory.curvature_coefficient` (kappa -> 0, no fitted constant), at the
+    stress ahead ``u_plus``.
+
+    Parameters
+    ----------
+    u_plus : float
+        The stress ahead of the front (dimensionless), where D is derived.
+    gamma : float
+        Damping (dimensionless).
+    dx : float
+        The lattice spacing (dimensionless).
+    directions : sequence of (int, int), optional
+        Lattice directions (q, p) with 0 <= p <= q, from (1, 0) to (1, 1), in increasing
+        angle atan2(p, q).
+
+    Returns
+    -------
+    dict
+        ``{"theta": [...], "D": [...]}``: the angles (radians, 0 to pi/4) and D (a length
+        in units of the coupling length).
+
+    Examples
+    --------
+    >>> import bkwaves as bk
+    >>> t = bk.free_boundary_2d.lattice_curvature(0.6, 0.45, 0.1, [(1, 0), (1, 1)])
+    >>> [round(d, 4) for d in t["D"]]
+    [0.021, 0.0451]
+    """
+    from . import theory
+
+    dirs = [(int(q), int(p)) for q, p in directions]
+    theta = [float(np.arctan2(p, q)) for q, p in dirs]
+    d = [float(theory.curvature_coefficient(u_plus, gamma, dx, direction=qp)) for qp in dirs]
+    return _curvature({"theta": theta, "D": d})
 
 
 def _field(name, value, xx, yy, hi=None):
@@ -216,11 +278,14 @@ class FreeBoundary2D:
         The front-speed law, as in :class:`bkwaves.FreeBoundary`.
     threshold : float or array_like or callable, optional
         The static threshold field s(x, y) (dimensionless; default 1 everywhere).
-    curvature : float or tuple of float, optional
+    curvature : float or tuple of float or dict, optional
         The lattice's curvature correction c_n = c - D kappa (kappa = 1/R for an
-        expanding circle): D >= 0 (dimensionless length) in every direction, or a pair
+        expanding circle): D >= 0 (dimensionless length) in every direction; a pair
         (D along the axes, D along the diagonals), interpolated as
-        D_axis cos^2(2 theta) + D_diag sin^2(2 theta) in the angle theta of the normal
+        D_axis cos^2(2 theta) + D_diag sin^2(2 theta) in the angle theta of the normal;
+        or a table ``{"theta": [0, ..., pi/4], "D": [...]}`` over directions (radians),
+        interpolated by the polynomial in cos(4 theta) through them (the pair is the
+        table of 0 and pi/4); :func:`lattice_curvature` derives it for the lattice
         (docs/free_boundary_2d.md, "The lattice's front shape"). Default: none.
     speed_diagonal : optional
         The planar front speed along the diagonals, in any form of ``speed``; ``speed``
@@ -310,6 +375,10 @@ class FreeBoundary2D:
     def _new_engine(self, u0):
         table = self.speed or {}
         diag = self.speed_diagonal
+        curv = self.curvature
+        ctable = None
+        if isinstance(curv, dict):  # a table over directions
+            ctable, curv = curv, (curv["D"][0], curv["D"][-1])
         return _core.FreeBoundary2DEngine(
             self.nx,
             self.ny,
@@ -329,9 +398,11 @@ class FreeBoundary2D:
             threshold=None
             if self.threshold is None
             else np.ascontiguousarray(self.threshold).ravel(),
-            curvature=None if self.curvature is None else tuple(self.curvature),
+            curvature=None if curv is None else tuple(curv),
             diagonal_u=None if diag is None else np.array(diag["u_plus"]),
             diagonal_c=None if diag is None else np.array(diag["c"]),
+            curvature_theta=None if ctable is None else np.array(ctable["theta"], dtype=float),
+            curvature_d=None if ctable is None else np.array(ctable["D"], dtype=float),
         )
 
     def _set_noise(self):

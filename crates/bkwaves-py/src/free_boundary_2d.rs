@@ -41,7 +41,8 @@ impl PyFreeBoundary2D {
     #[pyo3(signature = (nx, ny, h, x0, y0, u0, gamma, v, boundary_x="periodic",
                         boundary_y="periodic", creep="zero", second_order=true,
                         record_arrivals=false, speed_u=None, speed_c=None, threshold=None,
-                        curvature=None, diagonal_u=None, diagonal_c=None))]
+                        curvature=None, diagonal_u=None, diagonal_c=None,
+                        curvature_theta=None, curvature_d=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         nx: usize,
@@ -63,6 +64,8 @@ impl PyFreeBoundary2D {
         curvature: Option<(f64, f64)>,
         diagonal_u: Option<PyReadonlyArray1<'_, f64>>,
         diagonal_c: Option<PyReadonlyArray1<'_, f64>>,
+        curvature_theta: Option<PyReadonlyArray1<'_, f64>>,
+        curvature_d: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         let bx = Boundary::parse(boundary_x).map_err(to_py)?;
         let by = Boundary::parse(boundary_y).map_err(to_py)?;
@@ -90,7 +93,18 @@ impl PyFreeBoundary2D {
                 SpeedLaw::table(&u.as_array().to_vec(), &c.as_array().to_vec()).map_err(to_py)?;
             inner.set_diagonal_law(law).map_err(to_py)?;
         }
+        if let (Some(t), Some(d)) = (curvature_theta, curvature_d) {
+            inner
+                .set_curvature_directions(t.as_slice()?, d.as_slice()?)
+                .map_err(to_py)?;
+        }
         Ok(PyFreeBoundary2D { inner })
+    }
+
+    /// The curvature coefficient D at the normal of angle theta (radians) to the x axis,
+    /// as the engine interpolates it, or None without the curvature option.
+    fn curvature_at(&self, theta: f64) -> Option<f64> {
+        self.inner.curvature_at_angle(theta)
     }
 
     /// Advance to t_stop at most, with at most max_steps engine events in this call,

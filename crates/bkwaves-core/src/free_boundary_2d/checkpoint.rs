@@ -63,9 +63,14 @@ impl FreeBoundary2D {
         // bytes it had before they existed)
         if self.shaped() {
             w.s("shape");
-            match o.curvature {
-                None => w.u(0),
-                Some((da, dd)) => {
+            match (o.curvature, &self.curv_dirs) {
+                (None, _) => w.u(0),
+                (Some(_), Some(dirs)) => {
+                    w.u(2);
+                    w.fs(&dirs.theta);
+                    w.fs(&dirs.d);
+                }
+                (Some((da, dd)), None) => {
                     w.u(1);
                     w.f(da);
                     w.f(dd);

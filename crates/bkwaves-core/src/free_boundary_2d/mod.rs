@@ -129,6 +129,8 @@ pub struct FreeBoundary2D {
     law: SpeedLaw,
     /// The planar speed along the diagonals (the `shape` module), or None.
     law_diag: Option<SpeedLaw>,
+    /// The curvature coefficient as a table over directions (the `shape` module), or None.
+    curv_dirs: Option<shape::Directions>,
     u_c: f64,
     u_stop: f64,
     threshold: Option<Vec<f64>>,
@@ -244,6 +246,7 @@ impl FreeBoundary2D {
             opts,
             law,
             law_diag: None,
+            curv_dirs: None,
             u_c,
             u_stop,
             threshold: threshold.map(<[f64]>::to_vec),

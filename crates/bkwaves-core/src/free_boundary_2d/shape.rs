@@ -77,15 +77,159 @@ pub(super) fn cos2_sq(gx2: f64, gy2: f64) -> f64 {
     }
 }
 
+#[cfg(test)]
+thread_local! {
+    /// A stride that replaces the rule (measurements of the rule in the tests).
+    pub(super) static STRIDE_OVERRIDE: std::cell::Cell<Option<i64>> =
+        const { std::cell::Cell::new(None) };
+}
+
 /// The stride (in nodes) of the differences that give the curvature (module docs).
 /// p = round(1/sqrt(h)), at least 2: a difference at stride p has the relative error
 /// O(h^2/(p h)^2) from the grid and the bias O(p h) from the transport; p h ~ sqrt(h)
 /// balances them.
 pub(super) fn curvature_stride(h: f64) -> i64 {
+    #[cfg(test)]
+    if let Some(p) = STRIDE_OVERRIDE.with(std::cell::Cell::get) {
+        return p;
+    }
     (1.0 / h.sqrt()).round().clamp(2.0, 64.0) as i64
 }
 
+/// The curvature coefficient D(theta) as a table over directions theta_k in [0, pi/4]
+/// (the first 0, the last pi/4; the square lattice's symmetries give every other
+/// direction), interpolated by the trigonometric polynomial in cos(4 theta) through them:
+/// D(theta) = sum_k D_k l_k(cos 4 theta), l_k the Lagrange basis in x = cos 4 theta at
+/// the nodes x_k = cos 4 theta_k. With the two directions 0 and pi/4 this is
+/// D_axis cos^2(2 theta) + D_diag sin^2(2 theta) (x = 2 cos^2(2 theta) - 1).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Directions {
+    pub(super) theta: Vec<f64>,
+    pub(super) d: Vec<f64>,
+    x: Vec<f64>,
+    /// prod_{j != k} (x_k - x_j)
+    den: Vec<f64>,
+}
+
+impl Directions {
+    pub(super) fn new(theta: &[f64], d: &[f64]) -> Result<Self> {
+        let quarter = std::f64::consts::FRAC_PI_4;
+        let fail = |name, value, allowed| {
+            Err(Error::InvalidParameter {
+                name,
+                value,
+                allowed,
+            })
+        };
+        if theta.len() != d.len() || !(2..=16).contains(&theta.len()) {
+            return fail(
+                "curvature directions",
+                theta.len() as f64,
+                "2 to 16 directions theta, as many as coefficients D",
+            );
+        }
+        let m = theta.len();
+        if theta[0].abs() > 1e-12 || (theta[m - 1] - quarter).abs() > 1e-12 {
+            return fail(
+                "curvature theta",
+                if theta[0].abs() > 1e-12 {
+                    theta[0]
+                } else {
+                    theta[m - 1]
+                },
+                "the first direction 0 (an axis), the last pi/4 (the diagonal)",
+            );
+        }
+        for k in 1..m {
+            if !(theta[k] > theta[k - 1] + 1e-6) {
+                return fail(
+                    "curvature theta",
+                    theta[k],
+                    "strictly increasing directions in [0, pi/4], at least 1e-6 apart",
+                );
+            }
+        }
+        if let Some(&bad) = d.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+            return fail("curvature D", bad, "finite D >= 0 (c_n = c - D kappa)");
+        }
+        let mut th = theta.to_vec();
+        th[0] = 0.0;
+        th[m - 1] = quarter;
+        let x: Vec<f64> = th
+            .iter()
+            .enumerate()
+            .map(|(k, t)| match k {
+                0 => 1.0,
+                _ if k == m - 1 => -1.0,
+                _ => (4.0 * t).cos(),
+            })
+            .collect();
+        let den = (0..m)
+            .map(|k| (0..m).filter(|&j| j != k).map(|j| x[k] - x[j]).product())
+            .collect();
+        Ok(Directions {
+            theta: th,
+            d: d.to_vec(),
+            x,
+            den,
+        })
+    }
+
+    /// D at the normal whose cos^2(2 theta) is c2.
+    pub(super) fn at(&self, c2: f64) -> f64 {
+        let x = 2.0 * c2 - 1.0;
+        let m = self.x.len();
+        let mut sum = 0.0;
+        for k in 0..m {
+            let mut l = self.d[k] / self.den[k];
+            for j in 0..m {
+                if j != k {
+                    l *= x - self.x[j];
+                }
+            }
+            sum += l;
+        }
+        sum
+    }
+}
+
 impl FreeBoundary2D {
+    /// The curvature coefficient D(theta) as a table over directions (the [`Directions`]
+    /// docs): theta_k in radians, 0 first and pi/4 last, strictly increasing; D_k >= 0.
+    /// Replaces the engine's curvature option (D_axis, D_diag). Only before the first
+    /// rupture.
+    pub fn set_curvature_directions(&mut self, theta: &[f64], d: &[f64]) -> Result<()> {
+        if !self.ruptures.is_empty() {
+            return Err(Error::InvalidParameter {
+                name: "curvature directions",
+                value: self.ruptures.len() as f64,
+                allowed: "set before the first rupture",
+            });
+        }
+        let dirs = Directions::new(theta, d)?;
+        self.opts.curvature = Some((dirs.d[0], dirs.d[dirs.d.len() - 1]));
+        self.curv_dirs = Some(dirs);
+        Ok(())
+    }
+
+    /// The curvature coefficient D the engine uses at the normal of angle theta to the x
+    /// axis (radians), or None without the curvature option.
+    pub fn curvature_at_angle(&self, theta: f64) -> Option<f64> {
+        let (da, dd) = self.opts.curvature?;
+        let c2 = (2.0 * theta).cos().powi(2);
+        Some(match &self.curv_dirs {
+            Some(dirs) => dirs.at(c2),
+            None => da * c2 + dd * (1.0 - c2),
+        })
+    }
+
+    /// The curvature table (theta, D), if set by [`Self::set_curvature_directions`].
+    pub fn curvature_directions(&self) -> Option<(&[f64], &[f64])> {
+        self.curv_dirs
+            .as_ref()
+            .map(|t| (t.theta.as_slice(), t.d.as_slice()))
+    }
+
     /// Set the planar speed along the diagonals (module docs): c_axis is the engine's
     /// law. Only before the first rupture.
     pub fn set_diagonal_law(&mut self, law: SpeedLaw) -> Result<()> {
@@ -209,7 +353,11 @@ impl FreeBoundary2D {
             c += (1.0 / fd - c) * (1.0 - c2);
         }
         if let Some((da, dd)) = self.opts.curvature {
-            c -= (da * c2 + dd * (1.0 - c2)) * kappa;
+            let d = match &self.curv_dirs {
+                Some(dirs) => dirs.at(c2),
+                None => da * c2 + dd * (1.0 - c2),
+            };
+            c -= d * kappa;
         }
         if c > 1.0 {
             1.0 / (c * c)

@@ -258,3 +258,157 @@ fn the_shape_options_checkpoint_bit_for_bit() {
     let e = FreeBoundary2D::new(g, &u0, o, SpeedLaw::Exact, None).unwrap_err();
     assert!(e.to_string().contains("curvature D_axis"), "{e}");
 }
+
+/// Max and mean error over 1 < r <= 5 of the curved circle (isotropic D, u_+ = 0.6, v =
+/// 0) on the square [-1.5, 5.5]^2 (the quadrant the errors are read in, plus the seeds),
+/// at the stride p (None: the rule).
+fn curved_error_quadrant(h: f64, d: f64, p: Option<i64>) -> (f64, f64) {
+    let u0: f64 = 0.6;
+    let c = 1.0 / (1.0 - u0 * u0).sqrt();
+    let n = (7.0 / h).round() as usize + 1;
+    let g = Grid::new(n, n, h, (-1.5, -1.5), (Boundary::Free, Boundary::Free)).unwrap();
+    let opts = Options2D {
+        v: 0.0,
+        curvature: Some((d, d)),
+        ..Default::default()
+    };
+    let mut fb = FreeBoundary2D::new(g, &vec![u0; g.n()], opts, SpeedLaw::Exact, None).unwrap();
+    let seeds: Vec<(usize, f64)> = (0..g.n())
+        .filter_map(|k| {
+            let (x, y) = g.xy(k);
+            let r = x.hypot(y);
+            (r <= 1.0).then(|| (k, t_curved(r, c, d)))
+        })
+        .collect();
+    fb.trigger(&seeds).unwrap();
+    super::shape::STRIDE_OVERRIDE.with(|s| s.set(p));
+    fb.advance(f64::INFINITY, u64::MAX, 1).unwrap();
+    super::shape::STRIDE_OVERRIDE.with(|s| s.set(None));
+    let (mut worst, mut sum, mut m) = (0.0f64, 0.0, 0);
+    for k in 0..g.n() {
+        let (x, y) = g.xy(k);
+        let r = x.hypot(y);
+        if r > 1.0 && r <= 5.0 && x >= 0.0 && y >= 0.0 {
+            let e = (fb.last_arrival()[k] - t_curved(r, c, d)).abs();
+            worst = worst.max(e);
+            sum += e;
+            m += 1;
+        }
+    }
+    (worst, sum / m as f64)
+}
+
+/// The measurement behind the stride rule (docs/free_boundary_2d.md): errors of the
+/// curved circle for strides p at h = 0.05, 0.025, 0.0125. `cargo test --release -p
+/// bkwaves-core stride_table -- --ignored --nocapture` (STRIDES="2 4 6 8" to choose).
+#[test]
+#[ignore]
+fn stride_table() {
+    let hs: Vec<f64> = std::env::var("HS")
+        .map(|s| s.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .unwrap_or_else(|_| vec![0.05, 0.025, 0.0125]);
+    let ps: Vec<i64> = std::env::var("STRIDES")
+        .map(|s| s.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .unwrap_or_else(|_| vec![2, 3, 4, 6, 8, 12, 16]);
+    for &h in &hs {
+        let (w, m) = curved_error_quadrant(h, 0.1, None);
+        eprintln!(
+            "h {h} rule p {}: max {w:.3e} mean {m:.3e}",
+            super::shape::curvature_stride(h)
+        );
+        for &p in &ps {
+            let (w, m) = curved_error_quadrant(h, 0.1, Some(p));
+            eprintln!(
+                "h {h} p {p} (p h {:.3}): max {w:.3e} mean {m:.3e}",
+                p as f64 * h
+            );
+        }
+    }
+}
+
+#[test]
+fn a_curvature_table_interpolates_in_cos_4_theta() {
+    use super::shape::Directions;
+    let q = std::f64::consts::FRAC_PI_4;
+    // two directions: D_axis cos^2(2 theta) + D_diag sin^2(2 theta), to rounding
+    let two = Directions::new(&[0.0, q], &[0.02, 0.045]).unwrap();
+    // five directions through a trigonometric polynomial of degree 4 in cos(4 theta):
+    // reproduced exactly between the nodes
+    let f = |t: f64| {
+        0.034 - 0.0116 * (4.0 * t).cos() - 0.001 * (8.0 * t).cos() + 4e-4 * (16.0 * t).cos()
+    };
+    // the directions (1, 0), (3, 1), (2, 1), (3, 2), (1, 1)
+    let th = vec![0.0, 1f64.atan2(3.0), 1f64.atan2(2.0), 2f64.atan2(3.0), q];
+    let d: Vec<f64> = th.iter().map(|&t| f(t)).collect();
+    let five = Directions::new(&th, &d).unwrap();
+    for i in 0..=90 {
+        let t = i as f64 * q / 90.0;
+        let c2 = (2.0 * t).cos().powi(2);
+        let s2 = 1.0 - c2;
+        assert!((two.at(c2) - (0.02 * c2 + 0.045 * s2)).abs() < 1e-15);
+        assert!(
+            (five.at(c2) - f(t)).abs() < 1e-14,
+            "{t} {} {}",
+            five.at(c2),
+            f(t)
+        );
+    }
+    // bad tables are refused naming the parameter
+    for (t, d) in [
+        (vec![0.0, 0.5], vec![0.1, 0.1]),
+        (vec![0.1, q], vec![0.1, 0.1]),
+        (vec![0.0, 0.3, 0.2, q], vec![0.1; 4]),
+        (vec![0.0, q], vec![0.1, -0.1]),
+        (vec![0.0, q], vec![0.1]),
+    ] {
+        let e = Directions::new(&t, &d).unwrap_err().to_string();
+        assert!(e.contains("curvature"), "{e}");
+    }
+}
+
+#[test]
+fn a_curvature_table_runs_as_the_pair_it_reduces_to() {
+    // a table of two directions is the (D_axis, D_diag) option; a table of five equal
+    // values is the isotropic D: the same arrival times to rounding
+    let q = std::f64::consts::FRAC_PI_4;
+    let (h, u0, d) = (0.2, 0.6f64, 0.1);
+    let c = 1.0 / (1.0 - u0 * u0).sqrt();
+    let run = |pair: (f64, f64), table: Option<(Vec<f64>, Vec<f64>)>| {
+        let g = square(6.0, h);
+        let opts = Options2D {
+            v: 0.0,
+            curvature: Some(pair),
+            ..Default::default()
+        };
+        let mut fb = FreeBoundary2D::new(g, &vec![u0; g.n()], opts, SpeedLaw::Exact, None).unwrap();
+        if let Some((t, dv)) = table {
+            fb.set_curvature_directions(&t, &dv).unwrap();
+        }
+        let seeds: Vec<(usize, f64)> = (0..g.n())
+            .filter_map(|k| {
+                let (x, y) = g.xy(k);
+                let r = x.hypot(y);
+                (r <= 1.0).then(|| (k, t_curved(r, c, d)))
+            })
+            .collect();
+        fb.trigger(&seeds).unwrap();
+        fb.advance(f64::INFINITY, u64::MAX, 1).unwrap();
+        fb.last_arrival().to_vec()
+    };
+    let diff = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0f64, f64::max)
+    };
+    let pair = run((0.05, 0.12), None);
+    let two = run((0.0, 0.0), Some((vec![0.0, q], vec![0.05, 0.12])));
+    assert!(diff(&pair, &two) < 1e-12, "{}", diff(&pair, &two));
+    let iso = run((d, d), None);
+    let th = vec![0.0, 0.3, 0.45, 0.6, q];
+    let five = run((0.0, 0.0), Some((th.clone(), vec![d; 5])));
+    assert!(diff(&iso, &five) < 1e-12, "{}", diff(&iso, &five));
+    // and a table that differs between the nodes moves the front (the test can fail)
+    let bumped = run((0.0, 0.0), Some((th, vec![d, 0.3, 0.3, 0.3, d])));
+    assert!(diff(&iso, &bumped) > 1e-3, "{}", diff(&iso, &bumped));
+}
