@@ -129,6 +129,9 @@ impl Directions {
             );
         }
         let m = theta.len();
+        if let Some(&bad) = theta.iter().find(|t| !t.is_finite()) {
+            return fail("curvature theta", bad, "finite directions in [0, pi/4]");
+        }
         if theta[0].abs() > 1e-12 || (theta[m - 1] - quarter).abs() > 1e-12 {
             return fail(
                 "curvature theta",
@@ -141,7 +144,7 @@ impl Directions {
             );
         }
         for k in 1..m {
-            if !(theta[k] > theta[k - 1] + 1e-6) {
+            if theta[k].is_nan() || theta[k] <= theta[k - 1] + 1e-6 {
                 return fail(
                     "curvature theta",
                     theta[k],
