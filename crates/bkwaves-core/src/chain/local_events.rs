@@ -117,6 +117,46 @@ struct Comp {
     substeps: u64,
 }
 
+/// The working arrays of one component's integration (per member), kept between
+/// components and steps so that a component allocates nothing.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    su: Vec<f64>,
+    sw: Vec<f64>,
+    su0: Vec<f64>,
+    sw0: Vec<f64>,
+    sum_u: Vec<f64>,
+    sum_w: Vec<f64>,
+    acc0: Vec<f64>,
+    acc: Vec<f64>,
+    grow: Vec<usize>,
+    who: Vec<(usize, i8)>,
+    list: Vec<(usize, i8)>,
+    cands: Vec<usize>,
+}
+
+impl Scratch {
+    /// Every per-member array at n zeros, the lists empty.
+    fn reset(&mut self, n: usize) {
+        for a in [
+            &mut self.su,
+            &mut self.sw,
+            &mut self.su0,
+            &mut self.sw0,
+            &mut self.sum_u,
+            &mut self.sum_w,
+            &mut self.acc0,
+            &mut self.acc,
+        ] {
+            a.clear();
+            a.resize(n, 0.0);
+        }
+        self.grow.clear();
+        self.who.clear();
+        self.list.clear();
+    }
+}
+
 /// The local-event machinery of an engine (not part of the state: rebuilt every step).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Local {
@@ -132,6 +172,12 @@ pub(crate) struct Local {
     /// Was the member sliding at t0 and taken out of the runs / marked for the passes?
     out: Vec<bool>,
     comps: Vec<Comp>,
+    /// Per member: its position in its component's `blocks` (set by `group`).
+    pos: Vec<u32>,
+    /// Components of earlier steps kept for their buffers (no allocation per component).
+    pool: Vec<Comp>,
+    /// The buffers of one component's integration, reused.
+    scratch: Scratch,
     /// Whether the last step's components hold the dense output of its members.
     dense_valid: bool,
     /// Counters: steps with switches, rounds, fallbacks to the global cut.
@@ -204,6 +250,8 @@ struct Ctx<'a, G: Geometry, F: Friction, M: Medium> {
     blk: &'a Blocks<F, M>,
     run: RunData<'a>,
     mem_of: &'a [u32],
+    /// Per member: its position in its component's blocks.
+    pos: &'a [u32],
     members: &'a [usize],
     dir0: &'a [f64],
     onset0: &'a [f64],
@@ -213,10 +261,13 @@ impl<G: Geometry, F: Friction, M: Medium> Ctx<'_, G, F, M> {
     /// The slot in `c` of padded block r, if it is one of c's members.
     #[inline]
     fn slot(&self, c: &Comp, r: usize) -> Option<usize> {
-        if self.mem_of[r] == NONE {
+        let m = self.mem_of[r];
+        if m == NONE {
             return None;
         }
-        c.blocks.binary_search(&r).ok()
+        // (a member's position in its own component: c's slot if c is that component)
+        let k = self.pos[m as usize] as usize;
+        (c.blocks.get(k) == Some(&r)).then_some(k)
     }
 
     /// u and u_t of real block r at time t: a member of c from (su, sw) (stuck members
@@ -350,6 +401,7 @@ fn integrate<G: Geometry, F: Friction, M: Medium>(
     c: &mut Comp,
     t0: f64,
     h: f64,
+    sc: &mut Scratch,
 ) -> Outcome {
     let st = cx.st;
     let v = st.v;
@@ -391,17 +443,22 @@ fn integrate<G: Geometry, F: Friction, M: Medium>(
     c.recs.clear();
     c.block_steps = 0;
     c.substeps = 0;
-    let mut su = vec![0.0; n];
-    let mut sw = vec![0.0; n];
-    let mut su0 = vec![0.0; n];
-    let mut sw0 = vec![0.0; n];
-    let mut sum_u = vec![0.0; n];
-    let mut sum_w = vec![0.0; n];
-    let mut acc0 = vec![0.0; n];
-    let mut acc = vec![0.0; n];
-    let mut grow = Vec::new();
-    let mut who: Vec<(usize, i8)> = Vec::new();
-    cx.accel(c, &c.u, &c.w, t0, &mut acc0);
+    sc.reset(n);
+    let Scratch {
+        su,
+        sw,
+        su0,
+        sw0,
+        sum_u,
+        sum_w,
+        acc0,
+        acc,
+        grow,
+        who,
+        list: spare,
+        cands,
+    } = sc;
+    cx.accel(c, &c.u, &c.w, t0, acc0);
     c.kt.push(t0);
     c.ku.extend_from_slice(&c.u);
     c.kw.extend_from_slice(&c.w);
@@ -420,18 +477,13 @@ fn integrate<G: Geometry, F: Friction, M: Medium>(
             let mut hs = t_end - t;
             su0.copy_from_slice(&c.u);
             sw0.copy_from_slice(&c.w);
-            let mut b = rk4_substep(
-                cx, c, &su0, &sw0, &acc0, t, hs, &mut su, &mut sw, &mut sum_u, &mut sum_w, &mut acc,
-            );
+            let mut b = rk4_substep(cx, c, su0, sw0, acc0, t, hs, su, sw, sum_u, sum_w, acc);
             // the earliest event of the sub-step, on its dense output
-            let s = detect(cx, c, &su0, &sw0, &acc0, &acc, t, hs, &mut who);
+            let s = detect(cx, c, su0, sw0, acc0, acc, t, hs, who);
             if s < 1.0 {
                 // redo it up to the event (which is then at its end)
                 hs *= s;
-                b = rk4_substep(
-                    cx, c, &su0, &sw0, &acc0, t, hs, &mut su, &mut sw, &mut sum_u, &mut sum_w,
-                    &mut acc,
-                );
+                b = rk4_substep(cx, c, su0, sw0, acc0, t, hs, su, sw, sum_u, sum_w, acc);
             }
             let sliding = c.dir.iter().filter(|&&d| d != 0.0).count() as u64;
             c.block_steps += sliding;
@@ -443,24 +495,25 @@ fn integrate<G: Geometry, F: Friction, M: Medium>(
             t = te;
             // events at te, then everything due at te (the settling of the engine)
             if !who.is_empty() {
-                let mut list = std::mem::take(&mut who);
+                // the events in `spare`, `who` empty for the next sub-step
+                spare.clear();
+                std::mem::swap(who, spare);
                 loop {
-                    for &(p, kind) in &list {
-                        apply(cx, c, p, kind, te, &acc, &mut grow);
+                    for &(p, kind) in spare.iter() {
+                        apply(cx, c, p, kind, te, acc, grow);
                     }
                     if !grow.is_empty() {
-                        return Outcome::Grow(grow);
+                        return Outcome::Grow(std::mem::take(grow));
                     }
-                    cx.accel(c, &c.u, &c.w, te, &mut acc);
-                    list.clear();
-                    due(cx, c, te, &acc, &mut list);
-                    if list.is_empty() {
+                    cx.accel(c, &c.u, &c.w, te, acc);
+                    spare.clear();
+                    due(cx, c, te, acc, spare, cands);
+                    if spare.is_empty() {
                         break;
                     }
                 }
-                who = list;
             }
-            std::mem::swap(&mut acc0, &mut acc);
+            std::mem::swap(acc0, acc);
             c.kt.push(t);
             c.ku.extend_from_slice(&c.u);
             c.kw.extend_from_slice(&c.w);
@@ -663,6 +716,7 @@ fn due<G: Geometry, F: Friction, M: Medium>(
     te: f64,
     acc: &[f64],
     list: &mut Vec<(usize, i8)>,
+    cands: &mut Vec<usize>,
 ) {
     let v = cx.st.v;
     for (k, &p) in c.blocks.iter().enumerate() {
@@ -680,8 +734,9 @@ fn due<G: Geometry, F: Friction, M: Medium>(
         .enumerate()
         .filter(|&(k, _)| c.dir[k] == 0.0)
         .map(|(_, &p)| p);
-    let cands: Vec<usize> = stuck_members.chain(c.watch.iter().copied()).collect();
-    for p in cands {
+    cands.clear();
+    cands.extend(stuck_members.chain(c.watch.iter().copied()));
+    for &p in cands.iter() {
         if !cx.stuck(c, p) {
             continue;
         }
@@ -831,7 +886,8 @@ impl Local {
         self.dir0.clear();
         self.onset0.clear();
         self.out.clear();
-        self.comps.clear();
+        self.pos.clear();
+        self.pool.append(&mut self.comps);
         self.dense_valid = false;
     }
 }
@@ -908,9 +964,6 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
     /// next to a member: their component watches them), appended to `out`.
     fn detect_all(&self, t0: f64, h: f64, cands: &mut Vec<usize>, out: &mut Vec<usize>) {
         let v = self.cfg.v;
-        let t1 = t0 + h;
-        let mem = &self.local.mem_of;
-        let is_member = |r: usize| !mem.is_empty() && mem[r] != NONE;
         for &(a, b) in &self.st.runs {
             cands.clear();
             events::rest_candidates(
@@ -940,48 +993,66 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                     out.push(p);
                 }
             }
-            for (q, _, _) in self.st.geo.around_run(a, b) {
-                let Some(p) = self.st.resolve(q) else {
-                    continue;
-                };
-                if self.st.sliding(p) {
-                    continue;
+            if !G::FRONTIER {
+                for (q, _, _) in self.st.geo.around_run(a, b) {
+                    if let Some(p) = self.st.resolve(q) {
+                        self.stuck_switch(p, t0, h, out);
+                    }
                 }
-                if !mem.is_empty()
-                    && self
-                        .st
-                        .geo
-                        .neighbours(p)
-                        .into_iter()
-                        .any(|q| self.st.resolve(q).is_some_and(is_member))
-                {
-                    continue;
-                }
-                let up = self.herm_u(p, t0, t1);
-                let phi = self
-                    .st
-                    .geo
-                    .phi_hermite(&self.blk.med, p, up, |q| self.herm_neighbour(q, p, t0, t1));
-                let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
-                let fwd = Hermite {
-                    g0: phi.g0 - hi,
-                    m0: phi.m0,
-                    g1: phi.g1 - hi,
-                    m1: phi.m1,
-                };
-                let bwd = Hermite {
-                    g0: lo - phi.g0,
-                    m0: -phi.m0,
-                    g1: lo - phi.g1,
-                    m1: -phi.m1,
-                };
-                if fwd.first_crossing(h).is_some() || bwd.first_crossing(h).is_some() {
-                    out.push(p);
-                }
+            }
+        }
+        if G::FRONTIER {
+            // the stuck blocks next to the runs from their lists (../frontier.rs: the
+            // cells the walk around the runs visits; `out` is sorted below, so the order
+            // of the visit does not matter)
+            for p in self.st.frontier.stuck_blocks(&self.st.dir) {
+                self.stuck_switch(p, t0, h, out);
             }
         }
         out.sort_unstable();
         out.dedup();
+    }
+
+    /// Does stuck block p (next to a run, not next to a member: a component watches
+    /// those) cross a threshold in the step [t0, t0 + h]? Then it goes to `out`.
+    #[inline]
+    fn stuck_switch(&self, p: usize, t0: f64, h: f64, out: &mut Vec<usize>) {
+        if self.st.sliding(p) {
+            return;
+        }
+        let mem = &self.local.mem_of;
+        if !mem.is_empty()
+            && self
+                .st
+                .geo
+                .neighbours(p)
+                .into_iter()
+                .any(|q| self.st.resolve(q).is_some_and(|r| mem[r] != NONE))
+        {
+            return;
+        }
+        let t1 = t0 + h;
+        let up = self.herm_u(p, t0, t1);
+        let phi = self
+            .st
+            .geo
+            .phi_hermite(&self.blk.med, p, up, |q| self.herm_neighbour(q, p, t0, t1));
+        let (lo, hi) = (self.blk.lower(p), self.blk.upper(p));
+        let fwd = Hermite {
+            g0: phi.g0 - hi,
+            m0: phi.m0,
+            g1: phi.g1 - hi,
+            m1: phi.m1,
+        };
+        let bwd = Hermite {
+            g0: lo - phi.g0,
+            m0: -phi.m0,
+            g1: lo - phi.g1,
+            m1: -phi.m1,
+        };
+        if fwd.first_crossing(h).is_some() || bwd.first_crossing(h).is_some() {
+            out.push(p);
+        }
     }
 
     /// Make `p` and its real neighbours members (those that are not yet).
@@ -1064,7 +1135,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             g.sort_unstable();
             let c = match old.remove(&g[0]) {
                 Some(c) if c.blocks == g => c,
-                _ => {
+                other => {
+                    l.pool.extend(other);
                     let mut watch = Vec::new();
                     for &p in &g {
                         for q in st.geo.neighbours(p) {
@@ -1077,25 +1149,29 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                     }
                     watch.sort_unstable();
                     watch.dedup();
-                    Comp {
-                        blocks: g,
-                        watch,
-                        ..Default::default()
-                    }
+                    let mut c = l.pool.pop().unwrap_or_default();
+                    c.blocks = g;
+                    c.watch = watch;
+                    c.done = false;
+                    c
                 }
             };
             let id = l.comps.len() as u32;
-            for &p in &c.blocks {
+            l.pos.resize(m, 0);
+            for (k, &p) in c.blocks.iter().enumerate() {
                 let mi = l.mem_of[p] as usize;
                 l.mcomp[mi] = id;
+                l.pos[mi] = k as u32;
             }
             l.comps.push(c);
         }
+        l.pool.extend(old.into_values());
     }
 
     /// Integrate every component not yet done; the blocks to add if one must grow.
     fn integrate_components(&mut self, t0: f64, h: f64) -> Vec<usize> {
         let mut comps = std::mem::take(&mut self.local.comps);
+        let mut scratch = std::mem::take(&mut self.local.scratch);
         let mut grow = Vec::new();
         {
             let cx = Ctx {
@@ -1112,12 +1188,13 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                     a1: &self.a_end,
                 },
                 mem_of: &self.local.mem_of,
+                pos: &self.local.pos,
                 members: &self.local.members,
                 dir0: &self.local.dir0,
                 onset0: &self.local.onset0,
             };
             for c in comps.iter_mut().filter(|c| !c.done) {
-                match integrate(&cx, c, t0, h) {
+                match integrate(&cx, c, t0, h, &mut scratch) {
                     Outcome::Done => {}
                     Outcome::Grow(g) => {
                         c.done = false;
@@ -1132,6 +1209,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         self.local.stats.components += comps.iter().filter(|c| c.done).count() as u64;
         self.local.comps = comps;
+        self.local.scratch = scratch;
         grow
     }
 
