@@ -488,6 +488,29 @@ def test_free_boundary_2d_front_shape_from_the_speed_table():
         parse_config(one_d)
 
 
+def test_free_boundary_2d_curvature_table_from_the_speed_table():
+    # [speed] curvature = {theta, D} (a table over directions) runs as the engine built by
+    # hand with curvature={"theta": ..., "D": ...}, and differs from the pair of its ends
+    table = {"theta": [0.0, 0.4636476090008061, np.pi / 4], "D": [0.02, 0.06, 0.04]}
+    doc = _with(FB2D, "speed", {"curvature": table})
+    cfg = parse_config(doc)
+    assert parse_config(cfg.to_dict()) == cfg
+    res = bk.run(cfg)
+    u0 = 0.5 + 0.3 * bk.disorder.smooth_field((32, 40), (0.5, 0.5), 1.0, periodic=True, seed=3)
+    p = bk.Params(gamma=0.3, v=0.01, dx=0.001)
+    ref = bk.FreeBoundary2D(p, (40, 32), 0.5, u0, "periodic", curvature=table)
+    ref = ref.run(t_end=140.0)
+    pair = bk.FreeBoundary2D(p, (40, 32), 0.5, u0, "periodic", curvature=(0.02, 0.04))
+    pair = pair.run(t_end=140.0)
+    rup = res.tables["ruptures"]
+    assert len(rup) == len(ref.ruptures) >= 3
+    np.testing.assert_array_equal(rup["t_end"], ref.ruptures["t_end"])
+    assert not np.array_equal(rup["t_end"], pair.ruptures["t_end"][: len(rup)])
+    bad = _with(FB2D, "speed", {"curvature": {"theta": [0.0, 0.5], "D": [0.1, 0.1]}})
+    with pytest.raises(bk.ParameterError, match=r"speed\.curvature"):
+        parse_config(bad)
+
+
 def test_free_boundary_2d_moments_add_up_to_the_stress_dropped():
     """Conservation through the outputs: the ruptures' moments (int (u_+ - u_-) dA) add
     up to the stress the field dropped, sum of (u(0) + v t - u(t)) h^2 over the nodes
