@@ -42,7 +42,9 @@
 //! with switches is two passes over the sliding blocks plus the components' sub-steps,
 //! (switch count) x (a few blocks) x (a few sub-steps): O(area) for a rupture, not
 //! O(area x perimeter). The global engine stays selectable
-//! ([`Engine::set_local_events`]); the chain uses it by default, the lattice this one.
+//! ([`Engine::set_local_events`]); an engine starts with the global cut, and the Python
+//! `bk.Lattice` and lattice configs choose local events where they apply (the chain
+//! keeps the global cut; docs/lattice.md, "Local events").
 
 use super::events::{self, Hermite};
 use super::geometry::{Beyond, Geometry};
@@ -894,11 +896,12 @@ impl Local {
 
 impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
     /// Choose how switches are located (before or between runs): `true`, the local events
-    /// of this module (a switch redoes its neighbourhood only; the lattice's default);
-    /// `false`, the global cut (a switch redoes the step of every sliding block; the
-    /// chain's default). Local events need RK4 at a fixed step and a law without a stiff
-    /// onset; with the midpoint rule, step-size control or a stiff law the global cut is
-    /// used whatever is chosen here.
+    /// of this module (a switch redoes its neighbourhood only; `bk.Lattice`'s default);
+    /// `false`, the global cut (a switch redoes the step of every sliding block; an
+    /// engine's default, and the chain's). Local events need RK4 at a fixed step and a
+    /// law without a stiff onset; with the midpoint rule, step-size control or a stiff law
+    /// the global cut is used whatever is chosen here
+    /// ([`Engine::try_set_local_events`] refuses instead).
     pub fn set_local_events(&mut self, on: bool) {
         self.local.on = on;
     }
