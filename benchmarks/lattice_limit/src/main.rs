@@ -24,6 +24,7 @@
 //!     [--events local|global]
 
 use bkwaves_core::boundary::Free;
+use bkwaves_core::chain::cells::CellVec;
 use bkwaves_core::chain::medium::Uniform;
 use bkwaves_core::chain::{ChainConfig, Trigger, TriggerKind};
 use bkwaves_core::friction::Coulomb;
@@ -69,8 +70,10 @@ struct Reference {
     k: f64,
     g2: f64,
     h: f64,
-    /// u, w, then the RK4 sums (ku, kw) and two stage buffers (su, sw), (tu, tw).
-    b: [Vec<f64>; 8],
+    /// u, w, then the RK4 sums (ku, kw) and two stage buffers (su, sw), (tu, tw), each
+    /// at its own offset in the memory page as the engine's arrays (`CellVec`: arrays
+    /// that all start at one offset run the loop up to 1.3 times slower, 4K aliasing).
+    b: [CellVec; 8],
 }
 
 #[inline(always)]
@@ -119,10 +122,12 @@ fn stage(
 impl Reference {
     fn new(m: usize) -> Reference {
         let len = (m + 2) * (m + 2);
-        let mut b: [Vec<f64>; 8] = std::array::from_fn(|_| vec![0.0; len]);
+        let mut b: [CellVec; 8] = std::array::from_fn(|_| CellVec::new(len, 0.0));
         let x = |q: usize| 0.1 * q as f64;
-        b[0] = (0..len).map(|q| 0.6 - 1e-3 * x(q).sin()).collect();
-        b[1] = (0..len).map(|q| -1e-2 * x(q).cos()).collect();
+        for q in 0..len {
+            b[0][q] = 0.6 - 1e-3 * x(q).sin();
+            b[1][q] = -1e-2 * x(q).cos();
+        }
         for j in 2..8 {
             b[j] = b[j % 2].clone();
         }
@@ -285,8 +290,8 @@ fn engine_step(m: usize, steps: u64) -> (f64, f64) {
     };
     let len = geo.cells();
     let mut rk = Stepper::new(Method::Rk4, len);
-    let (mut a0, mut a1) = (vec![0.0; len], vec![0.0; len]);
-    let (mut us, mut ws) = (vec![0.0; len], vec![0.0; len]);
+    let (mut a0, mut a1) = (CellVec::new(len, 0.0), CellVec::new(len, 0.0));
+    let (mut us, mut ws) = (CellVec::new(len, 0.0), CellVec::new(len, 0.0));
     rk.accel_only(&mut st, &fr, 0.0, &mut a0);
     let h = STEP * DX;
     let t = cpu_seconds();

@@ -14,6 +14,7 @@
 //! write and read themselves (each source its own state, random generator included).
 
 use super::catalog::{EventRecord, SlipRecord};
+use super::cells::CellVec;
 use super::events::SlipQueue;
 use super::geometry::Geometry;
 use super::medium::Medium;
@@ -106,6 +107,26 @@ impl<T: Field + Default> Field for Vec<T> {
             let mut x = T::default();
             x.get(r)?;
             self.push(x);
+        }
+        Ok(())
+    }
+}
+
+/// An array over the cells: as a `Vec<f64>` (its length, then its values).
+impl Field for CellVec {
+    fn put(&self, w: &mut W) {
+        w.u(self.len() as u64);
+        for &x in self.iter() {
+            w.f(x);
+        }
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        let k = r.len(8)?;
+        if k != self.len() {
+            *self = CellVec::new(k, 0.0);
+        }
+        for x in self.iter_mut() {
+            *x = r.f()?;
         }
         Ok(())
     }
@@ -331,8 +352,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         next.st.rebuild_runs();
         // scratch of the integrator: as a freshly built chain has it
-        next.u0 = vec![0.0; n2];
-        next.w0 = vec![0.0; n2];
+        next.u0 = CellVec::new(n2, 0.0);
+        next.w0 = CellVec::new(n2, 0.0);
         *self = next;
         Ok(())
     }

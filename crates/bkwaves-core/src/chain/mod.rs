@@ -21,6 +21,7 @@
 //! times sit in a priority queue and quiet intervals are skipped in one jump.
 
 pub mod catalog;
+pub mod cells;
 pub mod checkpoint;
 pub mod dynamic;
 pub mod energy;
@@ -41,6 +42,7 @@ use crate::error::{check_at_least, check_open, Error, Result};
 use crate::friction::Friction;
 use crate::noise::NoiseLaw;
 use catalog::Catalog;
+use cells::CellVec;
 use energy::Ledger;
 use events::{Hermite, SlipQueue};
 use geometry::{Beyond, Geometry, Line};
@@ -225,11 +227,11 @@ pub struct Engine<G: Geometry, F: Friction, M: Medium = Uniform> {
     onset: onset::Onset,
     /// Local events (local_events.rs: whether chosen, and the work of one step).
     local: local_events::Local,
-    a_start: Vec<f64>,
-    a_end: Vec<f64>,
+    a_start: CellVec,
+    a_end: CellVec,
     a_valid: bool,
-    u0: Vec<f64>,
-    w0: Vec<f64>,
+    u0: CellVec,
+    w0: CellVec,
     stuck_sum: f64,
     n_stuck: usize,
     stuck_loader: f64,
@@ -447,11 +449,11 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             h_law,
             onset: onset::Onset::default(),
             local: local_events::Local::default(),
-            a_start: vec![0.0; len],
-            a_end: vec![0.0; len],
+            a_start: CellVec::new(len, 0.0),
+            a_end: CellVec::new(len, 0.0),
             a_valid: false,
-            u0: vec![0.0; len],
-            w0: vec![0.0; len],
+            u0: CellVec::new(len, 0.0),
+            w0: CellVec::new(len, 0.0),
             stuck_sum: 0.0,
             n_stuck: n,
             stuck_loader: 0.0,

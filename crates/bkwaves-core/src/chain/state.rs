@@ -6,6 +6,7 @@
 //! lattice, rows of nx + 2 cells. A stuck block is never stepped: its `u` holds the value
 //! at time `tref` and it drifts exactly, u(t) = u + v (t - tref), u_t = v.
 
+use super::cells::CellVec;
 use super::frontier::Frontier;
 pub use super::geometry::Beyond;
 use super::geometry::{Geometry, Line};
@@ -21,16 +22,16 @@ pub struct State<G: Geometry = Line> {
     /// Loading rate v.
     pub v: f64,
     /// Displacement u (sliding: at the current time; stuck: at `tref`).
-    pub u: Vec<f64>,
+    pub u: CellVec,
     /// Velocity u_t (stuck: v).
-    pub w: Vec<f64>,
+    pub w: CellVec,
     /// Time at which a stuck block's `u` is valid.
-    pub tref: Vec<f64>,
+    pub tref: CellVec,
     /// Mode: 0 stuck, +1 sliding forward (u_t < v), -1 sliding backward (u_t > v).
-    pub dir: Vec<f64>,
+    pub dir: CellVec,
     /// The threshold in R of each sliding block: its static threshold, or the phi at its
     /// slip onset where that was a hair lower ([`crate::friction::Friction::onset_threshold`]).
-    pub onset: Vec<f64>,
+    pub onset: CellVec,
     /// Maximal runs [a, b) of consecutive sliding blocks (padded indices), sorted.
     pub runs: Vec<(usize, usize)>,
     /// Number of sliding blocks.
@@ -58,7 +59,7 @@ impl<G: Geometry> State<G> {
     /// of the geometry).
     pub fn with_geometry(geo: G, u0: &[f64], v: f64) -> State<G> {
         let len = geo.cells();
-        let mut u = vec![0.0; len];
+        let mut u = CellVec::new(len, 0.0);
         for (k, &x) in u0.iter().enumerate() {
             u[geo.padded(k)] = x;
         }
@@ -66,10 +67,10 @@ impl<G: Geometry> State<G> {
             n: geo.n(),
             v,
             u,
-            w: vec![v; len],
-            tref: vec![0.0; len],
-            dir: vec![0.0; len],
-            onset: vec![0.0; len],
+            w: CellVec::new(len, v),
+            tref: CellVec::new(len, 0.0),
+            dir: CellVec::new(len, 0.0),
+            onset: CellVec::new(len, 0.0),
             runs: Vec::new(),
             n_active: 0,
             ext: Vec::new(),

@@ -303,6 +303,8 @@ impl Method {
 }
 
 /// One of the integrators (static dispatch).
+// (one per engine: the size of the larger variant costs nothing)
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub enum Stepper {
     /// RK4.

@@ -16,6 +16,7 @@
 use super::{
     accel_only_at_state, fill_neighbours, lane_sum, stage_accel, Integrator, Simd, StepIntegrals,
 };
+use crate::chain::cells::CellVec;
 use crate::chain::geometry::{Geometry, Stencil};
 use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
@@ -24,17 +25,17 @@ use crate::friction::Friction;
 /// Classical fourth-order Runge-Kutta.
 #[derive(Debug, Clone)]
 pub struct Rk4 {
-    su: Vec<f64>,
-    sw: Vec<f64>,
-    tu: Vec<f64>,
-    tw: Vec<f64>,
-    ku: Vec<f64>,
-    kw: Vec<f64>,
+    su: CellVec,
+    sw: CellVec,
+    tu: CellVec,
+    tw: CellVec,
+    ku: CellVec,
+    kw: CellVec,
     /// Per block, the RK4-weighted sums over the stages of the loader displacement, the
     /// dry and the viscous power (the energy books, reduced once per step).
-    bu: Vec<f64>,
-    bd: Vec<f64>,
-    bv: Vec<f64>,
+    bu: CellVec,
+    bd: CellVec,
+    bv: CellVec,
     /// Which of (bu, bd) the last step kept: the loader term is skipped at v = 0 (no
     /// loader work), the dry power for a law whose dry power is 0 (beta-free Coulomb).
     kept: (bool, bool),
@@ -46,15 +47,15 @@ impl Rk4 {
     /// Buffers for a chain of n blocks.
     pub fn new(n: usize) -> Self {
         Rk4 {
-            su: vec![0.0; n + 2],
-            sw: vec![0.0; n + 2],
-            tu: vec![0.0; n + 2],
-            tw: vec![0.0; n + 2],
-            ku: vec![0.0; n + 2],
-            kw: vec![0.0; n + 2],
-            bu: vec![0.0; n + 2],
-            bd: vec![0.0; n + 2],
-            bv: vec![0.0; n + 2],
+            su: CellVec::new(n + 2, 0.0),
+            sw: CellVec::new(n + 2, 0.0),
+            tu: CellVec::new(n + 2, 0.0),
+            tw: CellVec::new(n + 2, 0.0),
+            ku: CellVec::new(n + 2, 0.0),
+            kw: CellVec::new(n + 2, 0.0),
+            bu: CellVec::new(n + 2, 0.0),
+            bd: CellVec::new(n + 2, 0.0),
+            bv: CellVec::new(n + 2, 0.0),
             kept: (true, true),
             simd: Simd::detect(),
         }
