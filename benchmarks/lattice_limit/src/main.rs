@@ -124,9 +124,10 @@ impl Reference {
         let len = (m + 2) * (m + 2);
         let mut b: [CellVec; 8] = std::array::from_fn(|_| CellVec::new(len, 0.0));
         let x = |q: usize| 0.1 * q as f64;
-        for q in 0..len {
-            b[0][q] = 0.6 - 1e-3 * x(q).sin();
-            b[1][q] = -1e-2 * x(q).cos();
+        let [u, w, ..] = &mut b;
+        for (q, (u, w)) in u.iter_mut().zip(w.iter_mut()).enumerate() {
+            *u = 0.6 - 1e-3 * x(q).sin();
+            *w = -1e-2 * x(q).cos();
         }
         for j in 2..8 {
             b[j] = b[j % 2].clone();
