@@ -221,3 +221,33 @@ def test_velocity_weakening_onset_work_is_estimated_within_2x_in_block_steps():
         assert (work.onset_block_steps > work.block_steps) == (v_f is not None), (v_f, work)
     per = LIMITS["chain_seconds_per_onset_block_step"]
     assert per > 10 * LIMITS["chain_seconds_per_block_step"]
+
+
+def test_velocity_weakening_lattice_onsets_are_counted_for_every_row():
+    """A lattice's run-cost estimate scales the chain's row to ny rows: the onsets'
+    sub-steps too (they were left per row, ~ny times short), with the plane's larger
+    patches (``LATTICE_ONSET_GAIN``). Block-steps (the engine's counter) within 2x of the
+    estimate on ruptures of two sizes at v_f = 1e-4 (v_f/dx = 1e-3: onset sub-steps)."""
+    from bkwaves.friction import law
+
+    for (nx, ny), t_end in (((24, 16), 3.0), ((34, 23), 4.0)):
+        doc = {
+            "model": "lattice",
+            "params": {"gamma": 0.3, "v": 0.0, "dx": 0.1},
+            "friction": {"law": "velocity_weakening", "v_f": 1e-4},
+            "domain": {"shape": [nx, ny]},
+            "initial": {"kind": "uniform", "value": 0.6},
+            "triggers": [
+                {"time": 0.0, "block": [nx // 2, ny // 2], "kind": "kick", "velocity": 2.0}
+            ],
+            "run": {"t_end": t_end},
+        }
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            work = estimate(parse_config(doc)).detail
+        p = bk.Params(gamma=0.3, v=0.0, dx=0.1, friction_law=law("velocity_weakening", v_f=1e-4))
+        la = bk.Lattice((nx, ny), p, u0=0.6).kick((nx // 2, ny // 2), -2.0)
+        measured = la.run(t_end=t_end, progress=False).counters["block_steps"]
+        est = work.block_steps + work.onset_block_steps
+        assert 0.5 < est / measured < 2.0, ((nx, ny), est, measured)
+        assert work.onset_block_steps > 2 * work.block_steps  # the onsets are most of it
