@@ -33,7 +33,7 @@ from ._progress import RunProgress
 from .free_boundary import CREEP_RULES, speed_table
 from .params import Params
 
-__all__ = ["FreeBoundary2D", "FreeBoundary2DResult", "random_field"]
+__all__ = ["FreeBoundary2D", "FreeBoundary2DResult", "lattice_curvature", "random_field"]
 
 BOUNDARIES = ("free", "periodic")
 
@@ -285,8 +285,9 @@ class FreeBoundary2D:
         D_axis cos^2(2 theta) + D_diag sin^2(2 theta) in the angle theta of the normal;
         or a table ``{"theta": [0, ..., pi/4], "D": [...]}`` over directions (radians),
         interpolated by the polynomial in cos(4 theta) through them (the pair is the
-        table of 0 and pi/4); :func:`lattice_curvature` derives it for the lattice
-        (docs/free_boundary_2d.md, "The lattice's front shape"). Default: none.
+        table of 0 and pi/4); :func:`~bkwaves.free_boundary_2d.lattice_curvature`
+        derives it for the lattice (docs/free_boundary_2d.md, "The lattice's front
+        shape"). Default: none.
     speed_diagonal : optional
         The planar front speed along the diagonals, in any form of ``speed``; ``speed``
         is then the speed along the axes, and c(theta) = c_axis + (c_diag - c_axis)
