@@ -853,20 +853,7 @@ impl Local {
         let m = self.mem_of[p] as usize;
         let c = &self.comps[self.mcomp[m] as usize];
         let k = c.blocks.binary_search(&p).ok()?;
-        let n = c.blocks.len();
-        let nk = c.kt.len();
-        if nk < 2 {
-            return None;
-        }
-        let j = c.kt.partition_point(|&x| x <= t).clamp(1, nk - 1) - 1;
-        let (ta, tb) = (c.kt[j], c.kt[j + 1]);
-        let h = tb - ta;
-        let s = if h > 0.0 {
-            ((t - ta) / h).clamp(0.0, 1.0)
-        } else {
-            1.0
-        };
-        let (a, b) = (j * n + k, (j + 1) * n + k);
+        let (a, b, s, h) = super::onset::knot_interval(&c.kt, c.blocks.len(), k, t)?;
         let hu = Hermite {
             g0: c.ku[a],
             m0: c.kw[a],

@@ -150,20 +150,7 @@ impl Onset {
     /// output: the cubic Hermite interpolant between the sub-step knots).
     pub fn dense(&self, p: usize, t: f64) -> Option<(f64, f64)> {
         let k = self.slot(p)?;
-        let n = self.blocks.len();
-        let nk = self.kt.len();
-        if nk < 2 {
-            return None;
-        }
-        let j = self.kt.partition_point(|&x| x <= t).clamp(1, nk - 1) - 1;
-        let (ta, tb) = (self.kt[j], self.kt[j + 1]);
-        let h = tb - ta;
-        let s = if h > 0.0 {
-            ((t - ta) / h).clamp(0.0, 1.0)
-        } else {
-            1.0
-        };
-        let (a, b) = (j * n + k, (j + 1) * n + k);
+        let (a, b, s, h) = knot_interval(&self.kt, self.blocks.len(), k, t)?;
         let hu = Hermite {
             g0: self.ku[a],
             m0: self.kw[a],
@@ -178,6 +165,31 @@ impl Onset {
         };
         Some((hu.eval(s, h), hw.eval(s, h)))
     }
+}
+
+/// The sub-step interval of knot times `kt` that holds t, for slot k of n blocks stored
+/// knot by knot: the indices (a, b) of the slot's values at its two knots, the fraction s
+/// of the interval at t (clamped to [0, 1]) and its length h; None with fewer than two
+/// knots. (The dense output of a patch here and of a local-event component.)
+pub(super) fn knot_interval(
+    kt: &[f64],
+    n: usize,
+    k: usize,
+    t: f64,
+) -> Option<(usize, usize, f64, f64)> {
+    let nk = kt.len();
+    if nk < 2 {
+        return None;
+    }
+    let j = kt.partition_point(|&x| x <= t).clamp(1, nk - 1) - 1;
+    let (ta, tb) = (kt[j], kt[j + 1]);
+    let h = tb - ta;
+    let s = if h > 0.0 {
+        ((t - ta) / h).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
+    Some((j * n + k, (j + 1) * n + k, s, h))
 }
 
 /// The RK4 error of a sliding block's u_t over a step h, as the time shift it makes in
