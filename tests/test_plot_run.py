@@ -173,3 +173,19 @@ def test_figure_checks_catch_each_fault():
     for fault in ("without a label", "no legend", "overlapping tick labels on x", "outside"):
         assert fault in found, (fault, found)
     plt.close(fig)
+
+
+def test_plane_arrival_map_picks_the_largest_complete_rupture():
+    """The arrival map's rupture: the largest moment among the complete ones (one still
+    open at the run's end has arrivals only up to then), the largest of all when none is
+    complete or the catalog has no `complete` column, none without a finite moment."""
+    from bkwaves._plot_plane import _largest
+
+    cat = pd.DataFrame(
+        {"id": [0, 1, 2, 3], "moment": [5.0, 9.0, 7.0, 1.0], "complete": [True, False, True, True]}
+    )
+    assert _largest(cat)["id"] == 2
+    assert _largest(cat.assign(complete=False))["id"] == 1
+    assert _largest(cat.drop(columns="complete"))["id"] == 1
+    assert _largest(cat.assign(moment=np.nan)) is None
+    assert _largest(cat.iloc[:0]) is None

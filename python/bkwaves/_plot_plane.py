@@ -93,6 +93,9 @@ def slip_map(ds, tables, title: str):
 
 
 def _largest(cat):
+    """The catalog row of largest moment among the complete ones (a ``complete`` column:
+    ruptures that ended before the run stopped), or among all rows when none is complete or the
+    catalog has no such column; None without a finite moment."""
     if cat is None or not len(cat) or "moment" not in cat:
         return None
     ok = cat["complete"].to_numpy(dtype=bool) if "complete" in cat else np.ones(len(cat), bool)
@@ -104,7 +107,8 @@ def _largest(cat):
 
 
 def arrival_map(ds, tables, title: str):
-    """Arrival (first slip) times of the largest rupture: filled contours, the contour
+    """Arrival (first slip) times of the largest complete rupture (the largest of all when
+    none is complete): filled contours, the contour
     lines labelled, its hypocentre marked. From the arrivals table when it has a rupture
     column (the free boundary model's; a lattice's written with ``arrivals = true``);
     else the largest event's, from the arrivals or the slips per event (a lattice run
