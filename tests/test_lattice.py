@@ -90,6 +90,35 @@ def test_bad_input_names_the_parameter():
         bk.Lattice((3, 3), _params(), boundary=("free", "open"))
 
 
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        # the memory bound names the shape (it named the chain's "n"; a (2^40, 2) lattice
+        # hung before it, averaging a row of 2^40 values for the default walls)
+        ({"shape": (10**6, 10**6)}, r"^shape = \(1000000, 1000000\): the engine state needs"),
+        ({"shape": (2**40, 2)}, r"^shape = \(1099511627776, 2\): the engine state needs"),
+        # a NaN in u0 was reported as the default wall it made ("fixed[1][0] = nan")
+        ({"u0": np.full((4, 3), np.nan)}, r"^invalid u0 = nan"),
+        # arrays of the wrong rank: one line, their shape (the repr spanned lines)
+        ({"u0": np.zeros(12)}, r"^invalid u0 = 'array of shape \(12,\)'.*\(ny, nx\) = \(4, 3\)$"),
+        (
+            {"threshold": np.ones((4, 3, 1))},
+            r"^invalid threshold = 'array of shape \(4, 3, 1\)'.*\(4, 3\)$",
+        ),
+        # walls not given as pairs (a TypeError before), and each wall by its place
+        ({"boundary": "fixed", "fixed": (1, 2)}, r"^invalid fixed\[0\] = 1: allowed a pair"),
+        ({"boundary": "fixed", "fixed": ((np.nan, 0), (0, 0))}, r"^invalid fixed\[0\]\[0\] = nan"),
+        ({"boundary": ("free", "open")}, r"^invalid boundary\[1\] = 'open': allowed one of"),
+    ],
+)
+def test_hostile_lattice_arguments_are_one_line_errors_naming_the_parameter(kwargs, match):
+    kwargs = {"shape": (3, 4), **kwargs}
+    shape = kwargs.pop("shape")
+    with pytest.raises(bk.ParameterError, match=match) as e:
+        bk.Lattice(shape, _params(), **kwargs)
+    assert "\n" not in str(e.value)
+
+
 def test_a_diagonal_front_has_the_speed_of_the_chain_at_dx_over_sqrt2():
     # the measurement on an N x N torus kicked on an anti-diagonal against a ring of N
     # blocks at spacing dx/sqrt(2) kicked at block 0, stepped with the same time step:

@@ -31,7 +31,7 @@ def _fail(name: str, value, allowed: str):
 
 
 def _show(value) -> str:
-    text = repr(value)
+    text = " ".join(repr(value).split())  # (one line: an array's repr spans several)
     return text if len(text) <= 80 else text[:77] + "..."
 
 

@@ -24,7 +24,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _validate as V
-from .chain import DEFAULT_STEP, INTEGRATORS, UNITS, Chain, ChainResult
+from .chain import (
+    BOUNDARIES,
+    DEFAULT_STEP,
+    INTEGRATORS,
+    UNITS,
+    Chain,
+    ChainResult,
+    _per_block,
+)
 
 __all__ = [
     "FRONT_TOLERANCE",
@@ -339,10 +347,16 @@ class Lattice(Chain):
             V._fail("shape", shape, "a pair (nx, ny) of block counts >= 1")
         nx = V.integer("shape[0]", shape[0], lo=1)
         ny = V.integer("shape[1]", shape[1], lo=1)
+        from .limits import check_memory
+
+        # (before any array of the lattice's size is touched)
+        check_memory("shape", "lattice", int(nx) * int(ny), f"({nx}, {ny})")
         self.shape = (int(nx), int(ny))
         dx = float(params.dx) if hasattr(params, "dx") else math.nan
         self.dy = dx if dy is None else V.number("dy", dy, lo=0.0, lo_open=True, hi=1e6)
         bx, by = _pair("boundary", boundary, "a boundary name or a pair (across x, across y)")
+        if not isinstance(boundary, str):  # a pair: each side named by its place
+            bx, by = (V.choice(f"boundary[{k}]", b, BOUNDARIES) for k, b in enumerate((bx, by)))
         by = V.CHAIN["boundary"].check(by)
         self.boundary_y = by
         flat = [self._flat(k, x) for k, x in (("u0", u0), ("u_t0", u_t0))]
@@ -350,13 +364,22 @@ class Lattice(Chain):
             k: self._flat(k, x)
             for k, x in (("threshold", threshold), ("mass", mass), ("loader", loader))
         }
-        u = np.broadcast_to(np.asarray(flat[0], dtype=float), (nx * ny,)).reshape(ny, nx)
         if fixed is None:
+            # the walls default to the mean u of their side: u0 checked first (a NaN in
+            # it is an error of u0, not of the wall it would make)
+            u = _per_block("u0", flat[0], nx * ny).reshape(ny, nx)
             fx = (float(u[:, 0].mean()), float(u[:, -1].mean()))
             fy = (float(u[0].mean()), float(u[-1].mean()))
         else:
-            fx, fy = _pair("fixed", fixed, "((x low, x high), (y low, y high)) wall positions")
+            want = "((x low, x high), (y low, y high)) wall positions"
+            fx, fy = _pair("fixed", fixed, want)
+            for k, side in enumerate((fx, fy)):
+                if isinstance(side, str | bytes) or not (
+                    hasattr(side, "__len__") and len(side) == 2
+                ):
+                    V._fail(f"fixed[{k}]", side, "a pair (low, high) of wall positions")
             fx, fy = tuple(fx), tuple(fy)
+            fx = (V.number("fixed[0][0]", fx[0]), V.number("fixed[0][1]", fx[1]))
         self.fixed_y = (V.number("fixed[1][0]", fy[0]), V.number("fixed[1][1]", fy[1]))
         super().__init__(
             nx * ny,
@@ -409,7 +432,8 @@ class Lattice(Chain):
             return a.ravel()
         if isinstance(a, np.ndarray) and a.ndim == 0:
             return float(a)
-        V._fail(name, value, f"a scalar or an array of shape (ny, nx) = {self.shape[::-1]}")
+        shown = f"array of shape {a.shape}" if isinstance(a, np.ndarray) else value
+        V._fail(name, shown, f"a scalar or an array of shape (ny, nx) = {self.shape[::-1]}")
 
     def _max_event_duration(self) -> float:
         return default_max_event_duration(self.shape, self.params.dx, self.dy)
