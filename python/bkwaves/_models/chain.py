@@ -139,8 +139,14 @@ def _run_chain(model, cfg, out, progress, overwrite, flush_every, chunk, ctl):
         "u_t": (rate_units, "du/dt", "f8", rate_attrs),
         "sliding": ("1", "sliding state: 0 stuck, 1 forward, -1 backward", "i1"),
     }
-    # the ruptures table is written once, at the end, from the whole record
-    resume_rows = {"events": eng.events_finished, "slips": eng.slips_final, "ruptures": 0}
+    # the ruptures and arrivals tables are written once, at the end, from the whole
+    # record (an interrupted run wrote them too: a resumed one writes them again whole)
+    resume_rows = {
+        "events": eng.events_finished,
+        "slips": eng.slips_final,
+        "ruptures": 0,
+        "arrivals": 0,
+    }
     writer = _open_writer(
         out,
         cfg,
