@@ -275,3 +275,25 @@ def test_a_rupture_with_dx_over_dy_1_5_tends_to_a_circle_in_the_plane():
         r = bk.lattice.rupture(0.6, 0.45, dx, size=int(round(4.0 / dx)), dy=dy, check=False)
         dev.append(r.aspect(1.0) * dx / dy - 1.0)
     assert 0.0 < dev[1] < 0.8 * dev[0] < 0.03
+
+
+def test_save_replaces_only_a_bkwaves_checkpoint(tmp_path):
+    # Lattice.save (and Chain.save) wrote over any file at the path: a user's file of the
+    # same name was lost
+    la = bk.Lattice((4, 3), _params(), u0=0.5)
+    mine = tmp_path / "notes.npz"
+    mine.write_text("my notes")
+    with pytest.raises(bk.ParameterError, match=r"^not replacing .*notes\.npz: it is not a"):
+        la.save(mine)
+    with pytest.raises(bk.ParameterError, match="not replacing"):
+        bk.Chain(5, _params()).save(mine)
+    assert mine.read_text() == "my notes"
+    (tmp_path / "folder.npz").mkdir()
+    with pytest.raises(bk.ParameterError, match="not replacing"):
+        la.save(tmp_path / "folder.npz")
+    # an earlier checkpoint is replaced (of any kind: a chain's by a lattice's)
+    ck = tmp_path / "ck.npz"
+    bk.Chain(5, _params()).save(ck)
+    la.save(ck)
+    assert bk.Lattice.load(ck).shape == (4, 3)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ck.npz", "folder.npz", "notes.npz"]

@@ -6,7 +6,9 @@ JSON: ``{"format": "bkwaves-checkpoint", "version": 1, "kind": ..., "bkwaves": .
 "meta": {...}}``; the other arrays are plain numbers, among them ``engine``: the Rust
 engine's own checkpoint bytes (which carry their own magic and configuration checks).
 A file of another format, of another version, or of another kind is refused with a
-:class:`bkwaves.ParameterError` naming the file and what was expected.
+:class:`bkwaves.ParameterError` naming the file and what was expected. Writing replaces
+only a bkwaves checkpoint: anything else at the path (a user's file, a folder) is refused
+with a ParameterError and left as it was.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ def write(path, kind: str, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
     from . import __version__
 
     path = Path(path)
+    _check_replaceable(path)
     header = {"format": FORMAT, "version": VERSION, "kind": kind, "bkwaves": __version__}
     header["meta"] = meta
     text = json.dumps(header, allow_nan=True, default=_json_scalar)
@@ -50,6 +53,25 @@ def write(path, kind: str, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+def _check_replaceable(path: Path) -> None:
+    """Refuse to write over anything at ``path`` but a bkwaves checkpoint (of any kind or
+    version): a user's file of the same name is never replaced."""
+    if not (path.exists() or path.is_symlink()):
+        return
+    header = None
+    if path.is_file():
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                header = json.loads(z["header"].tobytes().decode("utf-8"))
+        except (ValueError, KeyError, OSError, EOFError, zipfile.BadZipFile, UnicodeDecodeError):
+            header = None
+    if not (isinstance(header, dict) and header.get("format") == FORMAT):
+        raise ParameterError(
+            f"not replacing {path}: it is not a bkwaves checkpoint; move it away or choose "
+            "another path"
+        )
 
 
 def read(path, kind: str, writer: str) -> tuple[dict, dict[str, np.ndarray]]:

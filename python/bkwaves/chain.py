@@ -536,7 +536,9 @@ class Chain:
         Parameters
         ----------
         path : str or pathlib.Path
-            The checkpoint file (npz).
+            The checkpoint file (npz). An earlier bkwaves checkpoint there is replaced;
+            anything else (a file of yours, a folder) is refused with a ParameterError
+            and kept.
 
         Examples
         --------
