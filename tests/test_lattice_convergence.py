@@ -93,3 +93,11 @@ def test_rupture_aspect_does_not_move_with_the_quadrant_doubled_or_the_step_halv
     assert _aspect(0.2, 40) == pytest.approx(base, abs=1e-12)
     half = _aspect(0.2, 20, step=0.025)
     assert max(abs(a - b) for a, b in zip(half, base, strict=True)) < 1e-7, (half, base)
+
+
+def test_rupture_refuses_a_stress_without_a_planar_front():
+    # at u_+ = 0.05, gamma = 0.45, dx = 0.1 the front kicked on the chain at dx stops: the
+    # rupture returned planar speed NaN along the axes and a negative D on the diagonal
+    # (the kick's transient) as if measured
+    with pytest.raises(bk.ParameterError, match=r"^invalid u_plus = 0\.05: .*along x .*stops"):
+        bk.lattice.rupture(0.05, 0.45, 0.1, size=16, check=False)

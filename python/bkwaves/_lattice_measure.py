@@ -557,7 +557,9 @@ def rupture(
     Parameters
     ----------
     u_plus : float
-        Stress ahead of the front, 0 < u_plus < 1 (dimensionless).
+        Stress ahead of the front, 0 < u_plus < 1 (dimensionless), at which a planar
+        front runs along the axes (refused where the front kicked on the chain of the
+        exact reduction stops: the rupture would have no planar speed to tend to).
     gamma : float
         Viscous damping, >= 0 (dimensionless).
     dx : float
@@ -595,13 +597,23 @@ def rupture(
     dy = dx if dy is None else V.number("dy", dy, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     size = V.integer("size", size, lo=16, hi=8192)
     nx, ny = size, max(16, int(round(size * dx / dy)))
-    a, prof, fits, rng = _rupture_once(u_plus, gamma, dx, dy, nx, ny, step, beta, fit)
     planar = {}
     for k, h in (("x", dx), ("y", dy), ("diagonal", dx / math.sqrt(2.0))):
         # (with dx != dy the diagonal of the lattice is not a direction of exact reduction)
         ok = k != "diagonal" or dx == dy
         c = _planar_c(u_plus, gamma, h, 0, 256, step, beta, (0.5, 0.75))[0] if ok else math.nan
+        if ok and not math.isfinite(c):
+            # no planar front to tend to: every number of the rupture would be NaN or
+            # the kick's transient (a negative D), returned as if measured
+            V._fail(
+                "u_plus",
+                u_plus,
+                f"a stress at which a planar front runs (at gamma = {gamma:g}, spacing "
+                f"{h:g} along {k} the front kicked on its chain stops within 256 blocks; "
+                "bk.lattice.front says whether one runs)",
+            )
         planar[k] = c
+    a, prof, fits, rng = _rupture_once(u_plus, gamma, dx, dy, nx, ny, step, beta, fit)
     out = Rupture(u_plus, gamma, dx, dy, (nx, ny), a, prof, fits, planar, rng)
     out.eikonal = _eikonals(prof, planar, rng)
     if check:
