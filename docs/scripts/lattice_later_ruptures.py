@@ -367,6 +367,12 @@ def plane_table(out, first=None):
             return mean_sd([w[key] for r in rs for w in r["windows"] if w["t"] == t])
 
         st = [r["stress_left"].get("stalls", {}) for r in fs]
+
+        def big(runs, area, dx=dx):
+            """later ruptures of at least ``area`` per unit area, by the run's end"""
+            return mean_sd([sum(q * dx * dx >= area for q in r["sizes"]["blocks"])
+                            / (r["blocks"] * dx * dx) for r in runs])  # fmt: skip
+
         cells = [
             f"{dx:g}",
             str(fs[0]["blocks"]),
@@ -377,6 +383,8 @@ def plane_table(out, first=None):
             win(24.0, "area_share", fs),
             win(32.0, "area_share"),
             win(40.0, "area_share"),
+            big([r for r in fs if r["t_end"] == 24.0], 0.1),
+            big([r for r in rs if r["t_end"] == 40.0], 1.0),
             win(24.0, "moment_share", fs),
             win(40.0, "moment_share"),
             mean_sd([r["stress_left"]["above_0.7"] for r in fs]),
