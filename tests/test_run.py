@@ -348,6 +348,10 @@ def test_a_full_disk_mid_run_keeps_the_committed_records(tmp_path, monkeypatch):
     assert "\n" not in msg and msg.startswith(f"disk full writing {out} (the run reached t = ")
     kept = calls[0] + calls[1]
     assert f"kept {kept} snapshots" in msg
+    # the size it asks for is the one the warning before the run gives
+    from bkwaves.limits import _bytes, estimate
+
+    assert f"needs about {_bytes(estimate(cfg).output_bytes)} of snapshots" in msg
     with pytest.warns(UserWarning, match="unfinished"):
         ds, catalog = bk.load(out)
     assert ds.sizes["t"] == kept and catalog is not None

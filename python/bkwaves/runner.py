@@ -42,7 +42,7 @@ from . import __version__, _models
 from ._models.chain import chain_from_config
 from .catalog import DESCRIPTIONS, MOMENT_SCALE, MOMENT_SI
 from .config import RunConfig
-from .io import NO_SPACE, OutputError, RunWriter, human_bytes, partial_path
+from .io import NO_SPACE, OutputError, RunWriter, partial_path
 
 __all__ = [
     "OutputFull",
@@ -936,12 +936,6 @@ def _open_writer(
     )
 
 
-def _expected_snapshots(cfg) -> int | None:
-    if cfg.t_end is None or cfg.snapshot_events:
-        return None
-    return len(_snapshot_times(cfg))
-
-
 def _finish(writer, ctl, engine_obj, runner_state, give_all, interrupted) -> bool:
     """End a run: a complete one is published; an interrupted one commits, checkpoints,
     then adds the rows of the running event (dropped again when resuming). A signal
@@ -1025,21 +1019,25 @@ def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
     """The one-line report of a full disk (the committed records stay in OUT.partial/)."""
     writer.abandon()
     partial = partial_path(writer.path)
+    import warnings
+
+    from .limits import _bytes, estimate
+
     kept = sum(f.stat().st_size for f in partial.rglob("*") if f.is_file())
-    per_record = kept / writer.count if writer.count else writer.record_bytes
-    expected = _expected_snapshots(cfg)
     free = shutil.disk_usage(partial).free
-    if expected:
-        total = human_bytes(per_record * expected)
-        need = f"the output needs about {total} for {expected} snapshots"
-    else:
-        need = f"the output needs about {human_bytes(per_record)} per snapshot"
+    # the figure of the warning before the run (bk.limits.check_free_space): the
+    # snapshots' bytes, not the kept files extrapolated (their headers and catalog would
+    # count once per snapshot)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        planned = estimate(cfg).output_bytes
+    need = f"the output needs about {_bytes(planned)} of snapshots"
     then = _continue_hint(writer)
     return OutputFull(
         err.errno,
         f"disk full writing {writer.path} (the run reached t = {t_now:.6g}): kept "
         f"{writer.count} snapshots and the catalog of {events} events in {partial} "
-        f"({human_bytes(kept)}); {need}, {human_bytes(free)} free; free space, {then}",
+        f"({_bytes(kept)}); {need}, {_bytes(free)} free; free space, {then}",
     )
 
 
