@@ -37,6 +37,12 @@
 //! - the two are iterated (patch, runs, patch, ...) until the patch's values at the stage
 //!   times change by less than `PASS_TOL` (each round trip changes them by ~ (H/dx)^4).
 //!
+//! The patch falls into connected components (parts: no block of one is a neighbour of a
+//! block of another), and each part takes its own sub-steps: a part reads only the runs
+//! and stuck blocks, never another part, so splitting changes no coupling, only which
+//! blocks share the sub-steps of the stiffest (in a plane healing after a rupture the
+//! patch holds hundreds of blocks in several parts; docs/lattice.md).
+//!
 //! The patch includes the stiff block's sliding neighbours because the stiff block's
 //! acceleration jumps from 0 to ~1 within a time ~ v_f ln(1/r), inside a step: a
 //! neighbour stepped with H would sample that kink at three points only (an error
@@ -76,6 +82,11 @@ pub(crate) const MAX_PASSES: usize = 6;
 pub(crate) struct Onset {
     /// The patch blocks (padded indices, sorted); empty when the last step had none.
     pub blocks: Vec<usize>,
+    /// The patch's connected components (no block of one is a neighbour of a block of
+    /// another), each integrated with its own sub-steps: the whole patch's state, dense
+    /// output, books and rests are theirs (the fields below, in the patch, are the
+    /// aggregate: rests and books; a part's fields are its own).
+    pub parts: Vec<Onset>,
     /// Their u, u_t at the step's start.
     pub u0: Vec<f64>,
     pub w0: Vec<f64>,
@@ -119,7 +130,7 @@ impl Onset {
     /// The slot of padded block r in the patch.
     #[inline]
     fn slot(&self, r: usize) -> Option<usize> {
-        self.blocks.iter().position(|&b| b == r)
+        self.blocks.binary_search(&r).ok()
     }
 
     /// Size the buffers for the current blocks.
@@ -278,9 +289,9 @@ fn accel<G: Geometry, F: Friction, M: Medium>(
             } else {
                 q
             };
-            match blocks.iter().position(|&b| b == r) {
-                Some(j) => su[j],
-                None => outside(r, t),
+            match blocks.binary_search(&r) {
+                Ok(j) => su[j],
+                Err(_) => outside(r, t),
             }
         });
         out[k] = blk.accel(p, up, f, st.v - sw[k], st.dir[p], st.onset[p]);
@@ -574,7 +585,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
         let mut more = Vec::new();
         for &(a, b) in &self.st.runs {
             for p in a..b {
-                if self.onset.blocks.contains(&p) {
+                if self.onset.blocks.binary_search(&p).is_ok() {
                     continue;
                 }
                 let (s0, s1) = (v - self.w0[p], v - self.st.w[p]);
@@ -643,107 +654,167 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
     fn onset_pass(&mut self, t0: f64, h: f64) -> StepIntegrals {
         let spacing = self.st.geo.spacing();
         let step = self.cfg.step;
-        let patch = self.onset.blocks.clone();
-        self.onset.resize();
-        for (k, &p) in patch.iter().enumerate() {
-            self.onset.u0[k] = self.st.u[p];
-            self.onset.w0[k] = self.st.w[p];
-            self.u0[p] = self.st.u[p];
-            self.w0[p] = self.st.w[p];
+        let patch = std::mem::take(&mut self.onset.blocks);
+        // the patch's connected components, each with its own sub-steps: two of them
+        // share no neighbour relation, so each reads only the runs and stuck blocks
+        // (as the whole patch did), and the runs read all of them
+        let mut parts = std::mem::take(&mut self.onset.parts);
+        let mut comp = vec![usize::MAX; patch.len()];
+        let mut n_parts = 0;
+        let mut stack = Vec::new();
+        for i in 0..patch.len() {
+            if comp[i] != usize::MAX {
+                continue;
+            }
+            if parts.len() <= n_parts {
+                parts.push(Onset::default());
+            }
+            let blocks = &mut parts[n_parts].blocks;
+            blocks.clear();
+            comp[i] = n_parts;
+            stack.push(i);
+            while let Some(j) = stack.pop() {
+                blocks.push(patch[j]);
+                for r in self.st.real_neighbours(patch[j]) {
+                    if let Ok(q) = patch.binary_search(&r) {
+                        if comp[q] == usize::MAX {
+                            comp[q] = n_parts;
+                            stack.push(q);
+                        }
+                    }
+                }
+            }
+            blocks.sort_unstable();
+            n_parts += 1;
         }
-        // does the patch see a sliding block outside it (then the two are iterated)?
-        let coupled = patch.iter().any(|&p| {
-            self.st
-                .real_neighbours(p)
-                .any(|r| self.st.sliding(r) && !patch.contains(&r))
-        });
+        parts.truncate(n_parts);
+        let mut coupled = vec![false; n_parts];
+        for (on, c) in parts.iter_mut().zip(coupled.iter_mut()) {
+            on.resize();
+            for (k, &p) in on.blocks.iter().enumerate() {
+                on.u0[k] = self.st.u[p];
+                on.w0[k] = self.st.w[p];
+                self.u0[p] = self.st.u[p];
+                self.w0[p] = self.st.w[p];
+            }
+            // does the part see a sliding block outside the patch (then the two are
+            // iterated)?
+            *c = on.blocks.iter().any(|&p| {
+                self.st
+                    .real_neighbours(p)
+                    .any(|r| self.st.sliding(r) && patch.binary_search(&r).is_err())
+            });
+        }
+        let any_coupled = coupled.iter().any(|&c| c);
         for &p in &patch {
             self.st.remove_from_runs(p);
         }
-        let np = patch.len() as u64;
         let mut coarse_done = false;
         let mut passes = 0;
         let mut coarse = StepIntegrals::default();
-        let (mut prev_mid, mut prev_end): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+        // per part, its mid and end values of the last pass
+        let mut prev: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); n_parts];
         loop {
-            {
-                let (st, u0, w0, a0) = (&self.st, &self.u0, &self.w0, &self.a_start);
-                let outside = |r: usize, t: f64| -> f64 {
-                    if !st.sliding(r) {
-                        return st.stuck_u(r, t);
-                    }
-                    let tau = t - t0;
-                    if coarse_done {
-                        let hu = Hermite {
-                            g0: u0[r],
-                            m0: w0[r],
-                            g1: st.u[r],
-                            m1: st.w[r],
-                        };
-                        hu.eval(tau / h, h)
+            let mut change = 0.0f64;
+            for (i, on) in parts.iter_mut().enumerate() {
+                if coarse_done && !coupled[i] {
+                    // (it reads no sliding block outside the patch: the same as before)
+                    continue;
+                }
+                {
+                    let (st, u0, w0, a0) = (&self.st, &self.u0, &self.w0, &self.a_start);
+                    let outside = |r: usize, t: f64| -> f64 {
+                        if !st.sliding(r) {
+                            return st.stuck_u(r, t);
+                        }
+                        let tau = t - t0;
+                        if coarse_done {
+                            let hu = Hermite {
+                                g0: u0[r],
+                                m0: w0[r],
+                                g1: st.u[r],
+                                m1: st.w[r],
+                            };
+                            hu.eval(tau / h, h)
+                        } else {
+                            st.u[r] + tau * (st.w[r] + 0.5 * tau * a0[r])
+                        }
+                    };
+                    // the first pass of a coupled part only gives the runs its stage
+                    // values (the next pass replaces them, and checks what the difference
+                    // did to the runs: PASS_TOL): at FIRST_PASS_LOOSE times the tolerance
+                    let loose = if coupled[i] && !coarse_done {
+                        FIRST_PASS_LOOSE
                     } else {
-                        st.u[r] + tau * (st.w[r] + 0.5 * tau * a0[r])
+                        1.0
+                    };
+                    pass(on, st, &self.blk, t0, h, step, spacing, loose, outside);
+                }
+                self.counters.block_steps += on.substeps * on.blocks.len() as u64;
+                let (pm, pe) = &mut prev[i];
+                if coarse_done {
+                    // the runs saw the last pass's values: they are off by about (h/dx)^2
+                    // times the change of this pass
+                    for k in 0..on.blocks.len() {
+                        change = change
+                            .max((on.mid[k] - pm[k]).abs())
+                            .max((on.u[k] - pe[k]).abs());
                     }
-                };
-                // the first pass of a coupled patch only gives the runs its stage values
-                // (the next pass replaces them, and checks what the difference did to
-                // the runs: PASS_TOL): at FIRST_PASS_LOOSE times the tolerance
-                let loose = if coupled && !coarse_done {
-                    FIRST_PASS_LOOSE
-                } else {
-                    1.0
-                };
-                pass(
-                    &mut self.onset,
-                    st,
-                    &self.blk,
-                    t0,
-                    h,
-                    step,
-                    spacing,
-                    loose,
-                    outside,
-                );
+                }
+                pm.clone_from(&on.mid);
+                pe.clone_from(&on.u);
             }
-            self.counters.block_steps += self.onset.substeps * np;
             if coarse_done {
-                // the runs saw the last pass's values: they are off by about (h/dx)^2
-                // times the change of this pass
-                let on = &self.onset;
-                let change = (0..patch.len()).fold(0.0f64, |m, k| {
-                    m.max((on.mid[k] - prev_mid[k]).abs())
-                        .max((on.u[k] - prev_end[k]).abs())
-                });
                 let feedback = change * (h / spacing) * (h / spacing);
-                if !coupled || feedback <= PASS_TOL || passes >= MAX_PASSES {
+                if !any_coupled || feedback <= PASS_TOL || passes >= MAX_PASSES {
                     break;
                 }
                 self.restore_runs();
             }
-            prev_mid.clone_from(&self.onset.mid);
-            prev_end.clone_from(&self.onset.u);
             self.st.ext.clear();
-            for (k, &p) in patch.iter().enumerate() {
-                self.st.ext.push((p, self.onset.mid[k], self.onset.u[k]));
+            for on in &parts {
+                for (k, &p) in on.blocks.iter().enumerate() {
+                    self.st.ext.push((p, on.mid[k], on.u[k]));
+                }
             }
             self.st.ext_t1 = t0 + h;
             self.do_step(t0, h);
             coarse = self.rk.books(&self.st, h);
             coarse_done = true;
             passes += 1;
-            if !coupled {
+            if !any_coupled {
                 break;
             }
         }
         self.st.ext.clear();
-        for (k, &p) in patch.iter().enumerate() {
-            self.st.u[p] = self.onset.u[k];
-            self.st.w[p] = self.onset.w[k];
-            self.st.add_to_runs(p);
+        // the patch's state, rests and books: its parts'
+        let (mut rest_t, mut rest_who) = (f64::INFINITY, std::mem::take(&mut self.onset.rest_who));
+        rest_who.clear();
+        let mut b = StepIntegrals::default();
+        for on in &parts {
+            for (k, &p) in on.blocks.iter().enumerate() {
+                self.st.u[p] = on.u[k];
+                self.st.w[p] = on.w[k];
+                self.st.add_to_runs(p);
+            }
+            if on.rest_t < rest_t {
+                rest_t = on.rest_t;
+                rest_who.clear();
+            }
+            if on.rest_t == rest_t && rest_t.is_finite() {
+                rest_who.extend_from_slice(&on.rest_who);
+            }
+            b.u += on.books.u;
+            b.dry += on.books.dry;
+            b.visc += on.books.visc;
         }
+        self.onset.rest_t = rest_t;
+        self.onset.rest_who = rest_who;
+        self.onset.books = b;
+        self.onset.parts = parts;
+        self.onset.blocks = patch;
         self.rk
             .accel_only(&mut self.st, &self.blk, t0 + h, &mut self.a_end);
-        let b = self.onset.books;
         StepIntegrals {
             u: coarse.u + b.u,
             dry: coarse.dry + b.dry,
@@ -753,9 +824,13 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
 
     /// u and u_t of block p at time t if it is in the last step's patch.
     pub(super) fn onset_dense(&self, p: usize, t: f64) -> Option<(f64, f64)> {
-        if self.onset.blocks.is_empty() {
+        if self.onset.blocks.is_empty() || self.onset.blocks.binary_search(&p).is_err() {
             return None;
         }
-        self.onset.dense(p, t)
+        self.onset
+            .parts
+            .iter()
+            .find(|on| on.blocks.binary_search(&p).is_ok())
+            .and_then(|on| on.dense(p, t))
     }
 }
