@@ -58,3 +58,21 @@ def test_the_plane_healing_after_a_rupture_costs_a_bounded_multiple_of_coulomb()
     # the same rupture and healing: every block slipped once, about as many sticks
     assert len(res.slips) >= 1536 and abs(len(res.slips) - len(plain.slips)) < 0.05 * 1536
     assert abs(res.counters["switches"] - plain.counters["switches"]) < 0.05 * 2783
+
+
+def test_a_velocity_weakening_rupture_converges_in_the_step():
+    # first slip times of a rupture from the centre (onsets at the front, the parts of
+    # the patch on their own sub-steps) at step 0.1, 0.05, 0.025, 0.0125: the changes
+    # fall by more than 8 per halving (measured 4.7e-6, 2.0e-8, 2.3e-9: 240, 8.6)
+    times = []
+    for step in (0.1, 0.05, 0.025, 0.0125):
+        la = bk.Lattice((20, 14), _params(), u0=0.6, step=step).kick((10, 7), -2.0)
+        times.append(la.run(t_end=1.2, progress=False).first_slip_times())
+    slipped = np.isfinite(times[0])
+    assert slipped.sum() > 200
+    changes = []
+    for a, b in zip(times[:-1], times[1:], strict=True):
+        assert np.array_equal(np.isfinite(b), slipped)
+        changes.append(np.max(np.abs(a[slipped] - b[slipped])))
+    assert changes[0] < 1e-5 and changes[-1] < 1e-8, changes
+    assert all(x > 8 * y for x, y in zip(changes[:-1], changes[1:], strict=True)), changes
