@@ -83,6 +83,118 @@ impl CellVec {
     }
 }
 
+impl CellVec {
+    /// Give the memory pages that lie wholly inside values [lo, hi) back to the system
+    /// (Linux: `madvise(MADV_DONTNEED)`; elsewhere nothing is done): their values read
+    /// back as 0.0 and take memory again once written. For values whose contents are
+    /// dead (written before they are next read: ../release.rs). Returns the bytes given
+    /// back (0 where nothing was).
+    pub fn release(&mut self, lo: usize, hi: usize) -> usize {
+        let hi = hi.min(self.len);
+        if lo >= hi {
+            return 0;
+        }
+        let page = sys::page();
+        let base = self.at.as_ptr() as usize;
+        let (start, end) = (
+            (base + lo * 8).next_multiple_of(page),
+            (base + hi * 8) / page * page,
+        );
+        if end <= start {
+            return 0;
+        }
+        // SAFETY: [start, end) lies inside values [lo, hi) of this array, which `&mut
+        // self` borrows alone; the pages stay mapped and read back as zeros, a valid f64.
+        unsafe { sys::dont_need(start, end - start) }
+    }
+
+    /// The memory pages that hold values of this array: (resident, all) (Linux:
+    /// `mincore`; None elsewhere or if the call fails). A page given back and read since
+    /// counts as resident (it maps the system's shared page of zeros).
+    pub fn resident_pages(&self) -> Option<(usize, usize)> {
+        if self.len == 0 {
+            return Some((0, 0));
+        }
+        let page = sys::page();
+        let base = self.at.as_ptr() as usize;
+        let (start, end) = (
+            base / page * page,
+            (base + self.len * 8).next_multiple_of(page),
+        );
+        // SAFETY: [start, end) are the pages holding this array's values, all mapped
+        // (they belong to its allocation); mincore only reads the page tables.
+        unsafe { sys::resident(start, end - start, page) }
+    }
+}
+
+/// The system calls of [`CellVec::release`] and [`CellVec::resident_pages`].
+#[cfg(target_os = "linux")]
+mod sys {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    extern "C" {
+        fn madvise(addr: *mut std::ffi::c_void, len: usize, advice: i32) -> i32;
+        fn mincore(addr: *mut std::ffi::c_void, len: usize, vec: *mut u8) -> i32;
+        fn sysconf(name: i32) -> i64;
+    }
+    const MADV_DONTNEED: i32 = 4;
+    const SC_PAGESIZE: i32 = 30;
+    static PAGE: AtomicUsize = AtomicUsize::new(0);
+
+    /// The system's page size in bytes.
+    pub fn page() -> usize {
+        match PAGE.load(Ordering::Relaxed) {
+            0 => {
+                // SAFETY: sysconf reads a constant of the system
+                let p = unsafe { sysconf(SC_PAGESIZE) };
+                let p = if p > 0 { p as usize } else { 4096 };
+                PAGE.store(p, Ordering::Relaxed);
+                p
+            }
+            p => p,
+        }
+    }
+
+    /// madvise(MADV_DONTNEED) over page-aligned [start, start + len): the bytes given back.
+    ///
+    /// # Safety
+    /// The range must be mapped memory whose contents nobody needs (they become zeros).
+    pub unsafe fn dont_need(start: usize, len: usize) -> usize {
+        if madvise(start as *mut std::ffi::c_void, len, MADV_DONTNEED) == 0 {
+            len
+        } else {
+            0
+        }
+    }
+
+    /// mincore over page-aligned [start, start + len): (resident pages, pages).
+    ///
+    /// # Safety
+    /// The range must be mapped memory.
+    pub unsafe fn resident(start: usize, len: usize, page: usize) -> Option<(usize, usize)> {
+        let n = len / page;
+        let mut v = vec![0u8; n];
+        if mincore(start as *mut std::ffi::c_void, len, v.as_mut_ptr()) != 0 {
+            return None;
+        }
+        Some((v.iter().filter(|&&b| b & 1 == 1).count(), n))
+    }
+}
+
+/// Elsewhere: nothing given back, residency unknown.
+#[cfg(not(target_os = "linux"))]
+mod sys {
+    pub fn page() -> usize {
+        4096
+    }
+    pub unsafe fn dont_need(_start: usize, _len: usize) -> usize {
+        0
+    }
+    pub unsafe fn resident(_start: usize, _len: usize, _page: usize) -> Option<(usize, usize)> {
+        None
+    }
+}
+
 impl Default for CellVec {
     /// The empty array.
     fn default() -> CellVec {
@@ -162,5 +274,43 @@ mod tests {
         assert_eq!(CellVec::default().len(), 0);
         assert_eq!(CellVec::new(0, 1.0).len(), 0);
         assert_eq!(&CellVec::from_slice(&[1.0, 2.0])[..], &[1.0, 2.0]);
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn released_pages_read_zero_and_leave_memory() {
+        // the whole pages inside [lo, hi) read 0 and are no longer resident; every value
+        // outside them is kept (the partial pages at the ends included)
+        let n = 64 * 1024;
+        let mut a = CellVec::new(n, 0.0);
+        for (k, x) in a.iter_mut().enumerate() {
+            *x = k as f64 + 1.0;
+        }
+        let (r0, all) = a.resident_pages().unwrap();
+        assert_eq!(r0, all);
+        let (lo, hi) = (1000, 50_000);
+        let bytes = a.release(lo, hi);
+        let page = sys::page();
+        let base = a.as_ptr() as usize;
+        let (start, end) = (
+            (base + 8 * lo).next_multiple_of(page),
+            (base + 8 * hi) / page * page,
+        );
+        assert_eq!(bytes, end - start);
+        let (r1, _) = a.resident_pages().unwrap();
+        assert_eq!(r0 - r1, bytes / page);
+        // a page written again is resident again (one value: one page)
+        a[2000] = 5.0;
+        assert_eq!(a.resident_pages().unwrap().0, r1 + 1);
+        a[2000] = 0.0;
+        // (read after the counts: a page given back and read maps the zero page, which
+        // mincore counts as resident)
+        for (k, &x) in a.iter().enumerate() {
+            let at = base + 8 * k;
+            let gone = at >= start && at < end;
+            assert_eq!(x, if gone { 0.0 } else { k as f64 + 1.0 }, "{k}");
+        }
+        assert_eq!(a.release(10, 20), 0);
+        assert_eq!(a.release(hi, lo), 0);
     }
 }

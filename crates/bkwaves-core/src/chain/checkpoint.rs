@@ -132,6 +132,38 @@ impl Field for CellVec {
     }
 }
 
+/// An array of accelerations as a checkpoint writes it: its values in the cells of
+/// these runs, 0 elsewhere. The other values are dead (never read before written: they
+/// are stale values of earlier steps, or zeros where the memory was given back,
+/// ../release.rs), so a restored run's checkpoints equal the uninterrupted one's
+/// whatever was given back when. Read back as a [`CellVec`].
+struct Accels<'a>(&'a CellVec, &'a [(usize, usize)]);
+
+impl Field for Accels<'_> {
+    fn put(&self, w: &mut W) {
+        w.u(self.0.len() as u64);
+        let mut p = 0;
+        for &(a, b) in self.1 {
+            for _ in p..a {
+                w.f(0.0);
+            }
+            for &x in &self.0[a..b] {
+                w.f(x);
+            }
+            p = b;
+        }
+        for _ in p..self.0.len() {
+            w.f(0.0);
+        }
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        Err(bad(
+            r.i,
+            "accelerations read into a CellVec (Accels only writes)",
+        ))
+    }
+}
+
 /// A record type's fields, in checkpoint order.
 macro_rules! record {
     ($t:ty { $($f:ident),* $(,)? }) => {
@@ -175,7 +207,7 @@ record!(SlipRecord {
 /// The chain's state fields, in checkpoint order, as references (`&` to write, `&mut` to
 /// read): the one list of what a checkpoint holds besides the queue and the sources.
 macro_rules! chain_state {
-    ($c:ident, $dyn:ty, $($r:tt)+) => {{
+    ($c:ident, $dyn:ty, $acc0:expr, $acc1:expr, $($r:tt)+) => {{
         let fields: Vec<$dyn> = vec![
             $($r)+ $c.t,
             $($r)+ $c.stuck_sum,
@@ -184,10 +216,10 @@ macro_rules! chain_state {
             $($r)+ $c.need_check,
             $($r)+ $c.full_check,
             $($r)+ $c.a_valid,
-            $($r)+ $c.a_start,
-            // (its entries of stuck blocks are stale values that a swap carries into
-            // a_start: kept, so a restored run's checkpoints equal the uninterrupted one's)
-            $($r)+ $c.a_end,
+            // the accelerations at the start of the next step (a_start) and a_end: written
+            // canonically ([`Accels`]), read as they are
+            $acc0,
+            $acc1,
             $($r)+ $c.st.u,
             $($r)+ $c.st.w,
             $($r)+ $c.st.tref,
@@ -254,7 +286,12 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
     pub fn checkpoint(&self) -> Vec<u8> {
         let mut w = W(MAGIC.to_vec());
         self.fingerprint(&mut w);
-        for f in chain_state!(self, &dyn Field, &) {
+        let (runs, valid) = (&self.st.runs[..], self.a_valid);
+        let (acc0, acc1) = (
+            Accels(&self.a_start, if valid { runs } else { &[] }),
+            Accels(&self.a_end, &[]),
+        );
+        for f in chain_state!(self, &dyn Field, &acc0, &acc1, &) {
             f.put(&mut w);
         }
         if let Some(c) = &self.control {
@@ -301,7 +338,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         let (n, n2) = (self.st.n, self.st.geo.cells());
         let mut next = self.clone();
-        for f in chain_state!(next, &mut dyn Field, &mut) {
+        for f in chain_state!(next, &mut dyn Field, &mut next.a_start, &mut next.a_end, &mut) {
             f.get(&mut r)?;
         }
         if let Some(c) = next.control.as_mut() {
@@ -351,6 +388,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             return Err(bad(r.i, "a checkpoint with nothing after its end"));
         }
         next.st.rebuild_runs();
+        // the arrays were all written: every granule may be given back (release.rs)
+        next.st.touched.mark_all();
         // scratch of the integrator: as a freshly built chain has it
         next.u0 = CellVec::new(n2, 0.0);
         next.w0 = CellVec::new(n2, 0.0);

@@ -1216,6 +1216,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             } else {
                 self.st.dir[p] = 1.0;
             }
+            // (the passes write its stage values: ../release.rs)
+            self.st.touch(p);
             self.local.out[i] = true;
         }
     }

@@ -33,6 +33,7 @@ pub mod integrator;
 mod local_events;
 pub mod medium;
 mod onset;
+pub mod release;
 pub mod sources;
 pub mod state;
 pub mod step_control;
@@ -263,6 +264,8 @@ pub struct Engine<G: Geometry, F: Friction, M: Medium = Uniform> {
     snap_work: u64,
     /// Work lists reused from step to step (not part of the state).
     scratch: Scratch,
+    /// The dead scratch given back (release.rs; not part of the state).
+    release: release::Release,
 }
 
 /// Lists the step loop fills and empties again every step: kept so that no step
@@ -473,8 +476,12 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             chunk_wall: f64::INFINITY,
             snap_work: 0,
             scratch: Scratch::default(),
+            release: release::Release::default(),
             st,
         };
+        if len >= release::RELEASE_FROM {
+            ch.set_release(true);
+        }
         let blocks: Vec<usize> = ch.st.geo.blocks().collect();
         for (k, &p) in blocks.iter().enumerate() {
             ch.stuck_sum += ch.blk.med.loader(p) * u0[k];
@@ -1384,6 +1391,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 self.stuck_sum += self.cfg.v * dt * self.stuck_loader;
                 self.t = t_next;
                 self.counters.jumps += 1;
+                self.release_quiet();
                 jumps += 1;
                 continue;
             }
@@ -1440,6 +1448,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
 
     /// One step (capped at t_cap), with event location and a redo up to the event.
     fn integrate_step(&mut self, t_cap: f64) -> Result<()> {
+        self.release_tick();
         let t0 = self.t;
         let mut h = self.h.min(t_cap - t0);
         if let Some(c) = self.control.as_mut() {

@@ -10,6 +10,7 @@ use super::cells::CellVec;
 use super::frontier::Frontier;
 pub use super::geometry::Beyond;
 use super::geometry::{Geometry, Line};
+use super::release::Touched;
 use crate::boundary::Ghost;
 
 /// Block state (padded indices, see the module docs).
@@ -45,6 +46,8 @@ pub struct State<G: Geometry = Line> {
     /// The cells next to the runs (a geometry with [`Geometry::FRONTIER`]; ../frontier.rs),
     /// kept by [`State::add_to_runs`] and [`State::remove_from_runs`].
     pub frontier: Frontier,
+    /// Which granules of cells may hold written scratch (../release.rs; empty: off).
+    pub touched: Touched,
 }
 
 impl State<Line> {
@@ -76,6 +79,7 @@ impl<G: Geometry> State<G> {
             ext: Vec::new(),
             ext_t1: 0.0,
             frontier: Frontier::new(len, G::FRONTIER),
+            touched: Touched::default(),
             geo,
         }
     }
@@ -177,6 +181,7 @@ impl<G: Geometry> State<G> {
         if G::FRONTIER {
             self.frontier.enter(&self.geo, &self.dir, p);
         }
+        self.touch(p);
     }
 
     /// Remove block p (which must be in a run) from the runs (splitting its run; its

@@ -82,3 +82,5 @@ mod tests_bonds;
 mod tests_frontier;
 #[cfg(test)]
 mod tests_local;
+#[cfg(test)]
+mod tests_release;

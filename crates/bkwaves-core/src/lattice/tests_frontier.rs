@@ -89,7 +89,7 @@ impl Geometry for Walked {
 }
 
 /// Everything a run leaves, bit for bit.
-fn outcome<G: Geometry>(e: &crate::chain::Engine<G, Coulomb>) -> String {
+pub(super) fn outcome<G: Geometry>(e: &crate::chain::Engine<G, Coulomb>) -> String {
     format!(
         "{:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
         e.u(),

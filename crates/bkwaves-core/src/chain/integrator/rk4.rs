@@ -44,6 +44,36 @@ pub struct Rk4 {
 }
 
 impl Rk4 {
+    /// The buffers over the cells, by name (all of them scratch: ../release.rs).
+    pub fn buffers(&self) -> [(&'static str, &CellVec); 9] {
+        [
+            ("su", &self.su),
+            ("sw", &self.sw),
+            ("tu", &self.tu),
+            ("tw", &self.tw),
+            ("ku", &self.ku),
+            ("kw", &self.kw),
+            ("bu", &self.bu),
+            ("bd", &self.bd),
+            ("bv", &self.bv),
+        ]
+    }
+
+    /// The buffers over the cells, to give their dead pages back (../release.rs).
+    pub(crate) fn buffers_mut(&mut self) -> [&mut CellVec; 9] {
+        [
+            &mut self.su,
+            &mut self.sw,
+            &mut self.tu,
+            &mut self.tw,
+            &mut self.ku,
+            &mut self.kw,
+            &mut self.bu,
+            &mut self.bd,
+            &mut self.bv,
+        ]
+    }
+
     /// Buffers for a chain of n blocks.
     pub fn new(n: usize) -> Self {
         Rk4 {
