@@ -7,8 +7,15 @@
 //! 2. The engine: an expanding rupture from a point (u_+ = 0.6, gamma = 0.45, dx = dy =
 //!    0.05, v = 0) on a quadrant of `size` x `size` blocks with free edges (mirror
 //!    planes), kicked at its corner and stopped when the front has crossed 90 % of it:
-//!    sliding-block updates per CPU second, as a ratio to the reference over m^2 = the
-//!    engine's mean number of sliding blocks, measured in the same round.
+//!    sliding-block updates per CPU second, as a ratio to the reference over m^2 blocks
+//!    measured in the same round (global cut: m^2 = block-steps / steps, the mean of
+//!    its steps, all full passes; local events, whose steps count their components'
+//!    sub-steps: the time average below). Each round runs the rupture with the global
+//!    cut and with local events (`--events both`, the default; or one of them), and
+//!    also reports the CPU time a bare stencil would take for the same rupture (the
+//!    time-averaged number of sliding blocks, from a sampled run of its own, times T/h
+//!    steps of the fixed step h, at the reference's rate over that many blocks) over the
+//!    engine's CPU time.
 //! 3. Memory: the memory allocated (VmData) by building a lattice of n x n blocks, per
 //!    block, and the resident memory (VmRSS) it adds: a page of a zeroed array is resident
 //!    only once written, so the resident figure grows to the allocated one as a rupture
@@ -21,7 +28,7 @@
 //!
 //! cargo run --release -- [--repeat R] [--size L] [--memory N1,N2,..] [--full N,dx,gamma]
 //!     [--kernel M]
-//!     [--events local|global]
+//!     [--events local|global|both]
 
 use bkwaves_core::boundary::Free;
 use bkwaves_core::chain::cells::CellVec;
@@ -236,13 +243,18 @@ fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize, local: bool) -> Lattice<
     la
 }
 
-/// The engine's rupture: (block-steps per CPU second, mean sliding blocks, block-steps).
-fn engine(size: usize, local: bool) -> (f64, f64, u64, u64, u64) {
+/// The end time of the quadrant's rupture: the front has crossed 90 % of it (speed
+/// about c = 1/sqrt(1 - u_+^2) = 1.25 in x per time).
+fn rupture_end(size: usize) -> f64 {
+    0.9 * size as f64 * DX / 1.25
+}
+
+/// The engine's rupture: (block-steps per CPU second, block-steps per step, block-steps,
+/// steps, switches, CPU seconds).
+fn engine(size: usize, local: bool) -> (f64, f64, u64, u64, u64, f64) {
     let mut la = lattice(size, local);
-    // the front crosses 90 % of the quadrant: c ~ 1/sqrt(1 - u_+^2) = 1.25 (in x per time)
-    let t_end = 0.9 * size as f64 * DX / 1.25;
     let t = cpu_seconds();
-    la.run(t_end, usize::MAX, u64::MAX).unwrap();
+    la.run(rupture_end(size), usize::MAX, u64::MAX).unwrap();
     let s = cpu_seconds() - t;
     let c = la.counters;
     (
@@ -251,7 +263,25 @@ fn engine(size: usize, local: bool) -> (f64, f64, u64, u64, u64) {
         c.block_steps,
         c.steps,
         c.switches,
+        s,
     )
+}
+
+/// The time average of the number of sliding blocks over the quadrant's rupture, from
+/// `samples` equally spaced times (a run of its own, stopped at each: not timed; local
+/// events). A bare stencil with the fixed step h needs (this) x T/h updates for the
+/// rupture; block-steps / steps is no such mean (the global cut's steps are cut short
+/// by the events, local events count their components' sub-steps as steps).
+fn mean_sliding(size: usize, samples: usize) -> f64 {
+    let mut la = lattice(size, true);
+    let t_end = rupture_end(size);
+    let mut sum = 0.0;
+    for k in 1..=samples {
+        la.run(t_end * k as f64 / samples as f64, usize::MAX, u64::MAX)
+            .unwrap();
+        sum += la.n_sliding() as f64;
+    }
+    sum / samples as f64
 }
 
 /// The engine's RK4 step alone (no event search, no redo) over an m x m square of
@@ -313,6 +343,14 @@ fn engine_step(m: usize, steps: u64) -> (f64, f64) {
     ((m * m) as f64 * steps as f64 / s, st.u.iter().sum::<f64>())
 }
 
+/// The events of the rounds' ruptures.
+#[derive(Debug, Clone, Copy)]
+enum Events {
+    Local,
+    Global,
+    Both,
+}
+
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
@@ -322,8 +360,9 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let (mut repeat, mut size, mut memory) = (3usize, 512usize, vec![1024usize, 2048]);
     let mut full: Option<(usize, f64, f64)> = None;
-    // the engine's events: local (the lattice's default) or the global cut
-    let mut local = true;
+    // the engine's events in the rounds: both (the default), local (the lattice's
+    // default) or the global cut; --full and --memory with local events unless global
+    let mut events = Events::Both;
     let mut k = 1;
     while k < args.len() {
         match args[k].as_str() {
@@ -362,43 +401,104 @@ fn main() {
                 ));
             }
             "--events" => {
-                local = match args[k + 1].as_str() {
-                    "local" => true,
-                    "global" => false,
-                    e => panic!("--events {e}: local or global"),
+                events = match args[k + 1].as_str() {
+                    "local" => Events::Local,
+                    "global" => Events::Global,
+                    "both" => Events::Both,
+                    e => panic!("--events {e}: local, global or both"),
                 }
             }
             a => panic!(
                 "unknown argument {a} (--repeat R, --size L, --memory N1,N2, --full N,dx,gamma, \
-                 --events local|global)"
+                 --events local|global|both)"
             ),
         }
         k += 2;
     }
-    println!("lattice rupture: quadrant {size} x {size}, u+ = {U_PLUS}, gamma = {GAMMA}, dx = dy = {DX}, step {STEP}, events {}",
-        if local { "local" } else { "global" }
+    let modes: Vec<bool> = match events {
+        Events::Local => vec![true],
+        Events::Global => vec![false],
+        Events::Both => vec![false, true],
+    };
+    println!(
+        "lattice rupture: quadrant {size} x {size}, u+ = {U_PLUS}, gamma = {GAMMA}, \
+         dx = dy = {DX}, step {STEP}, events {events:?}"
     );
-    let mut ratios = Vec::new();
-    for round in 0..repeat {
-        let (eng, mean, work, steps, switches) = engine(size, local);
-        let m = (mean.sqrt().round() as usize).max(2);
-        let refr = reference(m, work as f64);
-        let ratio = eng / refr;
-        ratios.push(ratio);
+    // the rupture as a bare stencil would take it: every sliding block at every step
+    // of the fixed step h, the time-averaged number of sliding blocks over T/h steps
+    let h = STEP * DX;
+    let t_end = rupture_end(size);
+    let mean = if repeat > 0 {
+        mean_sliding(size, 200)
+    } else {
+        f64::NAN
+    };
+    let fixed_steps = (t_end / h).ceil();
+    let stencil_work = mean * fixed_steps;
+    let m_t = (mean.sqrt().round() as usize).max(2);
+    if repeat > 0 {
         println!(
-            "round {round}: engine {eng:.3e} updates/s (mean sliding {mean:.0} blocks, \
-             {work} block-steps, {steps} steps, {switches} switches), reference {m} x {m}: \
-             {refr:.3e}/s, ratio {ratio:.3}"
+            "rupture to t = {t_end:.3}: time-averaged sliding blocks {mean:.0} (200 \
+             samples), a stencil at h = {h} takes {fixed_steps} steps, {stencil_work:.4e} \
+             updates (the reference over {m_t} x {m_t})"
         );
     }
-    let (lo, hi) = (
-        ratios.iter().copied().fold(f64::INFINITY, f64::min),
-        ratios.iter().copied().fold(0.0, f64::max),
-    );
-    println!(
-        "engine / reference: median {:.3} [{lo:.3}, {hi:.3}]",
-        median(&mut ratios)
-    );
+    let mut ratios = vec![Vec::new(); 2];
+    let mut speedups = vec![Vec::new(); 2];
+    for round in 0..repeat {
+        for &loc in &modes {
+            let (eng, per_step, work, steps, switches, cpu) = engine(size, loc);
+            // updates per CPU second against the reference over m^2 blocks: for the
+            // global cut m^2 = block-steps / steps, as since the first measurement (its
+            // steps are full passes over the sliding blocks); for local events (whose
+            // steps count the components' sub-steps) the time average
+            let m = if loc {
+                m_t
+            } else {
+                (per_step.sqrt().round() as usize).max(2)
+            };
+            let refr = reference(m, work as f64);
+            let ratio = eng / refr;
+            // the CPU a bare stencil would take for this rupture, at the reference's
+            // rate over m_t x m_t blocks
+            let ref_t = if m == m_t {
+                refr
+            } else {
+                reference(m_t, stencil_work)
+            };
+            let stencil_cpu = stencil_work / ref_t;
+            let speedup = stencil_cpu / cpu;
+            let mode = if loc { "local" } else { "global" };
+            ratios[usize::from(loc)].push(ratio);
+            speedups[usize::from(loc)].push(speedup);
+            println!(
+                "round {round}: events {mode}: engine {eng:.3e} updates/s ({work} \
+                 block-steps, {per_step:.0} per step, {steps} steps, {switches} switches, \
+                 {cpu:.2} s CPU), reference {m} x {m}: {refr:.3e}/s, ratio {ratio:.3}; \
+                 a bare stencil: {stencil_cpu:.2} s CPU (reference {m_t} x {m_t} \
+                 {ref_t:.3e}/s), stencil CPU / engine CPU {speedup:.3}"
+            );
+        }
+    }
+    let summary = |v: &mut Vec<f64>| {
+        let (lo, hi) = (
+            v.iter().copied().fold(f64::INFINITY, f64::min),
+            v.iter().copied().fold(0.0, f64::max),
+        );
+        format!("median {:.3} [{lo:.3}, {hi:.3}]", median(v))
+    };
+    for &loc in &modes {
+        let mode = if loc { "local" } else { "global" };
+        let k = usize::from(loc);
+        println!(
+            "events {mode}: engine / reference (updates per CPU second) {}; stencil CPU / \
+             engine CPU {}",
+            summary(&mut ratios[k]),
+            summary(&mut speedups[k])
+        );
+    }
+    // --memory and --full: local events unless --events global
+    let local = !matches!(events, Events::Global);
     for n in memory {
         let (data0, rss0) = (status_bytes("VmData:"), status_bytes("VmRSS:"));
         let la = lattice(n, local);

@@ -341,6 +341,9 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         for f in chain_state!(next, &mut dyn Field, &mut next.a_start, &mut next.a_end, &mut) {
             f.get(&mut r)?;
         }
+        // stale accelerations are all recomputed after a restore (the same bits)
+        next.a_partial = false;
+        next.a_time = f64::NAN;
         if let Some(c) = next.control.as_mut() {
             c.h.get(&mut r)?;
             c.switches_seen.get(&mut r)?;

@@ -368,6 +368,55 @@ fn rest_candidates_body(
     }
 }
 
+/// The sliding blocks of a run that may be at rest now (the settling's test): the
+/// indices i with dir (u_t - v) >= 0, in order (a vectorised pre-test; the settling
+/// tests each of them exactly).
+pub fn at_rest_candidates(simd: Simd, dir: &[f64], w: &[f64], v: f64, out: &mut Vec<usize>) {
+    match simd {
+        // SAFETY (both): `simd` is a code this CPU runs.
+        #[cfg(target_arch = "x86_64")]
+        Simd::Avx512 => unsafe { at_rest_candidates_avx512(dir, w, v, out) },
+        #[cfg(target_arch = "x86_64")]
+        Simd::Avx2 => unsafe { at_rest_candidates_avx2(dir, w, v, out) },
+        _ => at_rest_candidates_body(dir, w, v, out),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn at_rest_candidates_avx2(dir: &[f64], w: &[f64], v: f64, out: &mut Vec<usize>) {
+    at_rest_candidates_body(dir, w, v, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn at_rest_candidates_avx512(dir: &[f64], w: &[f64], v: f64, out: &mut Vec<usize>) {
+    at_rest_candidates_body(dir, w, v, out)
+}
+
+#[inline(always)]
+fn at_rest_candidates_body(dir: &[f64], w: &[f64], v: f64, out: &mut Vec<usize>) {
+    const G: usize = 8;
+    let n = dir.len().min(w.len());
+    let m = n / G * G;
+    let groups = dir[..m]
+        .chunks_exact(G)
+        .zip(w[..m].chunks_exact(G))
+        .enumerate();
+    for (g, (d, w)) in groups {
+        let mut b = [0.0; G];
+        for l in 0..G {
+            b[l] = d[l] * (w[l] - v);
+        }
+        // one test per group, the lanes or-ed without a branch
+        let any = b.iter().fold(false, |any, &x| any | (x >= 0.0));
+        if any {
+            out.extend((0..G).filter(|&l| b[l] >= 0.0).map(|l| g * G + l));
+        }
+    }
+    out.extend((m..n).filter(|&i| dir[i] * (w[i] - v) >= 0.0));
+}
+
 #[derive(Debug, Clone, Copy)]
 struct Entry {
     t: f64,

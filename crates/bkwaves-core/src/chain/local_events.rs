@@ -1261,7 +1261,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         if found.is_empty() {
             self.scratch.cands = cands;
             self.scratch.test = found;
-            let integ = self.rk.books(&self.st, h);
+            let integ = self.rk.books(&self.st, &self.blk, &self.w0, h);
             self.finish_step(t0, h, t_cap, integ, Vec::new(), None)?;
             return Ok(true);
         }
@@ -1311,7 +1311,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             self.local.stats.passes += 1;
             self.detect_all(t0, h, &mut cands, &mut found);
             if found.is_empty() {
-                break Some(self.rk.books(&self.st, h));
+                break Some(self.rk.books(&self.st, &self.blk, &self.w0, h));
             }
         };
         self.scratch.cands = cands;
@@ -1439,6 +1439,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             self.counters.switches += 1;
         }
         self.a_valid = recs.is_empty();
+        self.a_partial = false;
+        self.a_time = f64::NAN;
         if self.st.n_active == 0 {
             // everything stuck since the last switch: the step ends there (the event
             // closes at its last stick, as with the global cut)

@@ -231,6 +231,13 @@ pub struct Engine<G: Geometry, F: Friction, M: Medium = Uniform> {
     a_start: CellVec,
     a_end: CellVec,
     a_valid: bool,
+    /// a_start is stale only at the blocks in `a_fix` (switched since it was valid:
+    /// a switch changes its block's own equation, not any u), and was valid at time
+    /// `a_time` (NaN: unknown): then only those blocks are recomputed (the same bits).
+    /// Not in a checkpoint: a restored engine recomputes them all.
+    a_partial: bool,
+    a_fix: Vec<usize>,
+    a_time: f64,
     u0: CellVec,
     w0: CellVec,
     stuck_sum: f64,
@@ -455,6 +462,9 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             a_start: CellVec::new(len, 0.0),
             a_end: CellVec::new(len, 0.0),
             a_valid: false,
+            a_partial: false,
+            a_fix: Vec::new(),
+            a_time: f64::NAN,
             u0: CellVec::new(len, 0.0),
             w0: CellVec::new(len, 0.0),
             stuck_sum: 0.0,
@@ -535,6 +545,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         self.rk = Stepper::new(method, self.st.geo.cells());
         self.choose_step();
         self.a_valid = false;
+        self.a_partial = false;
         Ok(())
     }
 
@@ -752,7 +763,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         self.st.add_to_runs(p);
         self.catalog.slip(self.st.geo.index(p), t, u, dir, cause);
         self.counters.switches += 1;
-        self.a_valid = false;
+        self.switched(p);
     }
 
     /// Stuck block p crosses its threshold in direction `dir` (a located or due slip):
@@ -781,7 +792,18 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         self.catalog
             .stick(self.st.geo.index(p), t, self.st.u[p], self.cfg.v);
         self.counters.switches += 1;
+        self.switched(p);
+    }
+
+    /// The equation of block p changed (it slipped, stuck, or came to rest and slides
+    /// on): its acceleration is stale, and no other's (its u is as it was).
+    fn switched(&mut self, p: usize) {
+        if self.a_valid {
+            self.a_partial = true;
+            self.a_fix.clear();
+        }
         self.a_valid = false;
+        self.a_fix.push(p);
     }
 
     /// The sliding block p has u_t = v (within the located event): stick or go on.
@@ -817,7 +839,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                     .onset_threshold(self.blk.med.threshold(p), phi, dir);
             }
             self.st.dir[p] = dir;
-            self.a_valid = false;
+            self.switched(p);
         }
         true
     }
@@ -916,14 +938,21 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             // sliding blocks back at rest
             let mut rest = std::mem::take(&mut self.scratch.rest);
             rest.clear();
+            let mut maybe = std::mem::take(&mut self.scratch.cands);
             for &(a, b) in &self.st.runs {
-                for p in a..b {
+                // (a vectorised pre-test: u_t at or past v, in the run's order)
+                maybe.clear();
+                let (dir, w) = (&self.st.dir[a..b], &self.st.w[a..b]);
+                events::at_rest_candidates(self.simd, dir, w, self.cfg.v, &mut maybe);
+                for &i in &maybe {
+                    let p = a + i;
                     let g = self.st.dir[p] * (self.st.w[p] - self.cfg.v);
                     if g > 0.0 || (g == 0.0 && self.st.dir[p] * self.accel_of(p) >= 0.0) {
                         rest.push(p);
                     }
                 }
             }
+            self.scratch.cands = maybe;
             for &p in &rest {
                 if self.st.sliding(p) && self.on_rest(p) {
                     changed.push(p);
@@ -1235,6 +1264,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 }
                 self.st.w[p] = w_new;
                 self.a_valid = false;
+                self.a_partial = false;
             }
         }
         self.refresh_around(p);
@@ -1460,9 +1490,28 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         if !self.a_valid {
             let mut a = std::mem::take(&mut self.a_start);
-            self.rk.accel_only(&mut self.st, &self.blk, t0, &mut a);
+            if self.a_partial && self.a_time == t0 && self.st.ext.is_empty() {
+                // only switches since a_start was valid at t0: their blocks and their
+                // neighbours (these for safety: their values are unchanged)
+                let mut fix = std::mem::take(&mut self.a_fix);
+                let k = fix.len();
+                for i in 0..k {
+                    for q in self.st.geo.neighbours(fix[i]) {
+                        if let Some(r) = self.st.resolve(q) {
+                            fix.push(r);
+                        }
+                    }
+                }
+                self.rk.accel_at(&self.st, &self.blk, t0, &fix, &mut a);
+                fix.clear();
+                self.a_fix = fix;
+            } else {
+                self.rk.accel_only(&mut self.st, &self.blk, t0, &mut a);
+            }
             self.a_start = a;
             self.a_valid = true;
+            self.a_partial = false;
+            self.a_time = t0;
         }
         if self.local_active() && self.local_step(t0, h, t_cap)? {
             // local events (local_events.rs); false: this step takes the global cut
@@ -1489,9 +1538,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             let mut d = self.step_indicator(h);
             if d > c.tol && h > c.h_min {
                 // too long: redo it at the fixed step
-                self.restore_runs();
                 h = c.h_min.min(t_cap - t0);
-                self.do_step(t0, h);
+                self.redo_step(t0, h);
                 d = self.step_indicator(h);
             }
             indicator = Some(d);
@@ -1505,14 +1553,16 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         // (s = infinity: no event in the step; s = 1: at its end, nothing to redo)
         if s < 1.0 {
             // redo the step up to the event
-            self.restore_runs();
             h *= s;
-            self.do_step(t0, h);
+            self.redo_step(t0, h);
             self.check_solved(t0)?;
         }
         // the energy flows of the step taken, once (not in the stages, not for a redo)
-        let integ = self.rk.books(&self.st, h);
-        self.finish_step(t0, h, t_cap, integ, events, indicator)
+        let integ = self.rk.books(&self.st, &self.blk, &self.w0, h);
+        self.finish_step(t0, h, t_cap, integ, events, indicator)?;
+        // the end accelerations (now a_start) are those of the state at t0 + h
+        self.a_time = t0 + h;
+        Ok(())
     }
 
     /// The end of a step of length h taken from t0 (capped at t_cap): the books, the
@@ -1550,6 +1600,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         // the end accelerations become the next start ones
         std::mem::swap(&mut self.a_start, &mut self.a_end);
         self.a_valid = true;
+        self.a_time = f64::NAN;
         if !events.is_empty() {
             for &(p, kind) in &events {
                 if kind == 0 {
@@ -1616,6 +1667,23 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
     fn do_step(&mut self, t0: f64, h: f64) {
         // the step writes the end accelerations too (in its last pass, for RK4)
         self.rk.step(
+            &mut self.st,
+            &self.blk,
+            t0,
+            h,
+            &self.a_start,
+            &mut self.u0,
+            &mut self.w0,
+            &mut self.a_end,
+        );
+        self.counters.steps += 1;
+        self.counters.block_steps += self.st.n_active as u64;
+    }
+
+    /// The step just taken again from its start (saved in u0, w0 by `do_step`), to the
+    /// length h: the same bits as `restore_runs` and `do_step`, without the copy back.
+    fn redo_step(&mut self, t0: f64, h: f64) {
+        self.rk.redo(
             &mut self.st,
             &self.blk,
             t0,

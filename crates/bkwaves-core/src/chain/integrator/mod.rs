@@ -79,9 +79,34 @@ pub trait Integrator: std::fmt::Debug + Send {
         a1: &mut [f64],
     ) where
         Self: Sized;
+    /// The last step again, from the start state it saved in `u0`, `w0` (to a length
+    /// h, usually shorter): the same bits as putting that state back into `st` and
+    /// calling [`Integrator::step`], without the copy (`st`'s sliding u, u_t unread).
+    #[allow(clippy::too_many_arguments)]
+    fn redo<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &mut State<G>,
+        fr: &Blocks<F, M>,
+        t0: f64,
+        h: f64,
+        a0: &[f64],
+        u0: &mut [f64],
+        w0: &mut [f64],
+        a1: &mut [f64],
+    ) where
+        Self: Sized;
     /// The energy flows of the last step taken (of length h): called once per step
     /// taken, after any redo.
-    fn books<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals;
+    /// `w0` is the start state's u_t the step saved.
+    fn books<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        w0: &[f64],
+        h: f64,
+    ) -> StepIntegrals
+    where
+        Self: Sized;
 }
 
 /// Accelerations of the sliding blocks at the present state, time t, using `su` as the
@@ -99,6 +124,44 @@ pub(crate) fn accel_only_at_state<G: Geometry, F: Friction, M: Medium>(
     }
     fill_neighbours(st, su, t);
     stage_accel::<G, F, M, false>(st, fr, su, &st.w, acc);
+}
+
+/// Accelerations at time t of the sliding blocks among `blocks` (the others are left as
+/// they are), each from the present state of its own cell and its neighbours: the same
+/// formula on the same values as [`accel_only_at_state`] (the coupling force in the
+/// stencil's order, a stuck neighbour by its exact drift, a ghost by the boundary), so
+/// the same bits, block by block. Not for a state with blocks in their stiff onset
+/// (`st.ext`): the caller recomputes them all then.
+pub(crate) fn accel_at_blocks<G: Geometry, F: Friction, M: Medium>(
+    st: &State<G>,
+    fr: &Blocks<F, M>,
+    t: f64,
+    blocks: &[usize],
+    acc: &mut [f64],
+) {
+    debug_assert!(st.ext.is_empty());
+    let v = st.v;
+    for &p in blocks {
+        if !st.sliding(p) {
+            continue;
+        }
+        let value = |q: usize| {
+            if st.geo.is_ghost(q) {
+                match st.geo.beyond(q, p) {
+                    Beyond::Block(r) if st.sliding(r) => st.u[r],
+                    Beyond::Block(r) => st.stuck_u(r, t),
+                    Beyond::Wall(g0) => g0 + v * t,
+                }
+            } else if st.sliding(q) {
+                st.u[q]
+            } else {
+                st.stuck_u(q, t)
+            }
+        };
+        let up = st.u[p];
+        let f = st.geo.force(&fr.med, p, up, value);
+        acc[p] = fr.accel(p, up, f, v - st.w[p], st.dir[p], st.onset[p]);
+    }
 }
 
 /// Fill the stage displacement of the neighbours of every run (stuck blocks by their
@@ -359,6 +422,39 @@ impl Stepper {
             Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, u0, w0, a1),
         }
     }
+    /// The accelerations at time t of the sliding blocks among `blocks` (see
+    /// [`accel_at_blocks`]): after switches that leave every u as it was, the blocks
+    /// whose own equations changed.
+    pub fn accel_at<G: Geometry, F: Friction, M: Medium>(
+        &self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        t: f64,
+        blocks: &[usize],
+        acc: &mut [f64],
+    ) {
+        accel_at_blocks(st, fr, t, blocks, acc)
+    }
+    /// The step just taken, again from its start state, which [`Stepper::step`] saved
+    /// in `u0`, `w0` (to the length h): the same bits as putting that state back into
+    /// `st` and stepping, without the copy. `st`'s sliding u and u_t are not read.
+    #[allow(clippy::too_many_arguments)]
+    pub fn redo<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &mut State<G>,
+        fr: &Blocks<F, M>,
+        t0: f64,
+        h: f64,
+        a0: &[f64],
+        u0: &mut [f64],
+        w0: &mut [f64],
+        a1: &mut [f64],
+    ) {
+        match self {
+            Stepper::Rk4(m) => m.redo(st, fr, t0, h, a0, u0, w0, a1),
+            Stepper::Midpoint(m) => m.redo(st, fr, t0, h, a0, u0, w0, a1),
+        }
+    }
     /// Whether the last step solved its equations (an explicit method always does; the
     /// midpoint rule when its fixed-point iteration converged).
     pub fn solved(&self) -> bool {
@@ -368,10 +464,16 @@ impl Stepper {
         }
     }
     /// See [`Integrator::books`].
-    pub fn books<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
+    pub fn books<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        w0: &[f64],
+        h: f64,
+    ) -> StepIntegrals {
         match self {
-            Stepper::Rk4(m) => m.books(st, h),
-            Stepper::Midpoint(m) => m.books(st, h),
+            Stepper::Rk4(m) => m.books(st, fr, w0, h),
+            Stepper::Midpoint(m) => m.books(st, fr, w0, h),
         }
     }
 }

@@ -31,11 +31,13 @@ pub struct Rk4 {
     tw: CellVec,
     ku: CellVec,
     kw: CellVec,
-    /// Per block, the RK4-weighted sums over the stages of the loader displacement, the
-    /// dry and the viscous power (the energy books, reduced once per step).
+    /// Stage 4's u_t (stage 2's is left in `sw`, stage 3's in `tw`): the viscous power
+    /// book is summed from the four stages' u_t once per step taken ([`Rk4::books_body`]).
+    vw: CellVec,
+    /// Per block, the RK4-weighted sums over the stages of the loader displacement and
+    /// the dry power (the energy books, reduced once per step).
     bu: CellVec,
     bd: CellVec,
-    bv: CellVec,
     /// Which of (bu, bd) the last step kept: the loader term is skipped at v = 0 (no
     /// loader work), the dry power for a law whose dry power is 0 (beta-free Coulomb).
     kept: (bool, bool),
@@ -85,7 +87,7 @@ impl Rk4 {
             kw: CellVec::new(n + 2, 0.0),
             bu: CellVec::new(n + 2, 0.0),
             bd: CellVec::new(n + 2, 0.0),
-            bv: CellVec::new(n + 2, 0.0),
+            vw: CellVec::new(n + 2, 0.0),
             kept: (true, true),
             simd: Simd::detect(),
         }
@@ -120,11 +122,11 @@ fn stage<
     kw: &mut [f64],
     nu: &mut [f64],
     nw: &mut [f64],
-    books: [&mut [f64]; 3],
+    books: [&mut [f64]; 2],
     wt: f64,
     ch: f64,
 ) {
-    let [bu, bd, bv] = books;
+    let [bu, bd] = books;
     let v = st.v;
     for &(a, b) in &st.runs {
         // equal-length slices and an index: no bounds checks, one vectorised loop
@@ -134,35 +136,34 @@ fn stage<
         let (u0, w0, a0) = (&u0[a..b], &w0[a..b], &a0[a..b]);
         let (ku, kw) = (&mut ku[a..b], &mut kw[a..b]);
         let (nu, nw) = (&mut nu[a..b], &mut nw[a..b]);
-        let (bu, bd, bv) = (&mut bu[a..b], &mut bd[a..b], &mut bv[a..b]);
+        let (bu, bd) = (&mut bu[a..b], &mut bd[a..b]);
         assert!(cw.len() == len && dir.len() == len);
         assert!(th.len() == len && u0.len() == len && w0.len() == len && ku.len() == len);
         assert!(kw.len() == len && nu.len() == len && nw.len() == len && bu.len() == len);
-        assert!(bd.len() == len && bv.len() == len && a0.len() == len);
+        assert!(bd.len() == len && a0.len() == len);
         for i in 0..len {
             let (w, d) = (cw[i], if FWD { 1.0 } else { dir[i] });
             let uc = sten.centre(i);
             let f = sten.force(&fr.med, a + i, i);
             let acc = fr.accel(a + i, uc, f, v - w, d, th[i]);
             // stage 1's terms (weight 1) or the sums so far
-            let (ku0, kw0, bu0, bd0, bv0) = if FIRST {
-                let (pd, pv) = fr.fr.power(v - w0[i], d, th[i]);
-                (w0[i], a0[i], fr.med.loader(a + i) * u0[i], pd, pv)
+            let (ku0, kw0, bu0, bd0) = if FIRST {
+                let (pd, _) = fr.fr.power(v - w0[i], d, th[i]);
+                (w0[i], a0[i], fr.med.loader(a + i) * u0[i], pd)
             } else {
-                (ku[i], kw[i], bu[i], bd[i], bv[i])
+                (ku[i], kw[i], bu[i], bd[i])
             };
             ku[i] = ku0 + wt * w;
             kw[i] = kw0 + wt * acc;
             nu[i] = u0[i] + ch * w;
             nw[i] = w0[i] + ch * acc;
-            let (pd, pv) = fr.fr.power(v - w, d, th[i]);
             if LOAD {
                 bu[i] = bu0 + wt * (fr.med.loader(a + i) * uc);
             }
             if DRY {
+                let (pd, _) = fr.fr.power(v - w, d, th[i]);
                 bd[i] = bd0 + wt * pd;
             }
-            bv[i] = bv0 + wt * pv;
         }
     }
 }
@@ -191,12 +192,12 @@ fn last_stage<
     ku: &[f64],
     kw: &[f64],
     nu: &mut [f64],
-    books: [&mut [f64]; 3],
+    books: [&mut [f64]; 2],
     h6: f64,
     t1: f64,
     a1: &mut [f64],
 ) {
-    let [bu, bd, bv] = books;
+    let [bu, bd] = books;
     let v = st.v;
     let State {
         geo,
@@ -213,11 +214,11 @@ fn last_stage<
         let (cw, dir, th) = (&cw[a..b], &dir[a..b], &onset[a..b]);
         let (u0, w0, ku, kw) = (&u0[a..b], &w0[a..b], &ku[a..b], &kw[a..b]);
         let (su, sw, nu) = (&mut su[a..b], &mut sw[a..b], &mut nu[a..b]);
-        let (bu, bd, bv) = (&mut bu[a..b], &mut bd[a..b], &mut bv[a..b]);
+        let (bu, bd) = (&mut bu[a..b], &mut bd[a..b]);
         assert!(cw.len() == len && dir.len() == len);
         assert!(th.len() == len && u0.len() == len && w0.len() == len && ku.len() == len);
         assert!(kw.len() == len && su.len() == len && sw.len() == len && bu.len() == len);
-        assert!(bd.len() == len && bv.len() == len && nu.len() == len);
+        assert!(bd.len() == len && nu.len() == len);
         for i in 0..len {
             let (w, d) = (cw[i], if FWD { 1.0 } else { dir[i] });
             let uc = sten.centre(i);
@@ -226,18 +227,37 @@ fn last_stage<
             su[i] = u0[i] + h6 * (ku[i] + w);
             nu[i] = su[i];
             sw[i] = w0[i] + h6 * (kw[i] + acc);
-            let (pd, pv) = fr.fr.power(v - w, d, th[i]);
             if LOAD {
                 bu[i] += fr.med.loader(a + i) * uc;
             }
             if DRY {
+                let (pd, _) = fr.fr.power(v - w, d, th[i]);
                 bd[i] += pd;
             }
-            bv[i] += pv;
         }
     }
     fill_neighbours(st, nu, t1);
     stage_accel::<G, F, M, FWD>(st, fr, nu, &st.w, a1);
+}
+
+/// The RK4-weighted viscous power of a run's blocks, ((p1 + 2 p2) + 2 p3) + p4 per block
+/// from the four stages' u_t `[dir, th, w1, w2, w3, w4]`, into `out` (one pass without
+/// a reduction, which the compiler vectorises).
+#[inline(always)]
+fn visc_per_block<F: Friction, M: Medium>(
+    fr: &Blocks<F, M>,
+    v: f64,
+    x: [&[f64]; 6],
+    out: &mut [f64],
+) {
+    let [dir, th, w1, w2, w3, w4] = x;
+    let len = out.len();
+    assert!(dir.len() == len && th.len() == len && w1.len() == len);
+    assert!(w2.len() == len && w3.len() == len && w4.len() == len);
+    for i in 0..len {
+        let pv = |w: f64| fr.fr.power(v - w, dir[i], th[i]).1;
+        out[i] = ((pv(w1[i]) + 2.0 * pv(w2[i])) + 2.0 * pv(w3[i])) + pv(w4[i]);
+    }
 }
 
 impl Rk4 {
@@ -253,6 +273,7 @@ impl Rk4 {
         u0: &mut [f64],
         w0: &mut [f64],
         a1: &mut [f64],
+        redo: bool,
     ) {
         let Rk4 { su, sw, kept, .. } = self;
         *kept = (LOAD, DRY);
@@ -261,19 +282,35 @@ impl Rk4 {
         // branch); stage 2 starts the RK4 sums and the books
         let hh = 0.5 * h;
         let mut forward = true;
-        for &(a, b) in &st.runs {
-            let len = b - a;
-            let (u, w, acc) = (&st.u[a..b], &st.w[a..b], &a0[a..b]);
-            let (u0, w0) = (&mut u0[a..b], &mut w0[a..b]);
-            let (su, sw, dir) = (&mut su[a..b], &mut sw[a..b], &st.dir[a..b]);
-            assert!(u.len() == len && w.len() == len && acc.len() == len && u0.len() == len);
-            assert!(w0.len() == len && su.len() == len && sw.len() == len && dir.len() == len);
-            for i in 0..len {
-                u0[i] = u[i];
-                w0[i] = w[i];
-                su[i] = u[i] + hh * w[i];
-                sw[i] = w[i] + hh * acc[i];
-                forward &= dir[i] == 1.0;
+        if redo {
+            // a redo: the start state is in (u0, w0) already
+            for &(a, b) in &st.runs {
+                let len = b - a;
+                let (u, w, acc) = (&u0[a..b], &w0[a..b], &a0[a..b]);
+                let (su, sw, dir) = (&mut su[a..b], &mut sw[a..b], &st.dir[a..b]);
+                assert!(u.len() == len && w.len() == len && acc.len() == len);
+                assert!(su.len() == len && sw.len() == len && dir.len() == len);
+                for i in 0..len {
+                    su[i] = u[i] + hh * w[i];
+                    sw[i] = w[i] + hh * acc[i];
+                    forward &= dir[i] == 1.0;
+                }
+            }
+        } else {
+            for &(a, b) in &st.runs {
+                let len = b - a;
+                let (u, w, acc) = (&st.u[a..b], &st.w[a..b], &a0[a..b]);
+                let (u0, w0) = (&mut u0[a..b], &mut w0[a..b]);
+                let (su, sw, dir) = (&mut su[a..b], &mut sw[a..b], &st.dir[a..b]);
+                assert!(u.len() == len && w.len() == len && acc.len() == len && u0.len() == len);
+                assert!(w0.len() == len && su.len() == len && sw.len() == len && dir.len() == len);
+                for i in 0..len {
+                    u0[i] = u[i];
+                    w0[i] = w[i];
+                    su[i] = u[i] + hh * w[i];
+                    sw[i] = w[i] + hh * acc[i];
+                    forward &= dir[i] == 1.0;
+                }
             }
         }
         // stages 2 to 4, with dir read only if some block slides backward
@@ -313,9 +350,9 @@ impl Rk4 {
             tw,
             ku,
             kw,
+            vw,
             bu,
             bd,
-            bv,
             ..
         } = self;
         let hh = 0.5 * h;
@@ -333,7 +370,7 @@ impl Rk4 {
             kw,
             tu,
             tw,
-            [bu, bd, bv],
+            [bu, bd],
             2.0,
             hh,
         );
@@ -349,24 +386,25 @@ impl Rk4 {
             ku,
             kw,
             su,
-            sw,
-            [bu, bd, bv],
+            vw,
+            [bu, bd],
             2.0,
             h,
         );
         let t1 = t0 + h;
         fill_neighbours(st, su, t1);
+        // (stage 4's u_t in vw: stage 2's stays in sw, stage 3's in tw, for the books)
         last_stage::<G, F, M, LOAD, DRY, FWD>(
             st,
             fr,
             su,
-            sw,
+            vw,
             u0,
             w0,
             ku,
             kw,
             tu,
-            [bu, bd, bv],
+            [bu, bd],
             h / 6.0,
             t1,
             a1,
@@ -386,8 +424,9 @@ impl Rk4 {
         u0: &mut [f64],
         w0: &mut [f64],
         a1: &mut [f64],
+        redo: bool,
     ) {
-        self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+        self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1, redo)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -409,8 +448,9 @@ impl Rk4 {
         u0: &mut [f64],
         w0: &mut [f64],
         a1: &mut [f64],
+        redo: bool,
     ) {
-        self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+        self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1, redo)
     }
 
     /// The step with the books it needs: (loader term, dry power) kept or not.
@@ -426,19 +466,20 @@ impl Rk4 {
         u0: &mut [f64],
         w0: &mut [f64],
         a1: &mut [f64],
+        redo: bool,
     ) {
         match self.simd {
             // SAFETY (both): `simd` is a code this CPU runs (Simd::detect, or a test's
             // choice among Simd::available).
             #[cfg(target_arch = "x86_64")]
             Simd::Avx512 => unsafe {
-                self.step_avx512::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+                self.step_avx512::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1, redo)
             },
             #[cfg(target_arch = "x86_64")]
             Simd::Avx2 => unsafe {
-                self.step_avx2::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1)
+                self.step_avx2::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1, redo)
             },
-            _ => self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1),
+            _ => self.step_body::<G, F, M, LOAD, DRY>(st, fr, t0, h, a0, u0, w0, a1, redo),
         }
     }
 
@@ -468,22 +509,46 @@ impl Rk4 {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn books_avx2<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
-        self.books_body(st, h)
+    unsafe fn books_avx2<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        w0: &[f64],
+        h: f64,
+    ) -> StepIntegrals {
+        self.books_body(st, fr, w0, h)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    unsafe fn books_avx512<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
-        self.books_body(st, h)
+    unsafe fn books_avx512<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        w0: &[f64],
+        h: f64,
+    ) -> StepIntegrals {
+        self.books_body(st, fr, w0, h)
     }
 
     /// The step's flows: h/6 times the per-block RK4-weighted stage sums, reduced here
-    /// once per step (the same quadrature as an augmented RK4 system).
+    /// once per step (the same quadrature as an augmented RK4 system). The viscous power
+    /// is weighted here from the four stages' u_t (w0 the step's start; stage 2's in sw,
+    /// 3's in tw, 4's in vw), block by block in the order the stages would have added it
+    /// ((p1 + 2 p2) + 2 p3) + p4, so its bits are those of a sum kept in the stages; the
+    /// loader and dry books, which need the stages' u or are kept only for some laws,
+    /// are summed in the stages.
     #[inline(always)]
-    fn books_body<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
+    fn books_body<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        w0: &[f64],
+        h: f64,
+    ) -> StepIntegrals {
         let (mut u, mut dry, mut visc) = (0.0, 0.0, 0.0);
         let (load, dry_kept) = self.kept;
+        let v = st.v;
         for &(a, b) in &st.runs {
             if load {
                 u += lane_sum(&self.bu[a..b]);
@@ -491,7 +556,12 @@ impl Rk4 {
             if dry_kept {
                 dry += lane_sum(&self.bd[a..b]);
             }
-            visc += lane_sum(&self.bv[a..b]);
+            let (dir, th) = (&st.dir[a..b], &st.onset[a..b]);
+            let (w1, w2, w3, w4) = (&w0[a..b], &self.sw[a..b], &self.tw[a..b], &self.vw[a..b]);
+            // per block into ku (the RK4 sums, free once the step is taken), then summed
+            let per_block = &mut self.ku[a..b];
+            visc_per_block(fr, v, [dir, th, w1, w2, w3, w4], per_block);
+            visc += lane_sum(per_block);
         }
         let h6 = h / 6.0;
         StepIntegrals {
@@ -538,25 +608,80 @@ impl Integrator for Rk4 {
         w0: &mut [f64],
         a1: &mut [f64],
     ) {
+        self.step_any(st, fr, t0, h, a0, u0, w0, a1, false)
+    }
+
+    fn redo<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &mut State<G>,
+        fr: &Blocks<F, M>,
+        t0: f64,
+        h: f64,
+        a0: &[f64],
+        u0: &mut [f64],
+        w0: &mut [f64],
+        a1: &mut [f64],
+    ) {
+        self.step_any(st, fr, t0, h, a0, u0, w0, a1, true)
+    }
+
+    fn books<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        w0: &[f64],
+        h: f64,
+    ) -> StepIntegrals {
+        self.books_any(st, fr, w0, h)
+    }
+}
+
+impl Rk4 {
+    /// A step, or (`redo`) the last one again from the start state it saved.
+    #[allow(clippy::too_many_arguments)]
+    fn step_any<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &mut State<G>,
+        fr: &Blocks<F, M>,
+        t0: f64,
+        h: f64,
+        a0: &[f64],
+        u0: &mut [f64],
+        w0: &mut [f64],
+        a1: &mut [f64],
+        redo: bool,
+    ) {
         // no loader work at v = 0; no dry power for beta-free Coulomb friction
         match (st.v != 0.0, !fr.fr.dry_power_is_zero()) {
-            (true, true) => self.step_with::<G, F, M, true, true>(st, fr, t0, h, a0, u0, w0, a1),
-            (true, false) => self.step_with::<G, F, M, true, false>(st, fr, t0, h, a0, u0, w0, a1),
-            (false, true) => self.step_with::<G, F, M, false, true>(st, fr, t0, h, a0, u0, w0, a1),
+            (true, true) => {
+                self.step_with::<G, F, M, true, true>(st, fr, t0, h, a0, u0, w0, a1, redo)
+            }
+            (true, false) => {
+                self.step_with::<G, F, M, true, false>(st, fr, t0, h, a0, u0, w0, a1, redo)
+            }
+            (false, true) => {
+                self.step_with::<G, F, M, false, true>(st, fr, t0, h, a0, u0, w0, a1, redo)
+            }
             (false, false) => {
-                self.step_with::<G, F, M, false, false>(st, fr, t0, h, a0, u0, w0, a1)
+                self.step_with::<G, F, M, false, false>(st, fr, t0, h, a0, u0, w0, a1, redo)
             }
         }
     }
 
-    fn books<G: Geometry>(&mut self, st: &State<G>, h: f64) -> StepIntegrals {
+    fn books_any<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        w0: &[f64],
+        h: f64,
+    ) -> StepIntegrals {
         match self.simd {
             // SAFETY (both): `simd` is a code this CPU runs.
             #[cfg(target_arch = "x86_64")]
-            Simd::Avx512 => unsafe { self.books_avx512(st, h) },
+            Simd::Avx512 => unsafe { self.books_avx512(st, fr, w0, h) },
             #[cfg(target_arch = "x86_64")]
-            Simd::Avx2 => unsafe { self.books_avx2(st, h) },
-            _ => self.books_body(st, h),
+            Simd::Avx2 => unsafe { self.books_avx2(st, fr, w0, h) },
+            _ => self.books_body(st, fr, w0, h),
         }
     }
 }
@@ -567,6 +692,98 @@ mod tests {
     use crate::boundary::Ghost;
     use crate::chain::medium::Uniform;
     use crate::friction::Coulomb;
+
+    /// A 9 x 7 grid (wrapped across x, a held wall and a free edge across y) at v > 0,
+    /// t = 0.3, with stuck blocks of several reference times and sliding blocks of both
+    /// directions in several runs, some at the edges.
+    fn grid_state() -> State<crate::chain::geometry::Grid> {
+        use crate::chain::geometry::{Geometry, Grid};
+        let (nx, ny) = (9, 7);
+        let geo = Grid::new(
+            nx,
+            ny,
+            0.1,
+            0.12,
+            (Ghost::Wrap, Ghost::Wrap),
+            (Ghost::Held(0.2), Ghost::Mirror),
+        );
+        let u0: Vec<f64> = (0..geo.cells())
+            .map(|q| 0.5 + 0.1 * (0.37 * q as f64).sin())
+            .collect();
+        let mut st = State::with_geometry(geo, &u0, 0.03);
+        for j in 1..=ny {
+            for i in 1..=nx {
+                let p = geo.at(i, j);
+                st.tref[p] = 0.05 * ((i + j) % 4) as f64;
+                if (i * 3 + j * 5) % 7 < 4 {
+                    st.dir[p] = if (i + 2 * j) % 5 == 0 { -1.0 } else { 1.0 };
+                    st.onset[p] = 1.0 + 0.01 * i as f64;
+                    st.w[p] = 0.03 - 0.2 * (0.7 * p as f64).cos();
+                    st.add_to_runs(p);
+                }
+            }
+        }
+        st
+    }
+
+    #[test]
+    fn the_accelerations_of_chosen_blocks_are_those_of_all_bit_for_bit() {
+        // accel_at_blocks (after switches: only the switched blocks) against
+        // accel_only_at_state over every run, on a grid with every kind of ghost
+        let st = grid_state();
+        let fr = Blocks {
+            fr: Coulomb::new(0.3, 0.5).unwrap(),
+            med: Uniform,
+        };
+        let len = st.u.len();
+        let mut all = vec![f64::NAN; len];
+        let mut su = vec![0.0; len];
+        accel_only_at_state(&st, &fr, &mut su, 0.3, &mut all);
+        let sliding: Vec<usize> = (0..len).filter(|&p| st.sliding(p)).collect();
+        assert!(sliding.len() > 20 && st.runs.len() > 5);
+        let mut some = vec![f64::NAN; len];
+        // (the stuck blocks among them are skipped)
+        super::super::accel_at_blocks(&st, &fr, 0.3, &(0..len).collect::<Vec<_>>(), &mut some);
+        for &p in &sliding {
+            assert_eq!(some[p].to_bits(), all[p].to_bits(), "block {p}");
+        }
+        assert!((0..len)
+            .filter(|p| !st.sliding(*p))
+            .all(|p| some[p].is_nan()));
+    }
+
+    #[test]
+    fn a_redo_is_a_restore_and_a_step_bit_for_bit() {
+        let fr = Blocks {
+            fr: Coulomb::new(0.3, 0.5).unwrap(),
+            med: Uniform,
+        };
+        let st0 = grid_state();
+        let len = st0.u.len();
+        let run = |redo: bool| {
+            let mut st = st0.clone();
+            let mut rk = Rk4::new(len - 2);
+            let mut a0 = vec![0.0; len];
+            let (mut u0, mut w0, mut a1) = (a0.clone(), a0.clone(), a0.clone());
+            rk.accel_only(&mut st, &fr, 0.3, &mut a0);
+            rk.step(&mut st, &fr, 0.3, 0.004, &a0, &mut u0, &mut w0, &mut a1);
+            if redo {
+                rk.redo(&mut st, &fr, 0.3, 0.0013, &a0, &mut u0, &mut w0, &mut a1);
+            } else {
+                for &(a, b) in &st.runs.clone() {
+                    st.u[a..b].copy_from_slice(&u0[a..b]);
+                    st.w[a..b].copy_from_slice(&w0[a..b]);
+                }
+                rk.step(&mut st, &fr, 0.3, 0.0013, &a0, &mut u0, &mut w0, &mut a1);
+            }
+            let books = rk.books(&st, &fr, &w0, 0.0013);
+            (st.u.to_vec(), st.w.to_vec(), a1, books)
+        };
+        let (with_redo, with_copy) = (run(true), run(false));
+        assert_eq!(with_redo, with_copy);
+        // and the step did move the sliding blocks (a redo that did nothing fails)
+        assert_ne!(with_redo.0, st0.u.to_vec());
+    }
 
     #[test]
     fn every_vector_code_gives_the_baseline_step_bit_for_bit() {
@@ -598,7 +815,7 @@ mod tests {
             for k in 0..50 {
                 let t0 = 0.005 * k as f64;
                 rk.step(&mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0, &mut a1);
-                out.push((rk.books(&st, 0.005), a1.clone()));
+                out.push((rk.books(&st, &fr, &w0, 0.005), a1.clone()));
                 // the step's end accelerations are those of the new state at t0 + h
                 rk.accel_only(&mut st, &fr, t0 + 0.005, &mut a0);
                 assert_eq!(a1, a0, "{simd:?}, step {k}");
@@ -619,7 +836,8 @@ mod tests {
         // when every sliding block slides forward the step does not read dir: run R1
         // alone (that path) and R1 with a second run R2 that has a backward block (the
         // general path); the runs are separated by stuck blocks, so R1's new state, end
-        // accelerations and per-block books must be the same bits in both
+        // accelerations, per-block books and step's viscous book must be the same bits
+        // in both
         let n = 60;
         let u0: Vec<f64> = (0..n).map(|i| 0.5 + 0.1 * (0.3 * i as f64).sin()).collect();
         let mut st = State::new(&u0, 0.02, 0.1, Ghost::Wrap, Ghost::Wrap);
@@ -656,7 +874,8 @@ mod tests {
                 std::mem::swap(&mut a0, &mut a1);
                 let r = r1.clone();
                 out.push((st.u[r.clone()].to_vec(), st.w[r.clone()].to_vec()));
-                out.push((a0[r.clone()].to_vec(), rk.bv[r].to_vec()));
+                out.push((a0[r.clone()].to_vec(), rk.bd[r.clone()].to_vec()));
+                out.push((rk.bu[r].to_vec(), vec![rk.books(&st, &fr, &w0, 0.005).visc]));
             }
             out
         };
