@@ -57,7 +57,7 @@ impl Rk4 {
             ("kw", &self.kw),
             ("bu", &self.bu),
             ("bd", &self.bd),
-            ("bv", &self.bv),
+            ("vw", &self.vw),
         ]
     }
 
@@ -72,7 +72,7 @@ impl Rk4 {
             &mut self.kw,
             &mut self.bu,
             &mut self.bd,
-            &mut self.bv,
+            &mut self.vw,
         ]
     }
 
