@@ -27,8 +27,8 @@
 //!    over an M x M square of sliding blocks, against the reference over M x M.
 //!
 //! cargo run --release -- [--repeat R] [--size L] [--memory N1,N2,..] [--full N,dx,gamma]
+//!     [--events local|global|both] [--give-back on|off]
 //!     [--kernel M]
-//!     [--events local|global|both]
 
 use bkwaves_core::boundary::Free;
 use bkwaves_core::chain::cells::CellVec;
@@ -216,6 +216,10 @@ fn lattice(n: usize, local: bool) -> Lattice<Coulomb> {
     lattice_at(n, DX, GAMMA, 0, local)
 }
 
+/// `--give-back on|off`: the engine's release of dead scratch pages forced on or off
+/// (`Engine::set_release`; unset: the engine's default, on from 2^17 cells).
+static GIVE_BACK: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+
 /// An n x n lattice at uniform u_+ (free edges), kicked at block `at`.
 fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize, local: bool) -> Lattice<Coulomb> {
     let spec = LatticeSpec {
@@ -234,6 +238,9 @@ fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize, local: bool) -> Lattice<
     let u0 = vec![U_PLUS; n * n];
     let mut la = Lattice::lattice(cfg, spec, fr, Uniform, &u0, None).unwrap();
     la.set_local_events(local);
+    if let Some(on) = GIVE_BACK.get() {
+        la.set_release(*on);
+    }
     la.add_trigger(Trigger {
         t: 0.0,
         block: at,
@@ -336,6 +343,7 @@ fn engine_step(m: usize, steps: u64) -> (f64, f64) {
             &mut us,
             &mut ws,
             &mut a1,
+            false,
         );
         std::mem::swap(&mut a0, &mut a1);
     }
@@ -408,9 +416,17 @@ fn main() {
                     e => panic!("--events {e}: local, global or both"),
                 }
             }
+            "--give-back" => {
+                let on = match args[k + 1].as_str() {
+                    "on" => true,
+                    "off" => false,
+                    e => panic!("--give-back {e}: on or off"),
+                };
+                GIVE_BACK.set(on).expect("--give-back once");
+            }
             a => panic!(
                 "unknown argument {a} (--repeat R, --size L, --memory N1,N2, --full N,dx,gamma, \
-                 --events local|global|both)"
+                 --events local|global|both, --give-back on|off)"
             ),
         }
         k += 2;

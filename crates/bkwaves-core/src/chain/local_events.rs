@@ -1253,7 +1253,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
     /// Returns false, with the state back at t0, when the step is left to the global cut.
     pub(super) fn local_step(&mut self, t0: f64, h: f64, t_cap: f64) -> Result<bool> {
         self.local.clear();
-        self.do_step(t0, h);
+        self.do_step(t0, h, false);
         let mut cands = std::mem::take(&mut self.scratch.cands);
         let mut found = std::mem::take(&mut self.scratch.test);
         found.clear();
@@ -1307,7 +1307,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 }
             }
             self.st.ext_t1 = t0 + h;
-            self.do_step(t0, h);
+            self.do_step(t0, h, false);
             self.local.stats.passes += 1;
             self.detect_all(t0, h, &mut cands, &mut found);
             if found.is_empty() {

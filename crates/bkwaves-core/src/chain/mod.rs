@@ -1524,7 +1524,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 return self.onset_step(t0, h, t_cap);
             }
         }
-        self.do_step(t0, h);
+        self.do_step(t0, h, false);
         self.check_solved(t0)?;
         if self.stiff && self.onset_patch(h, true) {
             // a block came into the stiff range in the step (about to stick): redo it
@@ -1539,7 +1539,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             if d > c.tol && h > c.h_min {
                 // too long: redo it at the fixed step
                 h = c.h_min.min(t_cap - t0);
-                self.redo_step(t0, h);
+                self.do_step(t0, h, true);
                 d = self.step_indicator(h);
             }
             indicator = Some(d);
@@ -1554,7 +1554,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         if s < 1.0 {
             // redo the step up to the event
             h *= s;
-            self.redo_step(t0, h);
+            self.do_step(t0, h, true);
             self.check_solved(t0)?;
         }
         // the energy flows of the step taken, once (not in the stages, not for a redo)
@@ -1664,8 +1664,11 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         )
     }
 
-    fn do_step(&mut self, t0: f64, h: f64) {
-        // the step writes the end accelerations too (in its last pass, for RK4)
+    /// A step from t0 to t0 + h; with `redo` the step just taken again from its start
+    /// (saved in u0, w0), to the length h: the same bits as `restore_runs` and a step,
+    /// without the copy back. The step writes the end accelerations too (in its last
+    /// pass, for RK4).
+    fn do_step(&mut self, t0: f64, h: f64, redo: bool) {
         self.rk.step(
             &mut self.st,
             &self.blk,
@@ -1675,23 +1678,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             &mut self.u0,
             &mut self.w0,
             &mut self.a_end,
-        );
-        self.counters.steps += 1;
-        self.counters.block_steps += self.st.n_active as u64;
-    }
-
-    /// The step just taken again from its start (saved in u0, w0 by `do_step`), to the
-    /// length h: the same bits as `restore_runs` and `do_step`, without the copy back.
-    fn redo_step(&mut self, t0: f64, h: f64) {
-        self.rk.redo(
-            &mut self.st,
-            &self.blk,
-            t0,
-            h,
-            &self.a_start,
-            &mut self.u0,
-            &mut self.w0,
-            &mut self.a_end,
+            redo,
         );
         self.counters.steps += 1;
         self.counters.block_steps += self.st.n_active as u64;

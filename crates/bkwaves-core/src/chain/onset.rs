@@ -778,7 +778,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 }
             }
             self.st.ext_t1 = t0 + h;
-            self.do_step(t0, h);
+            self.do_step(t0, h, false);
             coarse = self.rk.books(&self.st, &self.blk, &self.w0, h);
             coarse_done = true;
             passes += 1;

@@ -64,50 +64,9 @@ impl Integrator for Midpoint {
         accel_only_at_state(st, fr, &mut self.su, t, acc)
     }
 
-    fn step<G: Geometry, F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State<G>,
-        fr: &Blocks<F, M>,
-        t0: f64,
-        h: f64,
-        a0: &[f64],
-        u0: &mut [f64],
-        w0: &mut [f64],
-        a1: &mut [f64],
-    ) {
-        self.step_any(st, fr, t0, h, a0, u0, w0, a1, false)
-    }
-
-    fn redo<G: Geometry, F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State<G>,
-        fr: &Blocks<F, M>,
-        t0: f64,
-        h: f64,
-        a0: &[f64],
-        u0: &mut [f64],
-        w0: &mut [f64],
-        a1: &mut [f64],
-    ) {
-        self.step_any(st, fr, t0, h, a0, u0, w0, a1, true)
-    }
-
-    fn books<G: Geometry, F: Friction, M: Medium>(
-        &mut self,
-        _st: &State<G>,
-        _fr: &Blocks<F, M>,
-        _w0: &[f64],
-        _h: f64,
-    ) -> StepIntegrals {
-        // exact for this method: h times the power at the midpoint (the module docs)
-        self.last
-    }
-}
-
-impl Midpoint {
     /// A step, or (`redo`) the last one again from the start state it saved.
     #[allow(clippy::too_many_arguments)]
-    fn step_any<G: Geometry, F: Friction, M: Medium>(
+    fn step<G: Geometry, F: Friction, M: Medium>(
         &mut self,
         st: &mut State<G>,
         fr: &Blocks<F, M>,
@@ -181,4 +140,17 @@ impl Midpoint {
         };
         accel_only_at_state(st, fr, su, t0 + h, a1);
     }
+
+    fn books<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        _st: &State<G>,
+        _fr: &Blocks<F, M>,
+        _w0: &[f64],
+        _h: f64,
+    ) -> StepIntegrals {
+        // exact for this method: h times the power at the midpoint (the module docs)
+        self.last
+    }
 }
+
+impl Midpoint {}

@@ -65,7 +65,10 @@ pub trait Integrator: std::fmt::Debug + Send {
     /// Advance the sliding blocks from t0 to t0 + h. `a0` holds the accelerations at
     /// t0 (from [`Integrator::accel_only`] or the last step); the start state is saved in
     /// `u0`, `w0` for the dense output and for a redo; the accelerations at t0 + h of the
-    /// new state go to `a1` (the same bits as [`Integrator::accel_only`] there).
+    /// new state go to `a1` (the same bits as [`Integrator::accel_only`] there). With
+    /// `redo` the last step again, from the start state it saved in `u0`, `w0` (to a
+    /// length h, usually shorter): the same bits as putting that state back into `st` and
+    /// stepping, without the copy (`st`'s sliding u, u_t unread).
     #[allow(clippy::too_many_arguments)]
     fn step<G: Geometry, F: Friction, M: Medium>(
         &mut self,
@@ -77,22 +80,7 @@ pub trait Integrator: std::fmt::Debug + Send {
         u0: &mut [f64],
         w0: &mut [f64],
         a1: &mut [f64],
-    ) where
-        Self: Sized;
-    /// The last step again, from the start state it saved in `u0`, `w0` (to a length
-    /// h, usually shorter): the same bits as putting that state back into `st` and
-    /// calling [`Integrator::step`], without the copy (`st`'s sliding u, u_t unread).
-    #[allow(clippy::too_many_arguments)]
-    fn redo<G: Geometry, F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State<G>,
-        fr: &Blocks<F, M>,
-        t0: f64,
-        h: f64,
-        a0: &[f64],
-        u0: &mut [f64],
-        w0: &mut [f64],
-        a1: &mut [f64],
+        redo: bool,
     ) where
         Self: Sized;
     /// The energy flows of the last step taken (of length h): called once per step
@@ -404,7 +392,8 @@ impl Stepper {
             Stepper::Midpoint(m) => m.accel_only(st, fr, t, acc),
         }
     }
-    /// See [`Integrator::step`].
+    /// See [`Integrator::step`] (`redo`: the step just taken, again from the start
+    /// state it saved in `u0`, `w0`).
     #[allow(clippy::too_many_arguments)]
     pub fn step<G: Geometry, F: Friction, M: Medium>(
         &mut self,
@@ -416,10 +405,11 @@ impl Stepper {
         u0: &mut [f64],
         w0: &mut [f64],
         a1: &mut [f64],
+        redo: bool,
     ) {
         match self {
-            Stepper::Rk4(m) => m.step(st, fr, t0, h, a0, u0, w0, a1),
-            Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, u0, w0, a1),
+            Stepper::Rk4(m) => m.step(st, fr, t0, h, a0, u0, w0, a1, redo),
+            Stepper::Midpoint(m) => m.step(st, fr, t0, h, a0, u0, w0, a1, redo),
         }
     }
     /// The accelerations at time t of the sliding blocks among `blocks` (see
@@ -434,26 +424,6 @@ impl Stepper {
         acc: &mut [f64],
     ) {
         accel_at_blocks(st, fr, t, blocks, acc)
-    }
-    /// The step just taken, again from its start state, which [`Stepper::step`] saved
-    /// in `u0`, `w0` (to the length h): the same bits as putting that state back into
-    /// `st` and stepping, without the copy. `st`'s sliding u and u_t are not read.
-    #[allow(clippy::too_many_arguments)]
-    pub fn redo<G: Geometry, F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State<G>,
-        fr: &Blocks<F, M>,
-        t0: f64,
-        h: f64,
-        a0: &[f64],
-        u0: &mut [f64],
-        w0: &mut [f64],
-        a1: &mut [f64],
-    ) {
-        match self {
-            Stepper::Rk4(m) => m.redo(st, fr, t0, h, a0, u0, w0, a1),
-            Stepper::Midpoint(m) => m.redo(st, fr, t0, h, a0, u0, w0, a1),
-        }
     }
     /// Whether the last step solved its equations (an explicit method always does; the
     /// midpoint rule when its fixed-point iteration converged).

@@ -597,49 +597,9 @@ impl Integrator for Rk4 {
         }
     }
 
-    fn step<G: Geometry, F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State<G>,
-        fr: &Blocks<F, M>,
-        t0: f64,
-        h: f64,
-        a0: &[f64],
-        u0: &mut [f64],
-        w0: &mut [f64],
-        a1: &mut [f64],
-    ) {
-        self.step_any(st, fr, t0, h, a0, u0, w0, a1, false)
-    }
-
-    fn redo<G: Geometry, F: Friction, M: Medium>(
-        &mut self,
-        st: &mut State<G>,
-        fr: &Blocks<F, M>,
-        t0: f64,
-        h: f64,
-        a0: &[f64],
-        u0: &mut [f64],
-        w0: &mut [f64],
-        a1: &mut [f64],
-    ) {
-        self.step_any(st, fr, t0, h, a0, u0, w0, a1, true)
-    }
-
-    fn books<G: Geometry, F: Friction, M: Medium>(
-        &mut self,
-        st: &State<G>,
-        fr: &Blocks<F, M>,
-        w0: &[f64],
-        h: f64,
-    ) -> StepIntegrals {
-        self.books_any(st, fr, w0, h)
-    }
-}
-
-impl Rk4 {
     /// A step, or (`redo`) the last one again from the start state it saved.
     #[allow(clippy::too_many_arguments)]
-    fn step_any<G: Geometry, F: Friction, M: Medium>(
+    fn step<G: Geometry, F: Friction, M: Medium>(
         &mut self,
         st: &mut State<G>,
         fr: &Blocks<F, M>,
@@ -668,6 +628,18 @@ impl Rk4 {
         }
     }
 
+    fn books<G: Geometry, F: Friction, M: Medium>(
+        &mut self,
+        st: &State<G>,
+        fr: &Blocks<F, M>,
+        w0: &[f64],
+        h: f64,
+    ) -> StepIntegrals {
+        self.books_any(st, fr, w0, h)
+    }
+}
+
+impl Rk4 {
     fn books_any<G: Geometry, F: Friction, M: Medium>(
         &mut self,
         st: &State<G>,
@@ -766,15 +738,21 @@ mod tests {
             let mut a0 = vec![0.0; len];
             let (mut u0, mut w0, mut a1) = (a0.clone(), a0.clone(), a0.clone());
             rk.accel_only(&mut st, &fr, 0.3, &mut a0);
-            rk.step(&mut st, &fr, 0.3, 0.004, &a0, &mut u0, &mut w0, &mut a1);
+            rk.step(
+                &mut st, &fr, 0.3, 0.004, &a0, &mut u0, &mut w0, &mut a1, false,
+            );
             if redo {
-                rk.redo(&mut st, &fr, 0.3, 0.0013, &a0, &mut u0, &mut w0, &mut a1);
+                rk.step(
+                    &mut st, &fr, 0.3, 0.0013, &a0, &mut u0, &mut w0, &mut a1, true,
+                );
             } else {
                 for &(a, b) in &st.runs.clone() {
                     st.u[a..b].copy_from_slice(&u0[a..b]);
                     st.w[a..b].copy_from_slice(&w0[a..b]);
                 }
-                rk.step(&mut st, &fr, 0.3, 0.0013, &a0, &mut u0, &mut w0, &mut a1);
+                rk.step(
+                    &mut st, &fr, 0.3, 0.0013, &a0, &mut u0, &mut w0, &mut a1, false,
+                );
             }
             let books = rk.books(&st, &fr, &w0, 0.0013);
             (st.u.to_vec(), st.w.to_vec(), a1, books)
@@ -814,7 +792,9 @@ mod tests {
             rk.accel_only(&mut st, &fr, 0.0, &mut a0);
             for k in 0..50 {
                 let t0 = 0.005 * k as f64;
-                rk.step(&mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0, &mut a1);
+                rk.step(
+                    &mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0, &mut a1, false,
+                );
                 out.push((rk.books(&st, &fr, &w0, 0.005), a1.clone()));
                 // the step's end accelerations are those of the new state at t0 + h
                 rk.accel_only(&mut st, &fr, t0 + 0.005, &mut a0);
@@ -869,7 +849,9 @@ mod tests {
             let mut out = Vec::new();
             for k in 0..20 {
                 let t0 = 0.005 * k as f64;
-                rk.step(&mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0, &mut a1);
+                rk.step(
+                    &mut st, &fr, t0, 0.005, &a0, &mut u0, &mut w0, &mut a1, false,
+                );
                 std::mem::swap(&mut a0, &mut a1);
                 let r = r1.clone();
                 out.push((st.u[r.clone()].to_vec(), st.w[r.clone()].to_vec()));
