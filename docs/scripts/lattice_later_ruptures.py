@@ -259,7 +259,10 @@ def lattice_run(dx, scale, seed, t_end):
     return out
 
 
-def ring_run(dx, scale, t_end):
+def _ring_chain(dx, scale):
+    """The ring of the 1D runs: two of the field's bumps on a periodic chain of side
+    ``fbl.L * scale``, at the stress field (u0 solving (1 - Laplacian) u0 = target),
+    loaded at ``fbl.V_LOAD / scale``; returns (chain, x, n, size, v)."""
     size, v, sigma = fbl.L * scale, fbl.V_LOAD / scale, fbl.SIGMA * scale
     n = int(round(size / dx))
     x = np.arange(n) * dx
@@ -271,6 +274,11 @@ def ring_run(dx, scale, t_end):
     lap = -(4 / dx**2) * np.sin(np.pi * np.fft.fftfreq(n)) ** 2
     u0 = np.real(np.fft.ifft(np.fft.fft(target) / (1.0 - lap)))
     ch = bk.Chain(n, bk.Params(gamma=fbl.GAMMA, v=v, dx=dx), u0=u0, boundary="periodic")
+    return ch, x, n, size, v
+
+
+def ring_run(dx, scale, t_end):
+    ch, x, n, size, v = _ring_chain(dx, scale)
     t_snap = (T_SWEEP + T_PULSE) * scale
     c0 = time.process_time()
     ch.run(t_end=t_snap, progress=False)
@@ -296,17 +304,7 @@ def ring_stress_ahead(dx, scale, t0=20.0, t1=44.0, frame=0.1):
     """The chain's later slips (a block's slip starting more than 2.5 after its first and
     after t0 + 0.5, in units of the scale 2 run): the stress at the block 0.5 before
     (the u_+ the later ruptures run into), their durations and slips."""
-    size, v, sigma = fbl.L * scale, fbl.V_LOAD / scale, fbl.SIGMA * scale
-    n = int(round(size / dx))
-    x = np.arange(n) * dx
-    f = np.zeros(n)
-    for c, h in ((0.25, 1.0), (0.75, 0.985)):
-        for sh in (-size, 0.0, size):
-            f += h * np.exp(-((x - c * size - sh) ** 2) / (2 * sigma**2))
-    target = fbl.BASE + fbl.HEIGHT * f / f.max()
-    lap = -(4 / dx**2) * np.sin(np.pi * np.fft.fftfreq(n)) ** 2
-    u0 = np.real(np.fft.ifft(np.fft.fft(target) / (1.0 - lap)))
-    ch = bk.Chain(n, bk.Params(gamma=fbl.GAMMA, v=v, dx=dx), u0=u0, boundary="periodic")
+    ch, x, n, size, v = _ring_chain(dx, scale)
     ch.run(t_end=t0, progress=False)
     ts = np.arange(t0, t1 + 1e-9, frame)
     phis = []
