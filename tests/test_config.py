@@ -69,7 +69,7 @@ def test_params_beta_defaults_to_no_backward_slip():
         ({"params__gamma": -1.0}, "params", "gamma"),
         ({"params__gamma": "high"}, "params.gamma", "expected a number"),
         ({"params__dx": None}, "params.dx", "missing"),
-        ({"domain__blocks": 1}, "domain.blocks", ">= 2"),
+        ({"domain__blocks": 0}, "domain.blocks", ">= 1"),
         ({"domain__blocks": 2.5}, "domain.blocks", "integer"),
         ({"domain__boundary": "open"}, "domain.boundary", "free, fixed, periodic"),
         ({"initial__kind": "sine"}, "initial.kind", "uniform, ramp"),

@@ -73,7 +73,6 @@ def test_every_model_is_one_entry_of_the_registry():
     [
         ("domain.shape", [0, 5], r"domain\.shape\[0\]: .*>= 1"),
         ("domain.shape", [10], r"domain\.shape: expected \[nx, ny\], two integers >= 1"),
-        ("domain.shape", [1, 1], r"domain\.shape: invalid shape = \[1, 1\]: allowed at least 2"),
         ("domain.blocks", 10, r"domain\.blocks: unknown key; valid keys here: shape, dy, boundary"),
         ("domain.boundary", ["free", "open"], r"domain\.boundary: expected one of free, fixed, "),
         ("domain.dy", -0.1, r"domain\.dy: invalid dy = -0\.1: allowed 0 < dy <= 1000000"),

@@ -353,7 +353,7 @@ CONFIG = {
         ),  # fmt: skip
     ),
     "domain": table(
-        Spec("blocks", "int", lo=2, doc="chain: number of blocks"),
+        Spec("blocks", "int", lo=1, doc="chain: number of blocks"),
         Spec(
             "length",
             "real",

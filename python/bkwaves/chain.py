@@ -221,6 +221,20 @@ class ChainResult:
         """u(t, x), u_t(t, x) at the snapshot times (xarray Dataset, with attrs)."""
         return self._get("snapshots")
 
+    def _slips_of(self, event):
+        """The slips of one event of this run (all of them for None); an event that is
+        not in the catalog is a one-line ValueError naming the run's events."""
+        if event is None:
+            return self.slips
+        ids = self.catalog["event"].to_numpy()
+        if len(ids) == 0:
+            V._fail("event", event, "None (this run has no events)")
+        lo, hi = int(ids.min()), int(ids.max())
+        k = V.integer("event", event, lo=lo, hi=hi)
+        if k not in set(ids.tolist()):
+            V._fail("event", event, f"one of this run's events ({lo}..{hi}) or None")
+        return self.slips[self.slips["event"] == k]
+
     def first_slip_times(self, event: int | None = None) -> np.ndarray:
         """First slip time of every block: the slip-front trajectory x(t).
 
@@ -247,9 +261,7 @@ class ChainResult:
         """
         n = len(self.u)
         out = np.full(n, np.nan)
-        s = self.slips
-        if event is not None:
-            s = s[s["event"] == event]
+        s = self._slips_of(event)
         first = s.groupby("block")["t_start"].min()
         out[first.index.to_numpy()] = first.to_numpy()
         return out
@@ -718,7 +730,8 @@ class Chain:
             Stop once this many more events have finished.
         snapshots : array_like, optional
             Times (>= now) at which u and u_t are recorded (from the integrator's dense
-            output, exact for stuck blocks).
+            output, exact for stuck blocks). Times past ``t_end`` stay scheduled and are
+            taken by a later ``run``; a result holds every snapshot taken so far.
         snapshot_every : int, default 0
             Also a snapshot at the end of every k-th event (0: none).
         progress : bool, optional

@@ -136,7 +136,7 @@ class LatticeResult(ChainResult):
         """
         nx, ny = self.shape
         out = np.full(nx * ny, np.nan)
-        s = self.slips if event is None else self.slips[self.slips["event"] == event]
+        s = self._slips_of(event)
         first = s.groupby("block")["t_start"].min()
         out[first.index.to_numpy()] = first.to_numpy()
         return out.reshape(ny, nx)
@@ -164,7 +164,7 @@ class LatticeResult(ChainResult):
         ((30, 40), True, 0.0)
         """
         nx, ny = self.shape
-        s = self.slips if event is None else self.slips[self.slips["event"] == event]
+        s = self._slips_of(event)
         total = s.groupby("block")["slip"].sum(min_count=1)
         out = np.zeros(nx * ny)
         out[total.index.to_numpy()] = np.nan_to_num(total.to_numpy())

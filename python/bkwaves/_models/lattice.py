@@ -82,8 +82,6 @@ def _shape(d: dict, lo: int) -> tuple[int, int]:
     nx, ny = (
         _value({f"shape[{k}]": n}, f"shape[{k}]", "domain", spec, lo=lo) for k, n in enumerate(raw)
     )
-    if nx * ny < 2:
-        _err("domain.shape", f"invalid shape = [{nx}, {ny}]: allowed at least 2 blocks")
     return int(nx), int(ny)
 
 
