@@ -104,3 +104,23 @@ def test_the_collision_kicks_the_slip_speed_by_the_derived_jump(name):
     stalled = r["collisions"][0]["sides"]["-1"].get("d") is not None
     assert stalled == (name == "base")
     assert (k["jump_at_star"] > 1.5 * k["a"]) if stalled else (k["jump_at_star"] < 0.8 * k["a"])
+
+
+def test_in_the_plane_the_stall_lines_run_beside_the_fronts_meeting_lines():
+    """The loaded square of docs/scripts/lattice_later_ruptures.py (seed 0): the stall
+    edges lie 2.3 from the meeting lines of the first cycle's fronts (blocks that slipped
+    after both neighbours along a row or a column), whatever the threshold, at T c/(1 + c)
+    from each edge's own slip duration and front speed, and the stall lines are about two
+    per meeting line (one on each side)."""
+    import lattice_later_ruptures as llr
+
+    for dx in (0.2, 0.1):
+        r = llr.stall_lines(dx, 2.0, 0)
+        meet = r["meeting_length_per_area"]
+        assert 0.11 < meet < 0.13  # (0.119, 0.121)
+        b = r["by_threshold"]
+        med = {t: e["distance_10_25_50_75_90"][2] for t, e in b.items()}
+        assert all(2.1 < m < 2.6 for m in med.values()), med  # (2.29-2.38)
+        assert abs(med["0.5"] - med["1.0"]) < 0.1
+        assert 0.97 < b["0.5"]["ratio_50"] < 1.1  # (1.024, 1.034)
+        assert 1.6 < b["0.5"]["length_per_area"] / meet < 2.6  # (2.33, 2.09)

@@ -36,6 +36,8 @@ scale):
 bk.Chain): later ruptures and the stress left, for the comparison of the two geometries;
 `--ring --ahead`: the stress 0.5 before each later slip, their durations and slips.
 `--table --json FILE [--first-cycle FILE]`: the table of docs/lattice.md from saved runs.
+`--stall-lines --json FILE`: the first cycle only, its stall lines for the thresholds 0.25,
+0.5, 1.0 against the meeting lines of its fronts (stall_lines).
 A run with --json keeps the (dx, seed) already in FILE (same scale, t_end, geometry):
 an interrupted run resumes.
 """
@@ -192,12 +194,12 @@ def stress_left(phi, modes, dist=None, loads=()):
     }
 
 
-def stalls(slips, n, dx, phi, modes):
+def stalls(slips, n, dx, phi, modes, threshold=STALL):
     """Where the first cycle's healing stalled: neighbours (along either axis) whose first
-    slips ended more than STALL apart (the stuck one waited while the other slid on). The
-    stall lines' length per unit area (edges dx pi/4: a line at a uniform random angle
-    crosses 4/pi of its length over dx edges) and the share of the blocks above 0.7 within
-    two blocks of a stall edge (against the share of all blocks there)."""
+    slips ended more than ``threshold`` (STALL) apart (the stuck one waited while the other
+    slid on). The stall lines' length per unit area (edges dx pi/4: a line at a uniform
+    random angle crosses 4/pi of its length over dx edges) and the share of the blocks
+    above 0.7 within two blocks of a stall edge (against the share of all blocks there)."""
     first = slips.sort_values("t_start").groupby("block").first()
     ts = np.full(n * n, np.nan)
     ts[first.index] = first["t_end"].to_numpy(dtype=float)
@@ -205,7 +207,7 @@ def stalls(slips, n, dx, phi, modes):
     edges = 0
     mark = np.zeros((n, n), bool)
     for ax in (0, 1):
-        d = np.nan_to_num(np.abs(ts - np.roll(ts, 1, ax)), nan=0.0) > STALL
+        d = np.nan_to_num(np.abs(ts - np.roll(ts, 1, ax)), nan=0.0) > threshold
         edges += int(d.sum())
         mark |= d | np.roll(d, -1, ax)
     near = mark.copy()
@@ -218,6 +220,114 @@ def stalls(slips, n, dx, phi, modes):
         "near_share_all": float(near.mean()),
         "near_share_above_0.7": float(near[hi].mean()) if hi.any() else None,
     }
+
+
+STALL_THRESHOLDS = (0.25, 0.5, 1.0)
+
+
+def stall_lines(dx, scale, seed, thresholds=STALL_THRESHOLDS):
+    """The first cycle's stall lines against the meeting lines of its fronts (docs/lattice.md,
+    "Derived and measured: where the first healing stalls"): the lattice run to the end of
+    the first cycle; the stall lines' length per unit area for each threshold on the
+    neighbours' first-stick difference; the meeting lines (blocks whose first slip is later
+    than both neighbours' along a row or a column, the 1D collisions) and their length per
+    unit area (the same pi/4 count); each stall edge's distance from the nearest meeting
+    block (periodic), against the 1D prediction d = T c/(1 + c) from the edge's own stuck
+    side (T its first slip's duration, c = 1/|grad t_r| there, t_r the first slip times);
+    the stress met at the meeting lines (phi_0 + v t_r)."""
+    from scipy.spatial import cKDTree
+
+    size, v, sigma = fbl.L * scale, fbl.V_LOAD / scale, fbl.SIGMA * scale
+    n = int(round(size / dx))
+    x = np.arange(n) * dx
+    xx, yy = np.meshgrid(x, x)
+    target = fbl.field(xx, yy, size=size, sigma=sigma, centres=centres(seed))
+    la = bk.Lattice((n, n), bk.Params(gamma=fbl.GAMMA, v=v, dx=dx),
+                    u0=fbl.displacement(target, dx), boundary="periodic",
+                    events="local")  # fmt: skip
+    c0 = time.process_time()
+    slips = la.run(t_end=(T_SWEEP + T_PULSE) * scale, progress=False).slips
+    cpu = time.process_time() - c0
+    first = slips.sort_values("t_start").groupby("block").first()
+    tr, th = np.full(n * n, np.nan), np.full(n * n, np.nan)
+    tr[first.index] = first["t_start"].to_numpy(dtype=float)
+    th[first.index] = first["t_end"].to_numpy(dtype=float)
+    tr, th = tr.reshape(n, n), th.reshape(n, n)
+    area = size * size
+    meet = np.zeros((n, n), bool)
+    for ax in (0, 1):
+        meet |= (tr > np.roll(tr, 1, ax)) & (tr >= np.roll(tr, -1, ax))
+    n_meet = sum(int(((tr > np.roll(tr, 1, ax)) & (tr >= np.roll(tr, -1, ax))).sum())
+                 for ax in (0, 1))  # fmt: skip
+    jj, ii = np.nonzero(meet)  # rows are y
+    tree = cKDTree(np.c_[ii * dx, jj * dx] % size, boxsize=size)
+    gy, gx = np.gradient(tr, dx)
+    c_loc = 1.0 / np.hypot(gx, gy)
+    out = {"dx": dx, "seed": seed, "blocks": n * n, "cpu_s": cpu,
+           "meeting_length_per_area": n_meet * dx * np.pi / 4 / area,
+           "u_plus_meeting_10_50_90": [float(q) for q in
+                                       np.percentile((target + v * tr)[meet], [10, 50, 90])],
+           "by_threshold": {}}  # fmt: skip
+    for thr in thresholds:
+        pts, pred, jumps = [], [], []
+        for ax in (0, 1):
+            diff = np.abs(th - np.roll(th, 1, ax))
+            edge = np.nan_to_num(diff, nan=0.0) > thr
+            r, c = np.nonzero(edge)
+            r0, c0_ = (r - 1) % n if ax == 0 else r, c if ax == 0 else (c - 1) % n
+            # the stuck side: the block of the pair that stuck first
+            first_r = np.where(th[r, c] < th[r0, c0_], r, r0)
+            first_c = np.where(th[r, c] < th[r0, c0_], c, c0_)
+            pts.append(np.c_[(c - 0.5 * (ax == 1)) * dx, (r - 0.5 * (ax == 0)) * dx] % size)
+            t_dur = th[first_r, first_c] - tr[first_r, first_c]
+            cc = c_loc[first_r, first_c]
+            pred.append(t_dur * cc / (1 + cc))
+            jumps.append(diff[edge])
+        pts, pred, jumps = np.vstack(pts), np.concatenate(pred), np.concatenate(jumps)
+        entry = {"length_per_area": len(pts) * dx * np.pi / 4 / area, "edges": len(pts)}
+        if len(pts):
+            dist = tree.query(pts)[0]
+            entry.update(
+                distance_10_25_50_75_90=[
+                    float(q) for q in np.percentile(dist, [10, 25, 50, 75, 90])
+                ],
+                predicted_50=float(np.median(pred)),
+                ratio_50=float(np.median(dist / pred)),
+                jump_50=float(np.median(jumps)),
+            )  # fmt: skip
+        out["by_threshold"][str(thr)] = entry
+    return out
+
+
+def stall_lines_table(out):
+    """The table of docs/lattice.md from a --stall-lines json: mean +- sd over the fields."""
+    lines = ["| dx | fields | meeting lines (length per area) | stall lines at threshold "
+             "0.25, 0.5, 1.0 | stall / meeting length (0.5) | distance from the meeting "
+             "lines, median at 0.25, 0.5, 1.0 | its quartiles (0.5) | distance / (T c/(1+c)), "
+             "median (0.5) | jump across the stall, median (0.5) |",
+             "|---|---|---|---|---|---|---|---|---|"]  # fmt: skip
+    for dx in sorted({r["dx"] for r in out["runs"]}, reverse=True):
+        rs = [r for r in out["runs"] if r["dx"] == dx]
+
+        def ms(vals, f="{:.3f}"):
+            v = np.asarray(vals, dtype=float)
+            return (f + " +- " + f).format(v.mean(), v.std(ddof=1))
+
+        def th(t, key, rs=rs):
+            return [r["by_threshold"][t][key] for r in rs]
+
+        length = " ; ".join(ms(th(t, "length_per_area")) for t in ("0.25", "0.5", "1.0"))
+        dist = ", ".join(f"{np.mean([q[2] for q in th(t, 'distance_10_25_50_75_90')]):.2f}"
+                         for t in ("0.25", "0.5", "1.0"))  # fmt: skip
+        quart = th("0.5", "distance_10_25_50_75_90")
+        ratio = [a / r["meeting_length_per_area"]
+                 for a, r in zip(th("0.5", "length_per_area"), rs, strict=True)]  # fmt: skip
+        lines.append(f"| {dx} | {len(rs)} | {ms([r['meeting_length_per_area'] for r in rs])} | "
+                     f"{length} | {ms(ratio, '{:.2f}')} | {dist} | "
+                     f"{min(q[1] for q in quart):.2f}-{max(q[3] for q in quart):.2f} | "
+                     f"{ms(th('0.5', 'ratio_50'))} | "
+                     f"{ms(th('0.5', 'jump_50'), '{:.2f}')} |")  # fmt: skip
+    return lines
 
 
 def window_times(scale, t_end=None):
@@ -411,12 +521,20 @@ def main() -> None:
         action="store_true",
         help="with --ring: the stress ahead of the later slips (prints JSON)",
     )
+    ap.add_argument(
+        "--stall-lines",
+        action="store_true",
+        help="the plane's first cycle only: stall lines by threshold against the meeting lines",
+    )
     ap.add_argument("--json")
     ap.add_argument("--table", action="store_true", help="print the table of --json, run nothing")
     ap.add_argument("--first-cycle", help="with --table: the first-cycle run's json (the plane)")
     a = ap.parse_args()
     if a.table:
         out = json.loads(Path(a.json).read_text())
+        if "thresholds" in out:  # a --stall-lines json
+            print("\n".join(stall_lines_table(out)))
+            return
         if out["geometry"] == "ring":
             for r in out["runs"]:
                 w = {q["t"]: q for q in r["windows"]}
@@ -429,6 +547,19 @@ def main() -> None:
         print("\n".join(plane_table(out, first)))
         return
     t_end = a.t_end * a.scale
+    if a.stall_lines:
+        res = {"scale": a.scale, "thresholds": STALL_THRESHOLDS, "runs": []}
+        if a.json and Path(a.json).exists():  # an interrupted run resumes
+            res["runs"] = json.loads(Path(a.json).read_text())["runs"]
+        done = {(r["dx"], r["seed"]) for r in res["runs"]}
+        for dx in a.dx:
+            for seed in a.seeds:
+                if (dx, seed) not in done:
+                    res["runs"].append(stall_lines(dx, a.scale, seed))
+                    print(json.dumps(res["runs"][-1]), flush=True)
+                    if a.json:
+                        Path(a.json).write_text(json.dumps(res, indent=1))
+        return
     if a.ring and a.ahead:
         for dx in a.dx:
             print(json.dumps(ring_stress_ahead(dx, a.scale)), flush=True)
