@@ -33,7 +33,8 @@ width 3, gamma = 0.45, v = 0.01) and on variations, one thing at a time. Per run
   zero there: a stall needs the jump to win (s turns up before it reaches zero).
 
 Run: nice -n 5 python docs/scripts/healing_stall.py --dx 0.025 0.0125 0.00625 --json
-docs/healing_stall.json (about 40 s of CPU); --table --json FILE prints the table.
+docs/healing_stall.json (about 40 s of CPU); --table --json FILE prints the table;
+--figure PNG --json FILE draws docs/figures/beyond_healing_stall.png.
 A run with --json keeps the (case, dx) already in FILE (an interrupted run resumes).
 """
 
@@ -295,13 +296,69 @@ def table(out):
     return lines
 
 
+def figure(out, path, dx=0.0125):
+    """docs/figures/beyond_healing_stall.png. Left: the base ring between the higher bump's
+    hypocentre and the collision of its front with the other bump's: first slip and first
+    stick times against x, the collision's sound cone, the stall. Right: every stall's
+    distance from its collision at the finest dx of ``out`` against the cone's prediction
+    and the steady pulse's w/(1 + c)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    p = dict(BASE)
+    ch, x, _ = ring(dx, **p)
+    tr, th = first_times(ch.run(t_end=16.0, progress=False).slips, len(x))
+    col = min(collisions(x, tr, p["side"]), key=lambda c: abs(c["x"] - 12.0))
+    st = stall_toward(x, tr, th, col, p["side"], -1, dx)
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    sel = (x > 4.0) & (x < 14.0)
+    ax[0].plot(x[sel], tr[sel], "-", lw=1.2, label="first slip $t_r(x)$")
+    ax[0].plot(x[sel], th[sel], ".", ms=1.5, label="first stick $t_h(x)$")
+    xs = np.linspace(col["x"] - 3.0, col["x"] + 1.5, 50)
+    ax[0].plot(xs, col["t"] + np.abs(xs - col["x"]), "k--", lw=0.8,
+               label="sound cone $t_m + |x - x_m|$")  # fmt: skip
+    x_stall = col["x"] - st["d"]
+    ax[0].axvline(x_stall, color="0.5", lw=0.8, ls=":")
+    ax[0].annotate("stall", (x_stall, st["t_stick"]), (x_stall - 2.2, st["t_stick"] + 1.0),
+                   arrowprops={"arrowstyle": "->", "lw": 0.7})  # fmt: skip
+    ax[0].set_xlabel("$x$")
+    ax[0].set_ylabel("$t$")
+    ax[0].set_ylim(8.5, 16.0)
+    ax[0].legend(fontsize=8, loc="lower right")
+    finest = min(r["dx"] for r in out["runs"])
+    d, cone, pulse = [], [], []
+    for r, c, _side, s in rows(out):
+        if r["dx"] == finest and s.get("d") is not None:
+            d.append(s["d"])
+            cone.append(s["d_cone"])
+            pulse.append(c["d_pulse"])
+    lo, hi = 1.6, 2.9
+    ax[1].plot([lo, hi], [lo, hi], "k-", lw=0.6)
+    ax[1].plot(cone, d, "o", ms=4, label="sound cone (the healing line met with it)")
+    ax[1].plot(pulse, d, "s", ms=4, mfc="none", label="steady pulse $w/(1+c)$")
+    ax[1].set_xlim(lo, hi)
+    ax[1].set_ylim(lo, hi)
+    ax[1].set_xlabel("predicted $d$")
+    ax[1].set_ylabel(f"measured $d$ ($\\Delta x = {finest}$)")
+    ax[1].legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    return st, col
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--dx", type=float, nargs="+", default=[0.025, 0.0125])
     ap.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
     ap.add_argument("--json")
     ap.add_argument("--table", action="store_true", help="print the table of --json, run nothing")
+    ap.add_argument("--figure", help="with --json: draw the figure of docs/lattice.md to FILE")
     a = ap.parse_args()
+    if a.figure:
+        figure(json.loads(Path(a.json).read_text()), a.figure)
+        return
     if a.table:
         print("\n".join(table(json.loads(Path(a.json).read_text()))))
         return
