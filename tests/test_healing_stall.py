@@ -104,6 +104,23 @@ def test_the_collision_kicks_the_slip_speed_by_the_derived_jump(name):
     stalled = r["collisions"][0]["sides"]["-1"].get("d") is not None
     assert stalled == (name == "base")
     assert (k["jump_at_star"] > 1.5 * k["a"]) if stalled else (k["jump_at_star"] < 0.8 * k["a"])
+    # the steady pulse's closed form exp(pi gamma/S)/c: 2.14 and 0.56 (measured 2.10, 0.58)
+    closed = r["collisions"][0]["kick_over_rate_pulse"]
+    assert closed == pytest.approx(k["jump_at_star"] / k["a"], rel=0.1)
+
+
+@pytest.mark.parametrize("u_plus", [0.6, 0.8, 0.95])
+@pytest.mark.parametrize("gamma", [0.3, 0.45])
+def test_the_closed_form_kick_over_rate_is_the_pulse_s_own_ratio(u_plus, gamma):
+    """K/a = exp(pi gamma/S)/c is u_+ exp(-gamma w/(1 + c))/(c |u_-|) with the pulse's c, w,
+    u_- from bk.traveling_wave: the stress cancels."""
+    import numpy as np
+
+    import bkwaves as bk
+
+    w = bk.traveling_wave(u_plus, gamma)
+    direct = u_plus * np.exp(-gamma * w.w / (1 + w.c)) / (w.c * abs(w.u_minus))
+    assert hs.kick_over_rate(w.c, gamma) == pytest.approx(direct, rel=1e-9)
 
 
 def test_in_the_plane_the_stall_lines_run_beside_the_fronts_meeting_lines():

@@ -64,6 +64,16 @@ CASES = {
     "single bump": {"bumps": [[0.25, 1.0]]},
     "side 36": {"side": 36.0},
 }
+CROSSOVER = {  # fronts that meet near K = a (kick_over_rate = 1)
+    "width 3.75": {"sigma": 3.75},
+    "width 4": {"sigma": 4.0},
+    "gamma 0.3, width 3.25": {"gamma": 0.3, "sigma": 3.25},
+    "gamma 0.3, width 3.5": {"gamma": 0.3, "sigma": 3.5},
+    "gamma 0.3, width 3.75": {"gamma": 0.3, "sigma": 3.75},
+    "gamma 0.6, width 4": {"gamma": 0.6, "sigma": 4.0},
+    "gamma 0.6, width 4.25": {"gamma": 0.6, "sigma": 4.25},
+}
+ALL_CASES = {**CASES, **CROSSOVER}
 THRESHOLDS = (0.25, 0.5, 0.75)
 FIT_HEAL = 0.6  # the healing line is fitted over this length before the stall
 
@@ -93,6 +103,15 @@ def first_times(slips, n):
     tr[first.index] = first["t_start"].to_numpy(dtype=float)
     th[first.index] = first["t_end"].to_numpy(dtype=float)
     return tr, th
+
+
+def kick_over_rate(c, gamma):
+    """K/a where a steady pulse's healing line meets the collision's cone: K = c u_+/(c^2 -
+    1) exp(-gamma d) with d = w/(1 + c), a = c^2 |u_-|/(c^2 - 1) (the pulse's healing rate),
+    u_- and w of eqs. (um), (w): u_+ cancels and K/a = exp(pi gamma / S)/c, S = sqrt(c^2 (1 -
+    gamma^2) - 1). Above 1 the kick turns the slip speed up before it reaches zero."""
+    s2 = c * c * (1 - gamma * gamma) - 1
+    return float("inf") if s2 <= 0 else float(np.exp(np.pi * gamma / np.sqrt(s2)) / c)
 
 
 def _line(xs, ts):
@@ -232,6 +251,7 @@ def run_case(name, dx, over, kick=False):
         wave = bk.traveling_wave(u_plus, p["gamma"])
         entry = {**col, "u_plus": u_plus, "c": wave.c, "regime": wave.regime,
                  "w": wave.w, "d_pulse": (wave.w / (1 + wave.c) if wave.w else None),
+                 "kick_over_rate_pulse": kick_over_rate(wave.c, p["gamma"]),
                  "sides": {}}  # fmt: skip
         for direction in (-1, 1):
             entry["sides"][str(direction)] = stall_toward(x, tr, th, col, p["side"],
@@ -348,10 +368,32 @@ def figure(out, path, dx=0.0125):
     return st, col
 
 
+def crossover_table(out):
+    """The front from the bump at 0.25 of the side in each case: K/a, closed form and
+    measured, and the largest step of first-stick times at each dx."""
+    dxs = sorted({r["dx"] for r in out["runs"]}, reverse=True)
+    lines = ["| case | u_+, c where the fronts meet | K/a: steady pulse, measured (dx = "
+             f"{dxs[-1]}) | largest step of first sticks at dx = "
+             f"{', '.join(str(d) for d in dxs)} | its distance from the collision |",
+             "|---|---|---|---|---|"]  # fmt: skip
+    cases = list(dict.fromkeys(r["case"] for r in out["runs"]))
+    for case in cases:
+        rs = sorted((r for r in out["runs"] if r["case"] == case), key=lambda r: -r["dx"])
+        col = rs[-1]["collisions"][0]
+        k = rs[-1].get("kick")
+        meas = fmt(k["jump_at_star"] / k["a"]) if k else "-"
+        steps = ", ".join(f"{r['collisions'][0]['sides']['-1']['max_jump']:.2f}" for r in rs)
+        lines.append(f"| {case} | {col['u_plus']:.3f}, {col['c']:.2f} | "
+                     f"{col['kick_over_rate_pulse']:.2f}, {meas} | {steps} | "
+                     f"{rs[-1]['collisions'][0]['sides']['-1']['d_max_jump']:.2f} |")  # fmt: skip
+    return lines
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--dx", type=float, nargs="+", default=[0.025, 0.0125])
-    ap.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
+    ap.add_argument("--cases", nargs="+", default=list(CASES), choices=list(ALL_CASES))
+    ap.add_argument("--crossover", action="store_true", help="the CROSSOVER cases")
     ap.add_argument("--json")
     ap.add_argument("--table", action="store_true", help="print the table of --json, run nothing")
     ap.add_argument("--figure", help="with --json: draw the figure of docs/lattice.md to FILE")
@@ -360,9 +402,12 @@ def main() -> None:
         figure(json.loads(Path(a.json).read_text()), a.figure)
         return
     if a.table:
-        print("\n".join(table(json.loads(Path(a.json).read_text()))))
+        out = json.loads(Path(a.json).read_text())
+        print("\n".join(crossover_table(out) if out.get("crossover") else table(out)))
         return
-    out = {"base": BASE, "thresholds": THRESHOLDS, "runs": []}
+    if a.crossover:
+        a.cases = list(CROSSOVER)
+    out = {"base": BASE, "thresholds": THRESHOLDS, "crossover": a.crossover, "runs": []}
     if a.json and Path(a.json).exists():
         out["runs"] = json.loads(Path(a.json).read_text())["runs"]
     done = {(r["case"], r["dx"]) for r in out["runs"]}
@@ -370,13 +415,13 @@ def main() -> None:
         for dx in a.dx:
             if (name, dx) in done:
                 continue
-            r = run_case(name, dx, CASES[name], kick=True)
+            r = run_case(name, dx, ALL_CASES[name], kick=True)
             out["runs"].append(r)
             print(f"{name} dx {dx}: cpu {r['cpu_s']:.1f} s, collisions "
                   f"{[round(c['x'], 3) for c in r['collisions']]}", flush=True)  # fmt: skip
             if a.json:
                 Path(a.json).write_text(json.dumps(out, indent=1))
-    print("\n".join(table(out)))
+    print("\n".join(crossover_table(out) if a.crossover else table(out)))
 
 
 if __name__ == "__main__":
