@@ -8,6 +8,7 @@
 //! such as a trigger or the noise); an event's is that of its first slip.
 
 use super::sources::Cause;
+use std::collections::BTreeMap;
 
 /// One slip interval of one block.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -61,16 +62,27 @@ pub struct EventRecord {
 }
 
 /// Builder of the catalog while a run goes on.
+///
+/// Its bookkeeping per block is kept near what a running event needs (issue 25: a
+/// rupture across a large lattice): a bit per block for "slipped in the running event",
+/// the open slip of each sliding block only, and the first slip of each block of the
+/// running event (its u there is that slip's `u_start`). What a checkpoint writes is the
+/// same bytes as a dense layout's ([`Marks`]).
 #[derive(Debug, Clone, Default)]
 pub struct Catalog {
     /// Finished and running events.
     pub events: Vec<EventRecord>,
     /// All slip intervals.
     pub slips: Vec<SlipRecord>,
-    pub(crate) open_slip: Vec<usize>,
-    pub(crate) last_event: Vec<usize>,
-    pub(crate) u_first: Vec<f64>,
-    pub(crate) blocks_now: Vec<usize>,
+    /// Number of blocks.
+    n: usize,
+    /// The open slip interval (index in `slips`) of each block sliding now.
+    open_slip: BTreeMap<usize, usize>,
+    /// Bit i: block i has slipped in the running event (none between events).
+    in_event: Vec<u64>,
+    /// The first slip (index in `slips`) of each block of the running event, in the
+    /// order of the blocks' first slips.
+    first_slips: Vec<usize>,
     pub(crate) open: bool,
 }
 
@@ -80,9 +92,8 @@ impl Catalog {
     /// A catalog for n blocks.
     pub fn new(n: usize) -> Self {
         Catalog {
-            open_slip: vec![NONE; n],
-            last_event: vec![NONE; n],
-            u_first: vec![0.0; n],
+            n,
+            in_event: vec![0; n.div_ceil(64)],
             ..Default::default()
         }
     }
@@ -118,15 +129,15 @@ impl Catalog {
         let id = self.events.len() - 1;
         let e = &mut self.events[id];
         e.n_slips += 1;
-        if self.last_event[i] != id {
-            self.last_event[i] = id;
-            self.u_first[i] = u;
-            self.blocks_now.push(i);
+        let (w, bit) = (i / 64, 1u64 << (i % 64));
+        if self.in_event[w] & bit == 0 {
+            self.in_event[w] |= bit;
+            self.first_slips.push(self.slips.len());
             e.n_blocks += 1;
             e.first_block = e.first_block.min(i);
             e.last_block = e.last_block.max(i);
         }
-        self.open_slip[i] = self.slips.len();
+        self.open_slip.insert(i, self.slips.len());
         self.slips.push(SlipRecord {
             event: id,
             block: i,
@@ -142,11 +153,9 @@ impl Catalog {
 
     /// Block `i` stuck at time t with displacement u (loading rate v).
     pub fn stick(&mut self, i: usize, t: f64, u: f64, v: f64) {
-        let k = self.open_slip[i];
-        if k == NONE {
+        let Some(k) = self.open_slip.remove(&i) else {
             return;
-        }
-        self.open_slip[i] = NONE;
+        };
         let r = &mut self.slips[k];
         r.t_end = t;
         r.u_end = u;
@@ -163,16 +172,114 @@ impl Catalog {
         }
         self.open = false;
         let id = self.events.len() - 1;
+        // the blocks in the order of their first slips, as u at the first slip minus u now
+        let slips = &self.slips;
         let drop: f64 = self
-            .blocks_now
+            .first_slips
             .iter()
-            .map(|&i| self.u_first[i] - u_now(i))
+            .map(|&k| slips[k].u_start - u_now(slips[k].block))
             .sum();
         let e = &mut self.events[id];
         e.t_end = t;
         e.stress_drop = drop / e.n_blocks.max(1) as f64;
-        self.blocks_now.clear();
+        for &k in &self.first_slips {
+            let i = slips[k].block;
+            self.in_event[i / 64] &= !(1u64 << (i % 64));
+        }
+        self.first_slips.clear();
     }
+
+    /// The bookkeeping per block as a checkpoint writes it (the dense layout: the open
+    /// slip and the last event of every block, u at its first slip in the running event,
+    /// the blocks of the running event).
+    pub(crate) fn marks(&self) -> Marks {
+        let mut m = Marks {
+            open_slip: vec![NONE; self.n],
+            last_event: vec![NONE; self.n],
+            u_first: vec![0.0; self.n],
+            blocks_now: Vec::with_capacity(self.first_slips.len()),
+        };
+        for (&i, &k) in &self.open_slip {
+            m.open_slip[i] = k;
+        }
+        for &k in &self.first_slips {
+            let r = &self.slips[k];
+            m.last_event[r.block] = r.event;
+            m.u_first[r.block] = r.u_start;
+            m.blocks_now.push(r.block);
+        }
+        m
+    }
+
+    /// Take the bookkeeping per block from a checkpoint's dense layout (after the events
+    /// and slips were read). A mark of an event before the running one (which a dense
+    /// layout may hold) means the same as none. Err names what is inconsistent.
+    pub(crate) fn set_marks(&mut self, m: Marks) -> std::result::Result<(), &'static str> {
+        let n = self.n;
+        if m.open_slip.len() != n || m.last_event.len() != n || m.u_first.len() != n {
+            return Err("catalog arrays of n values");
+        }
+        let mut open_slip = BTreeMap::new();
+        for (i, &k) in m.open_slip.iter().enumerate() {
+            if k != NONE {
+                if self
+                    .slips
+                    .get(k)
+                    .is_none_or(|r| r.block != i || !r.t_end.is_nan())
+                {
+                    return Err("open slips of the catalog's slips");
+                }
+                open_slip.insert(i, k);
+            }
+        }
+        // the first slip of each block in the running event: its slips are the last ones
+        let mut in_event = vec![0u64; n.div_ceil(64)];
+        let mut first_slips = Vec::with_capacity(m.blocks_now.len());
+        if self.open {
+            let id = self.events.len() - 1;
+            let from = self.slips.partition_point(|r| r.event < id);
+            let mut first = BTreeMap::new();
+            for (k, r) in self.slips.iter().enumerate().skip(from) {
+                first.entry(r.block).or_insert(k);
+            }
+            for &i in &m.blocks_now {
+                let k = match first.get(&i) {
+                    Some(&k) if m.last_event[i] == id && m.u_first[i] == self.slips[k].u_start => k,
+                    _ => return Err("blocks of the running event with their first slips"),
+                };
+                if in_event[i / 64] & (1u64 << (i % 64)) != 0 {
+                    return Err("blocks of the running event listed once");
+                }
+                in_event[i / 64] |= 1u64 << (i % 64);
+                first_slips.push(k);
+            }
+            if first_slips.len() != first.len() || first.len() != self.events[id].n_blocks {
+                return Err("blocks of the running event with their first slips");
+            }
+        } else if !m.blocks_now.is_empty() {
+            return Err("no blocks of a running event when none runs");
+        }
+        self.open_slip = open_slip;
+        self.in_event = in_event;
+        self.first_slips = first_slips;
+        Ok(())
+    }
+
+    /// Bytes of the bookkeeping per block besides the records (measurements): the bits,
+    /// the open slips (an estimate per entry of the map) and the running event's list.
+    pub fn bookkeeping_bytes(&self) -> usize {
+        8 * self.in_event.len() + 48 * self.open_slip.len() + 8 * self.first_slips.capacity()
+    }
+}
+
+/// The catalog's bookkeeping per block in a checkpoint's dense layout
+/// ([`Catalog::marks`]).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Marks {
+    pub open_slip: Vec<usize>,
+    pub last_event: Vec<usize>,
+    pub u_first: Vec<f64>,
+    pub blocks_now: Vec<usize>,
 }
 
 #[cfg(test)]
@@ -199,5 +306,69 @@ mod tests {
         assert_eq!(c.slips.len(), 3);
         assert_eq!(e.kind, Cause::Threshold);
         assert_eq!(c.slips[2].kind.name(), "trigger");
+    }
+
+    #[test]
+    fn the_bookkeeping_goes_through_its_dense_layout_and_back() {
+        // two events, the second running with one block sliding: marks() is the dense
+        // layout the catalog wrote before (an older event's mark means none), set_marks()
+        // takes it back, and the two catalogs go on to the same records
+        let mut c = Catalog::new(130);
+        c.slip(3, 1.0, 0.5, 1, Cause::Threshold);
+        c.stick(3, 2.0, 0.1, 0.0);
+        c.quiet(2.0, |_| 0.1);
+        c.slip(70, 3.0, 0.7, 1, Cause::Threshold);
+        c.slip(129, 3.5, 0.9, -1, Cause::Threshold);
+        c.stick(70, 4.0, 0.2, 0.0);
+        c.slip(70, 4.5, 0.2, 1, Cause::Threshold);
+        c.stick(129, 5.0, 0.3, 0.0);
+        let m = c.marks();
+        assert_eq!(m.open_slip[70], 3);
+        assert_eq!(m.open_slip.iter().filter(|&&k| k != NONE).count(), 1);
+        assert_eq!(
+            (m.last_event[70], m.last_event[129], m.last_event[3]),
+            (1, 1, NONE)
+        );
+        assert_eq!((m.u_first[70], m.u_first[129]), (0.7, 0.9));
+        assert_eq!(m.blocks_now, vec![70, 129]);
+        let mut d = Catalog::new(130);
+        d.events = c.events.clone();
+        d.slips = c.slips.clone();
+        d.open = c.open;
+        let base = d.clone();
+        let mut old = m.clone();
+        old.last_event[3] = 0; // a dense layout kept the finished event's mark
+        d.set_marks(old).unwrap();
+        for x in [&mut c, &mut d] {
+            x.stick(70, 6.0, 0.1, 0.0);
+            x.slip(3, 6.5, 0.4, 1, Cause::Threshold);
+            x.stick(3, 7.0, 0.0, 0.0);
+            x.quiet(7.0, |i| {
+                [0.1, 0.0, 0.3][(i > 3) as usize + (i > 70) as usize]
+            });
+        }
+        assert_eq!(c.events, d.events);
+        assert_eq!(c.slips, d.slips);
+        let e = c.events[1];
+        assert_eq!((e.n_blocks, e.n_slips), (3, 4));
+        // (0.7 - 0.1) + (0.9 - 0.3) + (0.4 - 0.0), in the order of the first slips
+        assert_eq!(
+            e.stress_drop,
+            ((0.7 - 0.1) + (0.9 - 0.3) + (0.4 - 0.0)) / 3.0
+        );
+        // inconsistent layouts are refused
+        base.clone().set_marks(m.clone()).unwrap();
+        let mut bad = m.clone();
+        bad.u_first[70] = 0.0;
+        assert!(base.clone().set_marks(bad).is_err());
+        let mut bad = m.clone();
+        bad.open_slip[71] = 3;
+        assert!(base.clone().set_marks(bad).is_err());
+        let mut bad = m.clone();
+        bad.blocks_now.push(70);
+        assert!(base.clone().set_marks(bad).is_err());
+        let mut bad = m;
+        bad.blocks_now.pop();
+        assert!(base.clone().set_marks(bad).is_err());
     }
 }

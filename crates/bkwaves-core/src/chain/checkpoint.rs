@@ -13,7 +13,7 @@
 //! read by [`Chain::restore`] through [`Field`]. The slip queue and the event sources
 //! write and read themselves (each source its own state, random generator included).
 
-use super::catalog::{EventRecord, SlipRecord};
+use super::catalog::{EventRecord, Marks, SlipRecord};
 use super::cells::CellVec;
 use super::events::SlipQueue;
 use super::geometry::Geometry;
@@ -112,6 +112,22 @@ impl<T: Field + Default> Field for Vec<T> {
     }
 }
 
+/// The catalog's bookkeeping per block: four vectors, as the dense layout wrote them.
+impl Field for Marks {
+    fn put(&self, w: &mut W) {
+        self.open_slip.put(w);
+        self.last_event.put(w);
+        self.u_first.put(w);
+        self.blocks_now.put(w);
+    }
+    fn get(&mut self, r: &mut R) -> Result<()> {
+        self.open_slip.get(r)?;
+        self.last_event.get(r)?;
+        self.u_first.get(r)?;
+        self.blocks_now.get(r)
+    }
+}
+
 /// An array over the cells: as a `Vec<f64>` (its length, then its values).
 impl Field for CellVec {
     fn put(&self, w: &mut W) {
@@ -207,7 +223,7 @@ record!(SlipRecord {
 /// The chain's state fields, in checkpoint order, as references (`&` to write, `&mut` to
 /// read): the one list of what a checkpoint holds besides the queue and the sources.
 macro_rules! chain_state {
-    ($c:ident, $dyn:ty, $acc0:expr, $acc1:expr, $($r:tt)+) => {{
+    ($c:ident, $dyn:ty, $acc0:expr, $acc1:expr, $marks:expr, $($r:tt)+) => {{
         let fields: Vec<$dyn> = vec![
             $($r)+ $c.t,
             $($r)+ $c.stuck_sum,
@@ -238,10 +254,8 @@ macro_rules! chain_state {
             $($r)+ $c.counters.jumps,
             $($r)+ $c.catalog.events,
             $($r)+ $c.catalog.slips,
-            $($r)+ $c.catalog.open_slip,
-            $($r)+ $c.catalog.last_event,
-            $($r)+ $c.catalog.u_first,
-            $($r)+ $c.catalog.blocks_now,
+            // the catalog's bookkeeping per block in its dense layout ([`Marks`])
+            $marks,
             $($r)+ $c.catalog.open,
             $($r)+ $c.snapshots.t,
             $($r)+ $c.snapshots.u,
@@ -291,7 +305,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             Accels(&self.a_start, if valid { runs } else { &[] }),
             Accels(&self.a_end, &[]),
         );
-        for f in chain_state!(self, &dyn Field, &acc0, &acc1, &) {
+        let marks = self.catalog.marks();
+        for f in chain_state!(self, &dyn Field, &acc0, &acc1, &marks, &) {
             f.put(&mut w);
         }
         if let Some(c) = &self.control {
@@ -338,7 +353,15 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         let (n, n2) = (self.st.n, self.st.geo.cells());
         let mut next = self.clone();
-        for f in chain_state!(next, &mut dyn Field, &mut next.a_start, &mut next.a_end, &mut) {
+        let mut marks = Marks::default();
+        for f in chain_state!(
+            next,
+            &mut dyn Field,
+            &mut next.a_start,
+            &mut next.a_end,
+            &mut marks,
+            &mut
+        ) {
             f.get(&mut r)?;
         }
         // stale accelerations are all recomputed after a restore (the same bits)
@@ -369,9 +392,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         {
             return Err(bad(r.i, "arrays of the padded length"));
         }
-        let cat = &next.catalog;
-        if cat.open_slip.len() != n || cat.last_event.len() != n || cat.u_first.len() != n {
-            return Err(bad(r.i, "catalog arrays of n values"));
+        if let Err(what) = next.catalog.set_marks(marks) {
+            return Err(bad(r.i, what));
         }
         next.queue = SlipQueue::new(n2);
         for _ in 0..r.len(16)? {
