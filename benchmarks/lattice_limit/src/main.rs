@@ -27,7 +27,7 @@
 //!    over an M x M square of sliding blocks, against the reference over M x M.
 //!
 //! cargo run --release -- [--repeat R] [--size L] [--memory N1,N2,..] [--full N,dx,gamma]
-//!     [--events local|global|both] [--give-back on|off]
+//!     [--events local|global|both] [--give-back on|off] [--smaps]
 //!     [--kernel M]
 
 use bkwaves_core::boundary::Free;
@@ -53,6 +53,97 @@ fn cpu_seconds() -> f64 {
     let rc = unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
     assert_eq!(rc, 0, "clock_gettime");
     ts.sec as f64 + 1e-9 * ts.nsec as f64
+}
+
+/// `--smaps`: after the `--full` run, the resident memory of every mapping of at least
+/// 256 kB (/proc/self/smaps), per block, with the arrays it holds where known.
+static SMAPS: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+
+/// Print the mappings of /proc/self/smaps with at least 256 kB resident: start, size and
+/// resident bytes, per block of the lattice, and the name of a known array in it.
+fn smaps_report(known: &[(String, usize)], blocks: f64) {
+    let s = std::fs::read_to_string("/proc/self/smaps").unwrap_or_default();
+    let mut maps: Vec<(usize, usize, String, f64)> = Vec::new();
+    for line in s.lines() {
+        let head = line.split_whitespace().next().unwrap_or("");
+        if let Some((a, b)) = head.split_once('-') {
+            if let (Ok(a), Ok(b)) = (usize::from_str_radix(a, 16), usize::from_str_radix(b, 16)) {
+                let name = line.split_whitespace().nth(5).unwrap_or("").to_string();
+                maps.push((a, b, name, 0.0));
+                continue;
+            }
+        }
+        if let Some(rest) = line.strip_prefix("Rss:") {
+            let kb: f64 = rest
+                .trim()
+                .trim_end_matches("kB")
+                .trim()
+                .parse()
+                .unwrap_or(0.0);
+            if let Some(m) = maps.last_mut() {
+                m.3 = kb * 1024.0;
+            }
+        }
+    }
+    let total: f64 = maps.iter().map(|m| m.3).sum();
+    println!(
+        "smaps: {} mappings, resident {:.1} bytes per block in all (VmRSS {:.1}); those \
+         of 256 kB or more:",
+        maps.len(),
+        total / blocks,
+        status_bytes("VmRSS:") / blocks
+    );
+    let mut small = 0.0;
+    for (a, b, name, rss) in &maps {
+        if *rss < 262144.0 {
+            small += rss;
+            continue;
+        }
+        let held: Vec<&str> = known
+            .iter()
+            .filter(|(_, p)| (*a..*b).contains(p))
+            .map(|(k, _)| k.as_str())
+            .collect();
+        println!(
+            "smaps:   {a:#x} size {:9.1} MB ({:6.2} B/block) resident {:9.1} MB ({:6.2} \
+             B/block) {name} {}",
+            (b - a) as f64 / 1e6,
+            (b - a) as f64 / blocks,
+            rss / 1e6,
+            rss / blocks,
+            held.join(",")
+        );
+    }
+    println!("smaps:   the rest: {:.2} B/block", small / blocks);
+    // glibc's own books: the heap (brk) in use and free, and its mmapped chunks
+    #[repr(C)]
+    #[derive(Default)]
+    struct Mallinfo2 {
+        arena: usize,
+        ordblks: usize,
+        smblks: usize,
+        hblks: usize,
+        hblkhd: usize,
+        usmblks: usize,
+        fsmblks: usize,
+        uordblks: usize,
+        fordblks: usize,
+        keepcost: usize,
+    }
+    extern "C" {
+        fn mallinfo2() -> Mallinfo2;
+    }
+    // SAFETY: mallinfo2 only reads the allocator's statistics
+    let m = unsafe { mallinfo2() };
+    println!(
+        "malloc: heap {:.2} B/block ({:.2} in use, {:.2} free), mmapped chunks {:.2} B/block \
+         ({} of them)",
+        m.arena as f64 / blocks,
+        m.uordblks as f64 / blocks,
+        m.fordblks as f64 / blocks,
+        m.hblkhd as f64 / blocks,
+        m.hblks
+    );
 }
 
 /// A memory figure of this process in bytes from /proc/self/status: "VmRSS" (resident)
@@ -424,9 +515,15 @@ fn main() {
                 };
                 GIVE_BACK.set(on).expect("--give-back once");
             }
+            "--smaps" => {
+                // a flag: no value follows
+                SMAPS.set(true).expect("--smaps once");
+                k += 1;
+                continue;
+            }
             a => panic!(
                 "unknown argument {a} (--repeat R, --size L, --memory N1,N2, --full N,dx,gamma, \
-                 --events local|global|both, --give-back on|off)"
+                 --events local|global|both, --give-back on|off, --smaps)"
             ),
         }
         k += 2;
@@ -537,6 +634,39 @@ fn main() {
         la.run(t_end, usize::MAX, u64::MAX).unwrap();
         let s = cpu_seconds() - t;
         let c = la.counters;
+        if SMAPS.get().copied().unwrap_or(false) {
+            // where the resident memory is at the end, mapping by mapping (the arrays of
+            // 128 kB or more are mappings of their own), before anything else is allocated
+            let mut known: Vec<(String, usize)> = la
+                .scratch_arrays()
+                .into_iter()
+                .map(|(name, a)| (name.to_string(), a.as_ptr() as usize))
+                .collect();
+            known.push(("catalog.slips".into(), la.catalog.slips.as_ptr() as usize));
+            known.push(("catalog.events".into(), la.catalog.events.as_ptr() as usize));
+            smaps_report(&known, (n * n) as f64);
+            // the engine's arrays one by one (mincore over their pages)
+            let blocks = (n * n) as f64;
+            let mut sum = 0.0;
+            for (name, bytes, resident) in la.memory_arrays() {
+                let r = resident.map(|r| r as f64);
+                sum += r.unwrap_or(bytes as f64);
+                println!(
+                    "arrays:   {name:28} allocated {:7.2} B/block, resident {}",
+                    bytes as f64 / blocks,
+                    match r {
+                        Some(r) => format!("{:7.2} B/block", r / blocks),
+                        None => "(not measured: counted as allocated)".to_string(),
+                    }
+                );
+            }
+            println!(
+                "arrays: {:.1} B/block in all, VmRSS {:.1}, VmHWM {:.1}",
+                sum / blocks,
+                status_bytes("VmRSS:") / blocks,
+                status_bytes("VmHWM:") / blocks
+            );
+        }
         let slipped = {
             let mut seen = vec![false; n * n];
             for r in &la.catalog.slips {

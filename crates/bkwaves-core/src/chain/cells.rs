@@ -127,6 +127,20 @@ impl CellVec {
     }
 }
 
+/// The resident bytes of the memory pages holding the `bytes` bytes at `ptr` of a live
+/// allocation, as [`CellVec::resident_pages`] counts pages (measurements).
+pub fn resident_bytes_of(ptr: *const u8, bytes: usize) -> Option<usize> {
+    if bytes == 0 {
+        return Some(0);
+    }
+    let page = sys::page();
+    let base = ptr as usize;
+    let (start, end) = (base / page * page, (base + bytes).next_multiple_of(page));
+    // SAFETY: the caller's allocation holds [ptr, ptr + bytes), so the pages around it
+    // are mapped; mincore only reads the page tables.
+    unsafe { sys::resident(start, end - start, page) }.map(|(r, _)| r * page)
+}
+
 /// The system calls of [`CellVec::release`] and [`CellVec::resident_pages`].
 #[cfg(target_os = "linux")]
 mod sys {

@@ -460,6 +460,16 @@ impl SlipQueue {
         }
     }
 
+    /// The versions per cell, and the heap's (allocated entries, bytes per entry)
+    /// (measurements: their memory).
+    pub(crate) fn parts(&self) -> (&[u32], usize, usize) {
+        (
+            &self.version,
+            self.heap.capacity(),
+            std::mem::size_of::<Entry>(),
+        )
+    }
+
     /// Schedule block p to slip at time t (replacing any earlier entry).
     pub fn push(&mut self, p: usize, t: f64) {
         if self.heap.len() > 4 * self.version.len() + 1024 {

@@ -51,6 +51,11 @@ impl Frontier {
         }
     }
 
+    /// The per-cell marks and the two lists (measurements: their memory).
+    pub(crate) fn parts(&self) -> (&[u8], &[usize], &[(usize, Beyond)]) {
+        (&self.mark, &self.stuck, &self.ghosts)
+    }
+
     /// Back to no block in a run.
     pub fn clear(&mut self) {
         self.mark.fill(0);

@@ -1467,3 +1467,10 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         Ok(())
     }
 }
+
+impl Local {
+    /// The member index per cell (measurements: its memory, ../release.rs).
+    pub(crate) fn member_map(&self) -> &[u32] {
+        &self.mem_of
+    }
+}

@@ -32,7 +32,7 @@
 //! valid, 0 elsewhere: ../checkpoint.rs), so that a restored run's checkpoints equal the
 //! uninterrupted one's whatever was given back when.
 
-use super::cells::CellVec;
+use super::cells::{resident_bytes_of, CellVec};
 use super::geometry::Geometry;
 use super::integrator::Stepper;
 use super::medium::Medium;
@@ -200,6 +200,46 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             v.extend(rk.buffers());
         }
         v
+    }
+
+    /// The engine's arrays by name, with their allocated and resident bytes (resident:
+    /// Linux's `mincore` over the pages holding them, None elsewhere; a page shared with
+    /// a neighbouring allocation counts for both): the state, the scratch, the books per
+    /// cell and the catalog (measurements of the memory per block, issue 25).
+    pub fn memory_arrays(&self) -> Vec<(&'static str, usize, Option<usize>)> {
+        fn of<T>(name: &'static str, v: &[T], cap: usize) -> (&'static str, usize, Option<usize>) {
+            let bytes = cap * std::mem::size_of::<T>();
+            (name, bytes, resident_bytes_of(v.as_ptr().cast(), bytes))
+        }
+        let cell = |name: &'static str, a: &CellVec| {
+            let bytes = a.len() * 8;
+            (name, bytes, resident_bytes_of(a.as_ptr().cast(), bytes))
+        };
+        let st = &self.st;
+        let mut out = vec![
+            cell("u", &st.u),
+            cell("u_t", &st.w),
+            cell("t_ref", &st.tref),
+            cell("mode", &st.dir),
+            cell("threshold at onset", &st.onset),
+        ];
+        for (name, a) in self.scratch_arrays() {
+            out.push(cell(name, a));
+        }
+        let (version, heap_cap, entry) = self.queue.parts();
+        out.push(of("queue: version", version, version.len()));
+        out.push(("queue: heap", heap_cap * entry, None));
+        let (mark, stuck, ghosts) = st.frontier.parts();
+        out.push(of("frontier: counts", mark, mark.len()));
+        out.push(of("frontier: stuck list", stuck, stuck.len()));
+        out.push(of("frontier: ghost list", ghosts, ghosts.len()));
+        let mem = self.local.member_map();
+        out.push(of("local events: member map", mem, mem.len()));
+        let cat = &self.catalog;
+        out.push(of("catalog: slips", &cat.slips, cat.slips.capacity()));
+        out.push(of("catalog: events", &cat.events, cat.events.capacity()));
+        out.push(("catalog: bookkeeping", cat.bookkeeping_bytes(), None));
+        out
     }
 
     /// At the start of a step: a pass every [`RELEASE_EVERY`] steps.
