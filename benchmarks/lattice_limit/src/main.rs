@@ -24,11 +24,13 @@
 //! All times are CPU times of the work (the machine is shared).
 //!
 //! 4. `--kernel M` (alone): the engine's RK4 step by itself (no event search, no redo)
-//!    over an M x M square of sliding blocks, against the reference over M x M.
+//!    over an M x M square of sliding blocks, against the reference over M x M;
+//!    `--kernel M,W`: the same square in the corner of a W x W grid (rows of M sliding
+//!    blocks at the stride of W, as a rupture's runs lie in a wider lattice).
 //!
 //! cargo run --release -- [--repeat R] [--size L] [--memory N1,N2,..] [--full N,dx,gamma]
 //!     [--events local|global|both] [--give-back on|off] [--smaps]
-//!     [--kernel M]
+//!     [--kernel M[,W]]
 
 use bkwaves_core::boundary::Free;
 use bkwaves_core::chain::cells::CellVec;
@@ -383,15 +385,15 @@ fn mean_sliding(size: usize, samples: usize) -> f64 {
 }
 
 /// The engine's RK4 step alone (no event search, no redo) over an m x m square of
-/// sliding blocks inside a held ring of stuck ones: (block-steps per CPU second, a
-/// checksum), `steps` steps, each with the end accelerations the next one starts from.
-fn engine_step(m: usize, steps: u64) -> (f64, f64) {
+/// sliding blocks inside a ring of stuck ones, in the corner of a grid of
+/// max(m, width) + 2 blocks a side: (block-steps per CPU second, a checksum), `steps` steps, each with the end accelerations the next one starts from.
+fn engine_step(m: usize, width: usize, steps: u64) -> (f64, f64) {
     use bkwaves_core::boundary::Ghost;
     use bkwaves_core::chain::geometry::{Geometry, Grid};
     use bkwaves_core::chain::integrator::{Method, Stepper};
     use bkwaves_core::chain::medium::Blocks;
     use bkwaves_core::chain::state::State;
-    let n = m + 2;
+    let n = m.max(width) + 2;
     let geo = Grid::new(
         n,
         n,
@@ -476,14 +478,19 @@ fn main() {
             }
             "--kernel" => {
                 // the step alone against the reference, over m x m blocks
-                let m: usize = args[k + 1].parse().expect("--kernel M");
+                let bad = "--kernel M or M,W";
+                let v: Vec<usize> = (args[k + 1].split(','))
+                    .map(|s| s.parse().expect(bad))
+                    .collect();
+                assert!(v.len() == 1 || v.len() == 2, "{bad}");
+                let (m, width) = (v[0], v.get(1).copied().unwrap_or(v[0]));
                 let steps = (4e8 / (m * m) as f64).ceil() as u64;
                 for _ in 0..repeat {
-                    let (e, c) = engine_step(m, steps);
+                    let (e, c) = engine_step(m, width, steps);
                     let r = reference(m, 4e8);
                     println!(
-                        "kernel {m} x {m}: engine step {e:.3e}/s, reference {r:.3e}/s, \
-                         ratio {:.3} (checksum {c:.6})",
+                        "kernel {m} x {m} in a {width}-wide grid: engine step {e:.3e}/s, \
+                         reference {r:.3e}/s, ratio {:.3} (checksum {c:.6})",
                         e / r
                     );
                 }
@@ -523,7 +530,7 @@ fn main() {
             }
             a => panic!(
                 "unknown argument {a} (--repeat R, --size L, --memory N1,N2, --full N,dx,gamma, \
-                 --events local|global|both, --give-back on|off, --smaps)"
+                 --events local|global|both, --give-back on|off, --smaps, --kernel M[,W])"
             ),
         }
         k += 2;
