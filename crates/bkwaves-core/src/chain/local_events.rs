@@ -1473,4 +1473,49 @@ impl Local {
     pub(crate) fn member_map(&self) -> &[u32] {
         &self.mem_of
     }
+
+    /// Bytes allocated by the lists per member and the components' buffers, those of
+    /// the pool included (measurements: their memory, ../release.rs).
+    pub(crate) fn buffer_bytes(&self) -> usize {
+        fn cap<T>(v: &Vec<T>) -> usize {
+            v.capacity() * std::mem::size_of::<T>()
+        }
+        let comp = |c: &Comp| {
+            std::mem::size_of::<Comp>()
+                + cap(&c.blocks)
+                + cap(&c.watch)
+                + [
+                    &c.dir, &c.onset, &c.u, &c.w, &c.uref, &c.tref, &c.mid, &c.end,
+                ]
+                .iter()
+                .map(|v| cap(v))
+                .sum::<usize>()
+                + cap(&c.kt)
+                + cap(&c.ku)
+                + cap(&c.kw)
+                + cap(&c.recs)
+        };
+        let sc = &self.scratch;
+        let scratch = [
+            &sc.su, &sc.sw, &sc.su0, &sc.sw0, &sc.sum_u, &sc.sum_w, &sc.acc0, &sc.acc,
+        ]
+        .iter()
+        .map(|v| cap(v))
+        .sum::<usize>()
+            + cap(&sc.grow)
+            + cap(&sc.who)
+            + cap(&sc.list)
+            + cap(&sc.cands);
+        cap(&self.members)
+            + cap(&self.mcomp)
+            + cap(&self.dir0)
+            + cap(&self.onset0)
+            + cap(&self.out)
+            + cap(&self.pos)
+            + self.comps.iter().map(comp).sum::<usize>()
+            + self.pool.iter().map(comp).sum::<usize>()
+            + (self.comps.capacity() - self.comps.len() + self.pool.capacity() - self.pool.len())
+                * std::mem::size_of::<Comp>()
+            + scratch
+    }
 }

@@ -235,6 +235,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         out.push(of("frontier: ghost list", ghosts, ghosts.len()));
         let mem = self.local.member_map();
         out.push(of("local events: member map", mem, mem.len()));
+        out.push(("local events: buffers", self.local.buffer_bytes(), None));
+        out.push(("runs", st.runs.capacity() * 16, None));
         let cat = &self.catalog;
         out.push(of("catalog: slips", &cat.slips, cat.slips.capacity()));
         out.push(of("catalog: events", &cat.events, cat.events.capacity()));

@@ -258,3 +258,57 @@ fn dead_scratch_pages_are_given_back() {
     let s = rel.release_stats();
     assert!(s.bytes as usize >= 11 * 4096 * (sum_k / 11), "{s:?}");
 }
+
+#[test]
+#[cfg(target_os = "linux")]
+fn the_arrays_and_their_resident_bytes_are_listed() {
+    // Engine::memory_arrays: the five state arrays and the scratch at the padded length,
+    // resident within what is allocated (plus the two partial pages at the ends), the
+    // catalog's records at their capacity; the state's pages are resident from the
+    // start (written at construction), the unwritten scratch's are not
+    let (nx, ny) = (600, 400);
+    let mut la = lattice(
+        nx,
+        ny,
+        &Free,
+        &Free,
+        0.0,
+        0.0,
+        f64::INFINITY,
+        true,
+        300 + 600 * 200,
+        Mode::Released,
+    );
+    let cells = (nx + 2) * (ny + 2);
+    let page = 4096;
+    let before = la.memory_arrays();
+    let get = |v: &[(&'static str, usize, Option<usize>)], name: &str| {
+        *v.iter()
+            .find(|a| a.0 == name)
+            .unwrap_or_else(|| panic!("{name} listed"))
+    };
+    for name in ["u", "u_t", "t_ref", "mode", "threshold at onset"] {
+        let (_, bytes, res) = get(&before, name);
+        assert_eq!(bytes, cells * 8, "{name}");
+        let res = res.expect("mincore on Linux");
+        assert!(res <= bytes + 2 * page, "{name}: {res} resident of {bytes}");
+    }
+    // u and u_t are written for every block at construction
+    assert!(get(&before, "u").2.unwrap() >= cells * 8 - 2 * page);
+    for name in ["su", "ku", "a_end"] {
+        let (_, bytes, res) = get(&before, name);
+        assert_eq!(bytes, cells * 8, "{name}");
+        assert!(res.unwrap() <= 2 * page, "{name} unwritten: {res:?}");
+    }
+    la.run(2.0, usize::MAX, u64::MAX).unwrap();
+    let after = la.memory_arrays();
+    let (_, slips, res) = get(&after, "catalog: slips");
+    assert!(!la.catalog.slips.is_empty());
+    assert_eq!(
+        slips,
+        la.catalog.slips.capacity() * std::mem::size_of::<crate::chain::catalog::SlipRecord>()
+    );
+    assert!(res.unwrap() >= (la.catalog.slips.len() * 64).saturating_sub(page));
+    // the scratch was written where the rupture slid
+    assert!(get(&after, "su").2.unwrap() > 4 * page);
+}
