@@ -357,6 +357,31 @@ fn engine(size: usize, local: bool) -> (f64, f64, u64, u64, u64, f64) {
     la.run(rupture_end(size), usize::MAX, u64::MAX).unwrap();
     let s = cpu_seconds() - t;
     let c = la.counters;
+    if local {
+        // where local events' block-steps go: the runs' passes in steps without
+        // switches, their first and later passes in steps with switches, the components
+        let l = la.local_stats();
+        let share = |x: u64| 100.0 * x as f64 / c.block_steps as f64;
+        println!(
+            "local events' block-steps: quiet steps {} ({:.1} %), first passes {} ({:.1} \
+             %), later passes {} ({:.1} %), components {} ({:.1} %) in {} sub-steps; {} \
+             steps with switches, {} passes, {} components, {} members, {} fallbacks",
+            l.quiet_block_steps,
+            share(l.quiet_block_steps),
+            l.first_block_steps,
+            share(l.first_block_steps),
+            l.later_block_steps,
+            share(l.later_block_steps),
+            l.component_block_steps,
+            share(l.component_block_steps),
+            l.component_substeps,
+            l.event_steps,
+            l.passes,
+            l.components,
+            l.members,
+            l.fallbacks,
+        );
+    }
     (
         c.block_steps as f64 / s,
         c.block_steps as f64 / c.steps as f64,

@@ -438,7 +438,9 @@ impl ChainEngine {
         self.inner.local_events_unavailable()
     }
 
-    /// What the local events did: {event_steps, passes, components, fallbacks}.
+    /// What the local events did: {event_steps, passes, components, fallbacks, and the
+    /// block-steps split: quiet_block_steps, first_block_steps, later_block_steps,
+    /// component_block_steps, component_substeps, members}.
     fn local_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.inner.local_stats();
         let d = PyDict::new(py);
@@ -446,6 +448,12 @@ impl ChainEngine {
         d.set_item("passes", s.passes)?;
         d.set_item("components", s.components)?;
         d.set_item("fallbacks", s.fallbacks)?;
+        d.set_item("quiet_block_steps", s.quiet_block_steps)?;
+        d.set_item("first_block_steps", s.first_block_steps)?;
+        d.set_item("later_block_steps", s.later_block_steps)?;
+        d.set_item("component_block_steps", s.component_block_steps)?;
+        d.set_item("component_substeps", s.component_substeps)?;
+        d.set_item("members", s.members)?;
         Ok(d)
     }
 

@@ -48,7 +48,7 @@
 
 use super::events::{self, Hermite};
 use super::geometry::{Beyond, Geometry};
-use super::integrator::StepIntegrals;
+use super::integrator::{StepIntegrals, Stepper};
 use super::medium::{Blocks, Medium};
 use super::sources::Cause;
 use super::state::State;
@@ -61,6 +61,27 @@ const NONE: u32 = u32::MAX;
 /// Most rounds (components grown, runs redone) in one step before the step falls back
 /// to the global engine's cut.
 const MAX_ROUNDS: usize = 64;
+
+/// The later passes over the runs step only the blocks within this many hops of a member
+/// ([`Engine::later_pass`]): 2 hops where their result can differ from the first pass's,
+/// 2 more for the reach of the stale values just outside.
+const NEAR: u8 = 4;
+
+/// A cell more than NEAR hops from every member.
+const UNSEEN: u8 = u8::MAX;
+
+/// The plain forms of the shortcuts, for the tests that check that the shortcuts give
+/// the same bits.
+#[cfg(test)]
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Plain {
+    /// The later passes over every run, not only near the members.
+    pub whole_pass: bool,
+    /// Every sliding block's acceleration recomputed after a step with switches.
+    pub all_accel: bool,
+    /// The runs copied back to the step's start before a later pass.
+    pub copy_back: bool,
+}
 
 /// A switch applied inside a component, for the catalog.
 #[derive(Debug, Clone, Copy)]
@@ -182,6 +203,25 @@ pub(crate) struct Local {
     scratch: Scratch,
     /// Whether the last step's components hold the dense output of its members.
     dense_valid: bool,
+    /// The later pass's region ([`Engine::later_pass`]): the cells within NEAR hops of a
+    /// member (sorted), the last layer found and the next, the run blocks among them
+    /// as runs, those 3 or 4 hops away, and their values after the first pass.
+    /// Hops from the nearest member of each padded cell (UNSEEN: more than NEAR),
+    /// sized on first use; `seen` the cells marked.
+    hop: Vec<u8>,
+    seen: Vec<usize>,
+    layer: Vec<usize>,
+    next: Vec<usize>,
+    near: Vec<usize>,
+    near_runs: Vec<(usize, usize)>,
+    band: Vec<usize>,
+    /// The stuck blocks within 3 hops of a member next to a run (the later pass's
+    /// search for slips).
+    near_stuck: Vec<usize>,
+    saved: Vec<f64>,
+    /// The plain forms of the shortcuts (tests).
+    #[cfg(test)]
+    pub(crate) plain: Plain,
     /// Counters: steps with switches, rounds, fallbacks to the global cut.
     pub stats: LocalStats,
 }
@@ -197,6 +237,19 @@ pub struct LocalStats {
     pub components: u64,
     /// Steps handed to the global cut (too many rounds).
     pub fallbacks: u64,
+    /// Block-steps of the runs' passes in steps without switches.
+    pub quiet_block_steps: u64,
+    /// Block-steps of the runs' first passes in steps with switches.
+    pub first_block_steps: u64,
+    /// Block-steps of the runs' later passes (the second, and more when a component
+    /// grows), the members out.
+    pub later_block_steps: u64,
+    /// Block-steps of the components' sub-steps (of the components committed).
+    pub component_block_steps: u64,
+    /// The components' sub-steps (of the components committed).
+    pub component_substeps: u64,
+    /// Members, summed over the steps with switches.
+    pub members: u64,
 }
 
 /// The global pass's data of a sliding block over [t0, t0 + h]: its quintic Hermite
@@ -898,6 +951,12 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         self.local.on
     }
 
+    /// Take the plain forms of the local events' shortcuts (tests: the same bits).
+    #[cfg(test)]
+    pub(crate) fn set_local_plain(&mut self, plain: Plain) {
+        self.local.plain = plain;
+    }
+
     /// What the local events did so far.
     pub fn local_stats(&self) -> LocalStats {
         self.local.stats
@@ -951,10 +1010,26 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
 
     /// Every switch in the step [t0, t0 + h] just taken by the runs: the blocks that come
     /// to rest and the stuck blocks next to the runs that cross a threshold (not those
-    /// next to a member: their component watches them), appended to `out`.
-    fn detect_all(&self, t0: f64, h: f64, cands: &mut Vec<usize>, out: &mut Vec<usize>) {
+    /// next to a member: their component watches them), appended to `out`. With `near`
+    /// (after a later pass near the members, [`Engine::later_pass`]) only the run blocks
+    /// within NEAR hops of a member and the stuck blocks within 3 hops are searched: the
+    /// others' data (their own and their neighbours') are the first pass's, to the bit,
+    /// in which they had no switch (every block with one is a member).
+    fn detect_all(
+        &self,
+        t0: f64,
+        h: f64,
+        cands: &mut Vec<usize>,
+        out: &mut Vec<usize>,
+        near: bool,
+    ) {
         let v = self.cfg.v;
-        for &(a, b) in &self.st.runs {
+        let runs = if near {
+            &self.local.near_runs
+        } else {
+            &self.st.runs
+        };
+        for &(a, b) in runs {
             cands.clear();
             events::rest_candidates(
                 self.simd,
@@ -983,7 +1058,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                     out.push(p);
                 }
             }
-            if !G::FRONTIER {
+            if !G::FRONTIER && !near {
                 for (q, _, _) in self.st.geo.around_run(a, b) {
                     if let Some(p) = self.st.resolve(q) {
                         self.stuck_switch(p, t0, h, out);
@@ -991,7 +1066,11 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 }
             }
         }
-        if G::FRONTIER {
+        if near {
+            for &p in &self.local.near_stuck {
+                self.stuck_switch(p, t0, h, out);
+            }
+        } else if G::FRONTIER {
             // the stuck blocks next to the runs from their lists (../frontier.rs: the
             // cells the walk around the runs visits; `out` is sorted below, so the order
             // of the visit does not matter)
@@ -1249,24 +1328,168 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
     }
 
+    /// A later pass over the runs (module docs, step 4; the members out of the runs, their
+    /// values in `State::ext`), from the start state the first pass saved.
+    ///
+    /// Only the run blocks within NEAR = 4 hops of a member are stepped. Why that gives
+    /// the bits of a pass over every run: the pass differs from the first only in the
+    /// members' values at the stages (and their being out of the runs). In RK4 a block's
+    /// stage-2 values u0 + h/2 u_t0, u_t0 + h/2 a0 read no neighbour (a0, at t0, is the
+    /// same in both passes); its stage-2 acceleration reads its neighbours' stage-2 u,
+    /// so it differs only next to a member (1 hop); stage 3's u_t = u_t0 + h/2 a2 then
+    /// differs within 1 hop, its u (u0 + h/2 of stage 2's u_t) nowhere, so a3 within 1
+    /// hop; stage 4's u, u_t within 1 hop, a4 (reading the neighbours' stage-4 u) within
+    /// 2; the new u within 1 hop, u_t and the end accelerations within 2. So every block
+    /// 3 or more hops from all members ends the pass with the first pass's values, to the
+    /// bit, as do its stage values and books. The blocks stepped read the stage
+    /// buffers just outside them (5 hops), which hold the first pass's last stage values,
+    /// not this pass's: by the same count that error reaches 2 hops in, to the blocks 3
+    /// and 4 hops from the members, whose values after the first pass (the state, the
+    /// end accelerations, every stage buffer) are saved before and put back after. The
+    /// hops are counted through every cell (stuck ones and periodic wraps included: a
+    /// superset of the paths the coupling takes).
+    /// Returns whether only the blocks near the members were stepped (then
+    /// [`Engine::detect_all`] searches only near them).
+    fn later_pass(&mut self, t0: f64, h: f64) -> bool {
+        #[cfg(test)]
+        let whole = self.local.plain.whole_pass;
+        #[cfg(not(test))]
+        let whole = false;
+        if whole || !matches!(self.rk, Stepper::Rk4(_)) {
+            self.do_step(t0, h, true);
+            self.local.stats.later_block_steps += self.st.n_active as u64;
+            return false;
+        }
+        self.near_members();
+        let Stepper::Rk4(rk) = &mut self.rk else {
+            unreachable!()
+        };
+        // the first pass's values at the band (3 and 4 hops out)
+        let l = &mut self.local;
+        l.saved.clear();
+        {
+            let bufs = rk.buffers_mut();
+            for &p in &l.band {
+                l.saved.push(self.st.u[p]);
+                l.saved.push(self.st.w[p]);
+                l.saved.push(self.a_end[p]);
+                for b in bufs.iter() {
+                    l.saved.push(b[p]);
+                }
+            }
+        }
+        let near = l.near.len();
+        let runs = std::mem::replace(&mut self.st.runs, std::mem::take(&mut l.near_runs));
+        let active = std::mem::replace(&mut self.st.n_active, near);
+        self.do_step(t0, h, true);
+        self.local.near_runs = std::mem::replace(&mut self.st.runs, runs);
+        self.st.n_active = active;
+        self.local.stats.later_block_steps += near as u64;
+        let Stepper::Rk4(rk) = &mut self.rk else {
+            unreachable!()
+        };
+        let l = &mut self.local;
+        let mut bufs = rk.buffers_mut();
+        let per = 3 + bufs.len();
+        for (k, &p) in l.band.iter().enumerate() {
+            let s = &l.saved[k * per..(k + 1) * per];
+            self.st.u[p] = s[0];
+            self.st.w[p] = s[1];
+            self.a_end[p] = s[2];
+            for (b, &x) in bufs.iter_mut().zip(&s[3..]) {
+                b[p] = x;
+            }
+        }
+        true
+    }
+
+    /// The run blocks within NEAR hops of a member: `near` (sorted), `near_runs` (the
+    /// same as runs), `band` (those 3 or more hops away); `near_stuck`, the stuck blocks
+    /// within 3 hops next to a run.
+    fn near_members(&mut self) {
+        let st = &self.st;
+        let l = &mut self.local;
+        if l.hop.len() != st.geo.cells() {
+            l.hop = vec![UNSEEN; st.geo.cells()];
+        }
+        let mem_of = &l.mem_of;
+        let in_runs = |r: usize| st.sliding(r) && mem_of[r] == NONE;
+        for &p in &l.seen {
+            l.hop[p] = UNSEEN;
+        }
+        l.seen.clear();
+        for &p in &l.members {
+            l.hop[p] = 0;
+        }
+        l.seen.extend_from_slice(&l.members);
+        l.layer.clear();
+        l.layer.extend_from_slice(&l.members);
+        l.near.clear();
+        l.band.clear();
+        l.near_stuck.clear();
+        for hop in 1..=NEAR {
+            l.next.clear();
+            for &p in &l.layer {
+                for q in st.geo.neighbours(p) {
+                    if let Some(r) = st.resolve(q) {
+                        if l.hop[r] == UNSEEN {
+                            l.hop[r] = hop;
+                            l.next.push(r);
+                        }
+                    }
+                }
+            }
+            l.seen.extend_from_slice(&l.next);
+            for &r in &l.next {
+                if in_runs(r) {
+                    l.near.push(r);
+                    if hop >= 3 {
+                        l.band.push(r);
+                    }
+                } else if hop <= 3
+                    && !st.sliding(r)
+                    && st
+                        .geo
+                        .neighbours(r)
+                        .into_iter()
+                        .any(|q| st.resolve(q).is_some_and(in_runs))
+                {
+                    l.near_stuck.push(r);
+                }
+            }
+            std::mem::swap(&mut l.layer, &mut l.next);
+        }
+        l.near.sort_unstable();
+        l.near_runs.clear();
+        for &p in &l.near {
+            match l.near_runs.last_mut() {
+                Some(last) if last.1 == p => last.1 = p + 1,
+                _ => l.near_runs.push((p, p + 1)),
+            }
+        }
+    }
+
     /// One step of length h from t0 (capped at t_cap) with local events (module docs).
     /// Returns false, with the state back at t0, when the step is left to the global cut.
     pub(super) fn local_step(&mut self, t0: f64, h: f64, t_cap: f64) -> Result<bool> {
         self.local.clear();
+        let first = self.st.n_active as u64;
         self.do_step(t0, h, false);
         let mut cands = std::mem::take(&mut self.scratch.cands);
         let mut found = std::mem::take(&mut self.scratch.test);
         found.clear();
-        self.detect_all(t0, h, &mut cands, &mut found);
+        self.detect_all(t0, h, &mut cands, &mut found, false);
         if found.is_empty() {
             self.scratch.cands = cands;
             self.scratch.test = found;
             let integ = self.rk.books(&self.st, &self.blk, &self.w0, h);
             self.finish_step(t0, h, t_cap, integ, Vec::new(), None)?;
+            self.local.stats.quiet_block_steps += first;
             return Ok(true);
         }
         self.local.stats.event_steps += 1;
         self.local.stats.passes += 1;
+        self.local.stats.first_block_steps += first;
         let mut rounds = 0usize;
         let integ = loop {
             rounds += 1;
@@ -1297,8 +1520,13 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             if !ok {
                 break None;
             }
-            // the runs again, without the members, reading them at the stage times
-            self.restore_runs();
+            // the runs again, without the members, reading them at the stage times, from
+            // the start state the first pass saved (a redo: no copy back; the members'
+            // own u, u_t are not read in the pass, `State::ext` stands for them)
+            #[cfg(test)]
+            if self.local.plain.copy_back {
+                self.restore_runs();
+            }
             self.take_out_members();
             self.st.ext.clear();
             for c in &self.local.comps {
@@ -1307,9 +1535,9 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 }
             }
             self.st.ext_t1 = t0 + h;
-            self.do_step(t0, h, false);
+            let near = self.later_pass(t0, h);
             self.local.stats.passes += 1;
-            self.detect_all(t0, h, &mut cands, &mut found);
+            self.detect_all(t0, h, &mut cands, &mut found, near);
             if found.is_empty() {
                 break Some(self.rk.books(&self.st, &self.blk, &self.w0, h));
             }
@@ -1360,6 +1588,9 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         self.counters.block_steps += block_steps;
         self.counters.steps += substeps;
+        self.local.stats.component_block_steps += block_steps;
+        self.local.stats.component_substeps += substeps;
+        self.local.stats.members += self.local.members.len() as u64;
         if !(integ.u.is_finite() && integ.dry.is_finite() && integ.visc.is_finite()) {
             return Err(Error::NoConvergence {
                 what: "chain integration",
@@ -1438,9 +1669,23 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             }
             self.counters.switches += 1;
         }
+        // the accelerations at t1: the last pass wrote those of the runs' blocks, their
+        // neighbours among the members read at t1 from `State::ext`, i.e. the members'
+        // values just committed; so only the members (whose equations or values came
+        // from their components) and, as a safeguard, their neighbours are recomputed at
+        // the next step (`Engine::integrate_step`), the same bits as all of them
         self.a_valid = recs.is_empty();
-        self.a_partial = false;
-        self.a_time = f64::NAN;
+        self.a_partial = !recs.is_empty();
+        #[cfg(test)]
+        if self.local.plain.all_accel {
+            self.a_partial = false;
+        }
+        self.a_fix.clear();
+        if self.a_partial {
+            self.a_fix.extend_from_slice(&self.local.members);
+        }
+        // (a step cut at t_cap or at the last stick ends elsewhere: all recomputed)
+        self.a_time = if self.a_partial { t0 + h } else { f64::NAN };
         if self.st.n_active == 0 {
             // everything stuck since the last switch: the step ends there (the event
             // closes at its last stick, as with the global cut)

@@ -49,6 +49,8 @@ use events::{Hermite, SlipQueue};
 use geometry::{Beyond, Geometry, Line};
 use integrator::{Method, Simd, Stepper};
 pub use local_events::LocalStats;
+#[cfg(test)]
+pub(crate) use local_events::Plain;
 use medium::{Blocks, Medium, Uniform};
 use sources::{Cause, Source, View};
 use state::State;

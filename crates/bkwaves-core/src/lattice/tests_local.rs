@@ -202,3 +202,184 @@ fn a_restored_checkpoint_continues_bit_for_bit_with_local_events() {
     let global = loaded(0.05, &Periodic, &Free, false);
     assert!(build().restore(&global.checkpoint()).is_err());
 }
+
+/// Everything a run gives but its block-step count (which the shortcuts lower).
+fn outcome_but_work<G: crate::chain::geometry::Geometry>(
+    e: &crate::chain::Engine<G, Coulomb>,
+) -> String {
+    let mut c = e.counters;
+    c.block_steps = 0;
+    format!(
+        "{:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
+        e.u(),
+        e.u_t(),
+        e.modes(),
+        e.catalog.slips,
+        e.catalog.events,
+        e.ledger,
+        c,
+        e.energy()
+    )
+}
+
+/// The local events' block-steps split (quiet steps, first passes, later passes,
+/// components) adds up to the engine's count.
+fn split_adds_up<G: crate::chain::geometry::Geometry>(e: &crate::chain::Engine<G, Coulomb>) {
+    let s = e.local_stats();
+    assert_eq!(s.fallbacks, 0, "{s:?}");
+    assert_eq!(
+        s.quiet_block_steps + s.first_block_steps + s.later_block_steps + s.component_block_steps,
+        e.counters.block_steps,
+        "{s:?}"
+    );
+}
+
+#[test]
+fn the_local_shortcuts_give_the_plain_forms_bits() {
+    // the later passes near the members only (chain/local_events.rs, `later_pass`: a
+    // block 3 or more hops from every member ends the pass with the first pass's values),
+    // the later passes from the saved start state (no copy back) and the accelerations
+    // after a step with switches recomputed only at the members and their neighbours:
+    // each against its plain form, and all three at once, on ruptures with every kind of
+    // boundary (periodic wraps, walls, free edges), under loading with viscous friction
+    // and backward slips, and on a chain: the same state, catalog, books and counters but
+    // the block-steps, which the near pass lowers
+    use crate::chain::Chain;
+    use crate::chain::Plain;
+    let fixed = Fixed {
+        left: 0.2,
+        right: -0.1,
+    };
+    let all = Plain {
+        whole_pass: true,
+        all_accel: true,
+        copy_back: true,
+    };
+    let plains = [
+        all,
+        Plain {
+            whole_pass: true,
+            ..Plain::default()
+        },
+        Plain {
+            all_accel: true,
+            ..Plain::default()
+        },
+        // (a copy back is a form of the whole pass: the near pass leaves the blocks it
+        // does not step with the first pass's values, which a copy back would undo)
+        Plain {
+            copy_back: true,
+            whole_pass: true,
+            ..Plain::default()
+        },
+    ];
+    // each plain form against the shortcuts (the copy back against the whole pass
+    // without it), counting every block-step or all but them
+    let against = |j: usize| if j == 3 { plains[1] } else { Plain::default() };
+    type Case<'a> = (&'a dyn Boundary, &'a dyn Boundary, f64, f64, f64);
+    let cases: [Case; 4] = [
+        (&Free, &Free, 0.0, 0.0, f64::INFINITY),
+        (&Periodic, &fixed, 0.02, 0.03, 1.5),
+        (&fixed, &Periodic, 0.01, 0.05, f64::INFINITY),
+        (&Periodic, &Periodic, 0.03, 0.04, 0.8),
+    ];
+    let (nx, ny) = (40, 30);
+    for (k, &(bx, by, v, rough, beta)) in cases.iter().enumerate() {
+        let run = |plain: Plain| {
+            let u0: Vec<f64> = (0..nx * ny)
+                .map(|q| 0.6 + rough * ((0.37 * q as f64).sin() + (1.3 * q as f64).cos()))
+                .collect();
+            let cfg = ChainConfig {
+                dx: 0.25,
+                v,
+                step: 0.1,
+            };
+            let spec = LatticeSpec {
+                nx,
+                ny,
+                dy: 0.3,
+                x: bx,
+                y: by,
+            };
+            let fr = Coulomb::new(0.45, beta).unwrap();
+            let mut la = Lattice::lattice(cfg, spec, fr, Uniform, &u0, None).unwrap();
+            la.set_local_events(true);
+            la.set_local_plain(plain);
+            la.add_trigger(Trigger {
+                t: 0.0,
+                block: nx / 3 + nx * (ny / 2),
+                kind: TriggerKind::Kick { du_t: -2.0 },
+            })
+            .unwrap();
+            la.run(if v > 0.0 { 40.0 } else { 10.0 }, usize::MAX, u64::MAX)
+                .unwrap();
+            split_adds_up(&la);
+            la
+        };
+        let shortcuts = run(Plain::default());
+        let s = shortcuts.local_stats();
+        assert!(
+            shortcuts.counters.switches > 1000,
+            "case {k}: {:?}",
+            shortcuts.counters
+        );
+        assert!(s.event_steps > 100, "case {k}: {s:?}");
+        for (j, &plain) in plains.iter().enumerate() {
+            let old = run(plain);
+            let new = if j == 3 {
+                run(against(j))
+            } else {
+                shortcuts.clone()
+            };
+            assert_eq!(
+                outcome_but_work(&old),
+                outcome_but_work(&new),
+                "case {k}, plain {j}"
+            );
+            let (o, s) = (old.local_stats(), new.local_stats());
+            if plain.whole_pass && !against(j).whole_pass {
+                // (measured: the later passes 5 to 25 times fewer block-steps)
+                assert!(
+                    2 * s.later_block_steps < o.later_block_steps,
+                    "case {k}: {s:?} {o:?}"
+                );
+                assert!(new.counters.block_steps < old.counters.block_steps);
+            } else {
+                assert_eq!(old.counters, new.counters, "case {k}, plain {j}");
+            }
+        }
+    }
+    // a loaded chain with local events (the walk around the runs, no frontier lists)
+    let n = 600;
+    let u0: Vec<f64> = (0..n)
+        .map(|i| 0.5 + 0.3 * (0.01 * i as f64).sin() + 0.1 * (0.37 * i as f64).cos())
+        .collect();
+    let cfg = ChainConfig {
+        dx: 0.1,
+        v: 0.01,
+        step: 0.05,
+    };
+    let fr = Coulomb::new(0.3, f64::INFINITY).unwrap();
+    let chain = |plain: Plain| {
+        let mut ch = Chain::new(cfg, fr, &Free, &u0, None).unwrap();
+        ch.set_local_events(true);
+        ch.set_local_plain(plain);
+        ch.run(150.0, usize::MAX, u64::MAX).unwrap();
+        split_adds_up(&ch);
+        ch
+    };
+    let new = chain(Plain::default());
+    assert!(
+        new.local_stats().event_steps > 100,
+        "{:?}",
+        new.local_stats()
+    );
+    for (j, &plain) in plains.iter().enumerate() {
+        let new = chain(against(j));
+        assert_eq!(
+            outcome_but_work(&chain(plain)),
+            outcome_but_work(&new),
+            "plain {j}"
+        );
+    }
+}
