@@ -358,29 +358,7 @@ fn engine(size: usize, local: bool) -> (f64, f64, u64, u64, u64, f64) {
     let s = cpu_seconds() - t;
     let c = la.counters;
     if local {
-        // where local events' block-steps go: the runs' passes in steps without
-        // switches, their first and later passes in steps with switches, the components
-        let l = la.local_stats();
-        let share = |x: u64| 100.0 * x as f64 / c.block_steps as f64;
-        println!(
-            "local events' block-steps: quiet steps {} ({:.1} %), first passes {} ({:.1} \
-             %), later passes {} ({:.1} %), components {} ({:.1} %) in {} sub-steps; {} \
-             steps with switches, {} passes, {} components, {} members, {} fallbacks",
-            l.quiet_block_steps,
-            share(l.quiet_block_steps),
-            l.first_block_steps,
-            share(l.first_block_steps),
-            l.later_block_steps,
-            share(l.later_block_steps),
-            l.component_block_steps,
-            share(l.component_block_steps),
-            l.component_substeps,
-            l.event_steps,
-            l.passes,
-            l.components,
-            l.members,
-            l.fallbacks,
-        );
+        split(&la);
     }
     (
         c.block_steps as f64 / s,
@@ -390,6 +368,33 @@ fn engine(size: usize, local: bool) -> (f64, f64, u64, u64, u64, f64) {
         c.switches,
         s,
     )
+}
+
+/// Where local events' block-steps went: the runs' passes in steps without switches,
+/// their first and later passes in steps with switches, the components' sub-steps.
+fn split(la: &Lattice<Coulomb>) {
+    let c = la.counters;
+    let l = la.local_stats();
+    let share = |x: u64| 100.0 * x as f64 / c.block_steps as f64;
+    println!(
+        "local events' block-steps: quiet steps {} ({:.1} %), first passes {} ({:.1} \
+             %), later passes {} ({:.1} %), components {} ({:.1} %) in {} sub-steps; {} \
+             steps with switches, {} passes, {} components, {} members, {} fallbacks",
+        l.quiet_block_steps,
+        share(l.quiet_block_steps),
+        l.first_block_steps,
+        share(l.first_block_steps),
+        l.later_block_steps,
+        share(l.later_block_steps),
+        l.component_block_steps,
+        share(l.component_block_steps),
+        l.component_substeps,
+        l.event_steps,
+        l.passes,
+        l.components,
+        l.members,
+        l.fallbacks,
+    );
 }
 
 /// The time average of the number of sliding blocks over the quadrant's rupture, from
@@ -723,6 +728,9 @@ fn main() {
             if local { "local" } else { "global" },
             la.local_stats(),
         );
+        if local {
+            split(&la);
+        }
     }
 }
 

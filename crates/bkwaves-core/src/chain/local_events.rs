@@ -31,15 +31,18 @@
 //!    order of the light cone's); a stuck block next to the component that crosses its
 //!    threshold, or a switch with a sliding neighbour outside, grows the component and
 //!    redoes it;
-//! 4. the runs without the members are stepped again, reading the members' values at the
-//!    stage times (t0 + h/2, t1) from the components (`State::ext`), and the switches of
-//!    the runs are located again: a new one (a crossing the first pass did not see) adds
-//!    members and goes back to 3;
+//! 4. the run blocks near the members are stepped again ([`Engine::later_pass`]: within
+//!    4 hops, from the start state the first pass saved; a block 3 or more hops from
+//!    every member would end the pass with the first pass's values to the bit), reading
+//!    the members' values at the stage times (t0 + h/2, t1) from the components
+//!    (`State::ext`), and the switches near the members are located again: a new one (a
+//!    crossing the first pass did not see) adds members and goes back to 3;
 //! 5. the books are the runs' plus the components', the switches are entered in the
 //!    catalog in time order, and the state is at t1.
 //!
 //! A step without switches is the global engine's step, to the bit. The cost of a step
-//! with switches is two passes over the sliding blocks plus the components' sub-steps,
+//! with switches is one pass over the sliding blocks, a second over the few near its
+//! switches, and the components' sub-steps,
 //! (switch count) x (a few blocks) x (a few sub-steps): O(area) for a rupture, not
 //! O(area x perimeter). The global engine stays selectable
 //! ([`Engine::set_local_events`]); an engine starts with the global cut, and the Python
