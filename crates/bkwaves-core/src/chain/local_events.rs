@@ -70,8 +70,11 @@ const MAX_ROUNDS: usize = 64;
 /// 2 more for the reach of the stale values just outside.
 const NEAR: u8 = 4;
 
-/// A cell more than NEAR hops from every member.
-const UNSEEN: u8 = u8::MAX;
+/// A cell more than NEAR hops from every member (0: the map starts as zero pages, only
+/// those written near members become resident).
+const UNSEEN: u8 = 0;
+/// A cell within NEAR hops of a member.
+const SEEN: u8 = 1;
 
 /// The plain forms of the shortcuts, for the tests that check that the shortcuts give
 /// the same bits.
@@ -209,8 +212,8 @@ pub(crate) struct Local {
     /// The later pass's region ([`Engine::later_pass`]): the cells within NEAR hops of a
     /// member (sorted), the last layer found and the next, the run blocks among them
     /// as runs, those 3 or 4 hops away, and their values after the first pass.
-    /// Hops from the nearest member of each padded cell (UNSEEN: more than NEAR),
-    /// sized on first use; `seen` the cells marked.
+    /// Per padded cell, SEEN if within NEAR hops of a member, else UNSEEN; sized on
+    /// first use; `seen` the cells marked.
     hop: Vec<u8>,
     seen: Vec<usize>,
     layer: Vec<usize>,
@@ -1422,7 +1425,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         }
         l.seen.clear();
         for &p in &l.members {
-            l.hop[p] = 0;
+            l.hop[p] = SEEN;
         }
         l.seen.extend_from_slice(&l.members);
         l.layer.clear();
@@ -1436,7 +1439,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 for q in st.geo.neighbours(p) {
                     if let Some(r) = st.resolve(q) {
                         if l.hop[r] == UNSEEN {
-                            l.hop[r] = hop;
+                            l.hop[r] = SEEN;
                             l.next.push(r);
                         }
                     }
@@ -1722,6 +1725,11 @@ impl Local {
         &self.mem_of
     }
 
+    /// The later pass's marks per cell (measurements: their memory, ../release.rs).
+    pub(crate) fn near_map(&self) -> &[u8] {
+        &self.hop
+    }
+
     /// Bytes allocated by the lists per member and the components' buffers, those of
     /// the pool included (measurements: their memory, ../release.rs).
     pub(crate) fn buffer_bytes(&self) -> usize {
@@ -1760,6 +1768,14 @@ impl Local {
             + cap(&self.onset0)
             + cap(&self.out)
             + cap(&self.pos)
+            + cap(&self.seen)
+            + cap(&self.layer)
+            + cap(&self.next)
+            + cap(&self.near)
+            + cap(&self.near_runs)
+            + cap(&self.band)
+            + cap(&self.near_stuck)
+            + cap(&self.saved)
             + self.comps.iter().map(comp).sum::<usize>()
             + self.pool.iter().map(comp).sum::<usize>()
             + (self.comps.capacity() - self.comps.len() + self.pool.capacity() - self.pool.len())

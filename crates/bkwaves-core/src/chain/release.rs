@@ -235,6 +235,8 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         out.push(of("frontier: ghost list", ghosts, ghosts.len()));
         let mem = self.local.member_map();
         out.push(of("local events: member map", mem, mem.len()));
+        let near = self.local.near_map();
+        out.push(of("local events: near marks", near, near.len()));
         out.push(("local events: buffers", self.local.buffer_bytes(), None));
         out.push(("runs", st.runs.capacity() * 16, None));
         let cat = &self.catalog;
