@@ -264,8 +264,8 @@ fn dead_scratch_pages_are_given_back() {
 fn the_arrays_and_their_resident_bytes_are_listed() {
     // Engine::memory_arrays: the five state arrays and the scratch at the padded length,
     // resident within what is allocated (plus the two partial pages at the ends), the
-    // catalog's records at their capacity; the state's pages are resident from the
-    // start (written at construction), the unwritten scratch's are not
+    // catalog's records at their capacity; u and u_t are resident from the start
+    // (written at construction)
     let (nx, ny) = (600, 400);
     let mut la = lattice(
         nx,
@@ -295,10 +295,14 @@ fn the_arrays_and_their_resident_bytes_are_listed() {
     }
     // u and u_t are written for every block at construction
     assert!(get(&before, "u").2.unwrap() >= cells * 8 - 2 * page);
+    // (whether the unwritten scratch is resident before the first step depends on where
+    // the allocator found the memory: fresh pages from the system are not, memory a test
+    // freed earlier in this process may be; the release tests above bound it after
+    // madvise, which does not depend on that)
     for name in ["su", "ku", "a_end"] {
         let (_, bytes, res) = get(&before, name);
         assert_eq!(bytes, cells * 8, "{name}");
-        assert!(res.unwrap() <= 2 * page, "{name} unwritten: {res:?}");
+        assert!(res.unwrap() <= bytes + 2 * page, "{name}: {res:?}");
     }
     la.run(2.0, usize::MAX, u64::MAX).unwrap();
     let after = la.memory_arrays();
