@@ -37,11 +37,25 @@
 //! - the two are iterated (patch, runs, patch, ...) until the patch's values at the stage
 //!   times change by less than `PASS_TOL` (each round trip changes them by ~ (H/dx)^4).
 //!
-//! The patch falls into connected components (parts: no block of one is a neighbour of a
-//! block of another), and each part takes its own sub-steps: a part reads only the runs
-//! and stuck blocks, never another part, so splitting changes no coupling, only which
-//! blocks share the sub-steps of the stiffest (in a plane healing after a rupture the
-//! patch holds hundreds of blocks in several parts; docs/lattice.md).
+//! The patch falls into groups, each with its own sub-steps. A block's class is how much
+//! shorter than step dx its own sub-steps start (log2, from its state at the step's
+//! start, at the least speed over the ground its start acceleration takes it to in the
+//! step); it takes the class of its stiffest neighbour in the patch if that is higher
+//! (the neighbours of a stiff block feel its kink: they share its sub-steps, below); a
+//! group is a connected set of neighbours of one class. So a block near rest and its
+//! sliding neighbours step together, and a block a hundred times farther from rest next
+//! to them no longer takes their sub-steps (in a plane healing after a rupture the patch
+//! holds hundreds of blocks, tens of them near rest at different speeds:
+//! docs/lattice.md). The groups are taken stiffest first, each reading the runs, stuck
+//! blocks and the other groups: a group already stepped in this pass from its dense
+//! output, one not yet stepped from its last pass's (from its Taylor polynomial before
+//! its first); they and the runs are iterated together until no group's stage values
+//! change by more than `PASS_TOL` over (h/dx)^2 (what a neighbour reads changes its
+//! motion by (h/dx)^2 times that). A group's sub-steps are also held short enough for
+//! the weakening of its neighbours in other groups as the spring passes it on
+//! ([`seen_unit`]). A front periodic in y has identical rows: their blocks have one
+//! class, fall into one group, and each row takes the chain's sub-steps
+//! (tests/test_lattice_vw.py).
 //!
 //! The patch includes the stiff block's sliding neighbours because the stiff block's
 //! acceleration jumps from 0 to ~1 within a time ~ v_f ln(1/r), inside a step: a
@@ -100,6 +114,9 @@ pub(crate) struct Onset {
     pub ku: Vec<f64>,
     pub kw: Vec<f64>,
     pub ka: Vec<f64>,
+    /// Per knot and block, what the block's weakening asks of a neighbour's sub-step h:
+    /// the neighbour's time shift through the spring is h^5 times this ([`seen_unit`]).
+    pub kx: Vec<f64>,
     /// The patch's energy flows over the last pass.
     pub books: StepIntegrals,
     /// The earliest rest of a patch block in the last pass (time; infinite if none) and
@@ -225,6 +242,23 @@ fn shift(rw_m: f64, sigma: f64, a: f64, jerk: f64, h: f64) -> f64 {
     h * hn2 * hn2 * rw_m.min(big_a) / (120.0 * big_a)
 }
 
+/// What a sliding block's weakening asks of a neighbour's sub-step h: the time shift
+/// RK4 makes in the neighbour's motion is about h^5 times this. The neighbour feels the
+/// block's u through a spring, two time derivatives below the block's acceleration, so
+/// the fifth derivative of its u_t is that of the block's over (nu dx)^2 (nu the rate of
+/// [`shift`]): the block's own time shift per h^5 ([`shift`] at h = 1, no jerk) over
+/// max(1, (nu dx)^2). A neighbour on its own sub-steps (another group of the patch)
+/// takes them no longer than this allows.
+#[inline(always)]
+fn seen_unit(rw_m: f64, sigma: f64, a: f64, spacing: f64) -> f64 {
+    let nu = (rw_m.max(a.abs())) / sigma;
+    if nu.is_nan() || nu <= 0.0 {
+        return 0.0;
+    }
+    let g = (nu * spacing) * (nu * spacing);
+    shift(rw_m, sigma, a, 0.0, 1.0) / g.max(1.0)
+}
+
 /// The time shift a step may make in a block's motion through its weakening force:
 /// [`SHIFT_TOL`] step^5 dx (RK4's error per step in a Coulomb block's slip time is about
 /// step^5 dx times its derivatives; the onset is held far below it, so that the chain's
@@ -298,10 +332,12 @@ fn accel<G: Geometry, F: Friction, M: Medium>(
     }
 }
 
-/// One pass of the patch over [t0, t0 + h] from its start values (`on.u0`, `on.w0`), with
-/// sub-steps `step` min(dx, 1/rate) that land on t0 + h/2 and t0 + h; `outside(r, t)` the
-/// displacement of a real block r outside the patch. Leaves the end values, the midpoint
-/// values, the dense output, the books and the earliest rest in `on`.
+/// One pass of a group of the patch over [t0, t0 + h] from its start values (`on.u0`,
+/// `on.w0`), with sub-steps `step` min(dx, 1/rate) that land on t0 + h/2 and t0 + h;
+/// `outside(r, t)` the displacement of a real block r outside the group, `nb_limit(p, t,
+/// hf, tol)` the longest sub-step (at most hf) from t that block p's neighbours in other
+/// groups allow. Leaves the end values, the midpoint values, the dense output (with each
+/// knot's [`seen_unit`]), the books and the earliest rest in `on`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
     on: &mut Onset,
@@ -313,6 +349,7 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
     spacing: f64,
     loose: f64,
     outside: impl Fn(usize, f64) -> f64,
+    nb_limit: impl Fn(usize, f64, f64, f64) -> f64,
 ) {
     let n = on.blocks.len();
     let v = st.v;
@@ -323,6 +360,7 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
     on.ku.clear();
     on.kw.clear();
     on.ka.clear();
+    on.kx.clear();
     on.books = StepIntegrals::default();
     on.rest_t = f64::INFINITY;
     on.rest_who.clear();
@@ -333,6 +371,7 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
     on.ku.extend_from_slice(&on.u);
     on.kw.extend_from_slice(&on.w);
     on.ka.extend_from_slice(&on.acc0);
+    push_seen(on, st, blk, &blocks, spacing);
     let h_max = step * spacing;
     let tol = loose * shift_tol(step, spacing);
     // the last sub-step (0: none yet in this pass) and the accelerations at its start;
@@ -379,6 +418,11 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
                 } else {
                     hk
                 };
+            }
+            // no longer than the blocks' neighbours in other groups of the patch allow
+            // (their weakening as the spring passes it on: `seen_unit`)
+            for &p in &blocks {
+                hf = nb_limit(p, t, hf, tol);
             }
             if h_grow > 0.0 {
                 hf = hf.min(GROWTH * h_grow);
@@ -507,6 +551,7 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
             on.ku.extend_from_slice(&on.u);
             on.kw.extend_from_slice(&on.w);
             on.ka.extend_from_slice(&on.acc0);
+            push_seen(on, st, blk, &blocks, spacing);
         }
         if seg == 0 {
             on.mid.copy_from_slice(&on.u);
@@ -518,6 +563,27 @@ pub(crate) fn pass<G: Geometry, F: Friction, M: Medium>(
         on.first_blocks.clone_from(&blocks);
     }
     on.blocks = blocks;
+}
+
+/// Append the knot's [`seen_unit`] of every block (`on.w`, `on.acc0` at the knot) to
+/// `on.kx` (0 for a block past its rest: its motion beyond is not used).
+fn push_seen<G: Geometry, F: Friction, M: Medium>(
+    on: &mut Onset,
+    st: &State<G>,
+    blk: &Blocks<F, M>,
+    blocks: &[usize],
+    spacing: f64,
+) {
+    let v = st.v;
+    for (k, &p) in blocks.iter().enumerate() {
+        let x = if st.dir[p] * (on.w[k] - v) > 0.0 {
+            0.0
+        } else {
+            let (rw, sigma) = blk.fr.weakening(v - on.w[k], st.dir[p], st.onset[p]);
+            seen_unit(rw * blk.med.inv_mass(p), sigma, on.acc0[k], spacing)
+        };
+        on.kx.push(x);
+    }
 }
 
 impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
@@ -654,15 +720,66 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
     fn onset_pass(&mut self, t0: f64, h: f64) -> StepIntegrals {
         let spacing = self.st.geo.spacing();
         let step = self.cfg.step;
+        let v = self.cfg.v;
         let patch = std::mem::take(&mut self.onset.blocks);
-        // the patch's connected components, each with its own sub-steps: two of them
-        // share no neighbour relation, so each reads only the runs and stuck blocks
-        // (as the whole patch did), and the runs read all of them
+        // each block's class: how much shorter than step dx its own sub-steps start
+        // (log2, from its start state, at the least speed over the ground its start
+        // acceleration would take it to in the step)
+        let h_max = step * spacing;
+        let tol = shift_tol(step, spacing);
+        let class: Vec<i32> = patch
+            .iter()
+            .map(|&p| {
+                let (s0, a) = (v - self.st.w[p], self.a_start[p]);
+                let s1 = s0 + a * h;
+                let s = if s0 * s1 <= 0.0 {
+                    0.0
+                } else {
+                    s0.abs().min(s1.abs())
+                };
+                let (rw, sigma) = self.blk.fr.weakening(s, self.st.dir[p], self.st.onset[p]);
+                let rw_m = rw * self.blk.med.inv_mass(p);
+                let nu = rw_m.max(a.abs()) / sigma;
+                if nu.is_nan() || nu <= 0.0 {
+                    return 0;
+                }
+                let hk = h_max.min(Z_MAX * step / nu);
+                let unit = shift(rw_m, sigma, a, 0.0, 1.0);
+                let hk = if unit * hk.powi(5) > tol {
+                    (tol / unit).powf(0.2)
+                } else {
+                    hk
+                };
+                (h_max / hk).log2().floor().clamp(0.0, 60.0) as i32
+            })
+            .collect();
+        // a block takes the class of its stiffest neighbour in the patch if that is
+        // higher: the neighbours of a stiff block share its sub-steps (they feel its
+        // kink through the spring: module docs), as a whole patch did before
+        let class: Vec<i32> = patch
+            .iter()
+            .enumerate()
+            .map(|(i, &p)| {
+                let mut c = class[i];
+                for r in self.st.real_neighbours(p) {
+                    if let Ok(q) = patch.binary_search(&r) {
+                        c = c.max(class[q]);
+                    }
+                }
+                c
+            })
+            .collect();
+        // the patch's groups: connected through neighbours of one class, each with its
+        // own sub-steps, stiffest first. A group reads the runs, stuck blocks and the
+        // other groups (their dense output, or their Taylor polynomial before their first
+        // pass), and they are iterated as the patch and the runs are
         let mut parts = std::mem::take(&mut self.onset.parts);
         let mut comp = vec![usize::MAX; patch.len()];
         let mut n_parts = 0;
         let mut stack = Vec::new();
-        for i in 0..patch.len() {
+        let mut order: Vec<usize> = (0..patch.len()).collect();
+        order.sort_by_key(|&i| (-class[i], i));
+        for &i in &order {
             if comp[i] != usize::MAX {
                 continue;
             }
@@ -677,7 +794,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 blocks.push(patch[j]);
                 for r in self.st.real_neighbours(patch[j]) {
                     if let Ok(q) = patch.binary_search(&r) {
-                        if comp[q] == usize::MAX {
+                        if comp[q] == usize::MAX && class[q] == class[i] {
                             comp[q] = n_parts;
                             stack.push(q);
                         }
@@ -689,20 +806,20 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
         }
         parts.truncate(n_parts);
         let mut coupled = vec![false; n_parts];
-        for (on, c) in parts.iter_mut().zip(coupled.iter_mut()) {
+        for (i, (on, c)) in parts.iter_mut().zip(coupled.iter_mut()).enumerate() {
             on.resize();
+            on.kt.clear();
             for (k, &p) in on.blocks.iter().enumerate() {
                 on.u0[k] = self.st.u[p];
                 on.w0[k] = self.st.w[p];
                 self.u0[p] = self.st.u[p];
                 self.w0[p] = self.st.w[p];
             }
-            // does the part see a sliding block outside the patch (then the two are
-            // iterated)?
+            // does the group see a sliding block outside it (then they are iterated)?
             *c = on.blocks.iter().any(|&p| {
-                self.st
-                    .real_neighbours(p)
-                    .any(|r| self.st.sliding(r) && patch.binary_search(&r).is_err())
+                self.st.real_neighbours(p).any(|r| {
+                    self.st.sliding(r) && patch.binary_search(&r).map_or(true, |q| comp[q] != i)
+                })
             });
         }
         let any_coupled = coupled.iter().any(|&c| c);
@@ -712,22 +829,36 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
         let mut coarse_done = false;
         let mut passes = 0;
         let mut coarse = StepIntegrals::default();
-        // per part, its mid and end values of the last pass
+        // per group, its mid and end values of the last pass
         let mut prev: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); n_parts];
         loop {
             let mut change = 0.0f64;
-            for (i, on) in parts.iter_mut().enumerate() {
+            for i in 0..n_parts {
                 if coarse_done && !coupled[i] {
-                    // (it reads no sliding block outside the patch: the same as before)
+                    // (it reads no sliding block outside it: the same as before)
                     continue;
                 }
+                let mut on = std::mem::take(&mut parts[i]);
                 {
-                    let (st, u0, w0, a0) = (&self.st, &self.u0, &self.w0, &self.a_start);
+                    let (st, blk, u0, w0, a0) =
+                        (&self.st, &self.blk, &self.u0, &self.w0, &self.a_start);
+                    let (parts, patch, comp) = (&parts, &patch, &comp);
+                    // the group of the patch holding real block r, if not this one
+                    let other = |r: usize| -> Option<&Onset> {
+                        let q = patch.binary_search(&r).ok()?;
+                        (comp[q] != i).then(|| &parts[comp[q]])
+                    };
                     let outside = |r: usize, t: f64| -> f64 {
                         if !st.sliding(r) {
                             return st.stuck_u(r, t);
                         }
                         let tau = t - t0;
+                        if let Some(g) = other(r) {
+                            if let Some((u, _)) = g.dense(r, t) {
+                                return u;
+                            }
+                            return u0[r] + tau * (w0[r] + 0.5 * tau * a0[r]);
+                        }
                         if coarse_done {
                             let hu = Hermite {
                                 g0: u0[r],
@@ -740,21 +871,55 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                             st.u[r] + tau * (st.w[r] + 0.5 * tau * a0[r])
                         }
                     };
-                    // the first pass of a coupled part only gives the runs its stage
-                    // values (the next pass replaces them, and checks what the difference
-                    // did to the runs: PASS_TOL): at FIRST_PASS_LOOSE times the tolerance
+                    // the longest sub-step from t (at most hf) that block p's neighbours
+                    // in other groups allow: their `seen_unit` at their knots in it (at
+                    // their start before their first pass)
+                    let nb_limit = |p: usize, t: f64, mut hf: f64, tol: f64| -> f64 {
+                        for r in st.real_neighbours(p) {
+                            let Some(g) = other(r) else { continue };
+                            let lim = |x: f64, hf: f64| -> f64 {
+                                if x * hf.powi(5) > tol {
+                                    (tol / x).powf(0.2)
+                                } else {
+                                    hf
+                                }
+                            };
+                            let n = g.blocks.len();
+                            let nk = g.kt.len();
+                            let k = g.slot(r).expect("a block of the group");
+                            if nk < 2 {
+                                let (rw, sigma) =
+                                    blk.fr.weakening(v - w0[r], st.dir[r], st.onset[r]);
+                                let x = seen_unit(rw * blk.med.inv_mass(r), sigma, a0[r], spacing);
+                                hf = lim(x, hf);
+                                continue;
+                            }
+                            let mut j = g.kt.partition_point(|&x| x <= t).clamp(1, nk - 1) - 1;
+                            hf = lim(g.kx[j * n + k], hf);
+                            while j + 1 < nk && g.kt[j] < t + hf {
+                                j += 1;
+                                hf = lim(g.kx[j * n + k], hf);
+                            }
+                        }
+                        hf
+                    };
+                    // the first pass of a coupled group only gives the runs and the other
+                    // groups its values (the next pass replaces them, and checks what the
+                    // difference did: PASS_TOL): at FIRST_PASS_LOOSE times the tolerance
                     let loose = if coupled[i] && !coarse_done {
                         FIRST_PASS_LOOSE
                     } else {
                         1.0
                     };
-                    pass(on, st, &self.blk, t0, h, step, spacing, loose, outside);
+                    pass(
+                        &mut on, st, blk, t0, h, step, spacing, loose, outside, nb_limit,
+                    );
                 }
                 self.counters.block_steps += on.substeps * on.blocks.len() as u64;
                 let (pm, pe) = &mut prev[i];
                 if coarse_done {
-                    // the runs saw the last pass's values: they are off by about (h/dx)^2
-                    // times the change of this pass
+                    // the runs and the other groups saw the last pass's values: they are
+                    // off by about (h/dx)^2 times the change of this pass
                     for k in 0..on.blocks.len() {
                         change = change
                             .max((on.mid[k] - pm[k]).abs())
@@ -763,6 +928,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 }
                 pm.clone_from(&on.mid);
                 pe.clone_from(&on.u);
+                parts[i] = on;
             }
             if coarse_done {
                 let feedback = change * (h / spacing) * (h / spacing);
