@@ -250,4 +250,6 @@ def test_velocity_weakening_lattice_onsets_are_counted_for_every_row():
         measured = la.run(t_end=t_end, progress=False).counters["block_steps"]
         est = work.block_steps + work.onset_block_steps
         assert 0.5 < est / measured < 2.0, ((nx, ny), est, measured)
-        assert work.onset_block_steps > 2 * work.block_steps  # the onsets are most of it
+        # the onsets are most of it (measured 78 % on 24 x 16; more than 2/3 before the
+        # patch was split into groups of one class, docs/lattice.md)
+        assert work.onset_block_steps > work.block_steps

@@ -46,16 +46,17 @@ def _rupture(shape, params):
 
 def test_the_plane_healing_after_a_rupture_costs_a_bounded_multiple_of_coulomb():
     # the rupture fills the lattice, every block slides, then the plane heals: many
-    # blocks near rest at once, each with its stiff 1/s tail. Each connected part of the
-    # onsets' patch takes its own sub-steps (chain/onset.rs): 38.6x the Coulomb run's
-    # block-steps to t = 5 (when the patch was stepped as one: 64x; on 48 x 32, 84x and
-    # 166x), the same rupture and healing (docs/lattice.md, "Velocity weakening on the
-    # lattice")
+    # blocks near rest at once, each with its stiff 1/s tail. The onsets' patch is split
+    # into groups of one stiffness class, each on its own sub-steps (chain/onset.rs):
+    # 7.8x the Coulomb run's block-steps to t = 5 (each connected part of the patch on
+    # the sub-steps of its stiffest block: 38.6x; the patch as one: 64x; on 48 x 32,
+    # 11.3x, 84x and 166x), the same rupture and healing (docs/lattice.md, "Velocity
+    # weakening on the lattice")
     shape, t_end = (24, 16), 5.0
     plain = _rupture(shape, bk.Params(gamma=0.3, v=0.0, dx=0.1)).run(t_end=t_end, progress=False)
     res = _rupture(shape, _params()).run(t_end=t_end, progress=False)
     ratio = res.counters["block_steps"] / plain.counters["block_steps"]
-    assert ratio < 50, ratio
+    assert ratio < 12, ratio
     # every block slipped, and about as many slips and sticks as with Coulomb friction
     n = shape[0] * shape[1]
     assert np.isfinite(res.first_slip_times()).all()

@@ -533,17 +533,18 @@ class LatticeModel(ChainModel):
         work.steps = plain + ny * located
         work.slips *= ny
         if work.onset_block_steps:
-            # every row's slips have their onsets (the row's count was per row), and in
-            # the plane an onset's patch holds more blocks: measured 2.6-3.1x the chain's
-            # per slip while a rupture runs; the plane's healing after it (hundreds of
-            # blocks near rest at once, sharing their patch's sub-steps) costs more, not
-            # counted (docs/lattice.md, "Velocity weakening on the lattice")
+            # every row's slips have their onsets (the row's count was per row), at
+            # 0.66-0.78x the chain's per slip while a rupture runs (the plane's patch is
+            # split into groups of one stiffness class, each on its own sub-steps); the
+            # plane's healing after it (hundreds of blocks near rest at once) costs
+            # about 3x that per block that sticks, not counted (docs/lattice.md,
+            # "Velocity weakening on the lattice")
             work.onset_block_steps *= ny * LATTICE_ONSET_GAIN
             work.notes = [x for x in work.notes if "onsets' sub-steps" not in x]
             work.notes.append(
                 f"~{work.onset_block_steps:.2g} block-steps in the onsets' sub-steps, "
-                "at least: the healing after a rupture costs more (7.5x more on 48 x 32, "
-                "docs/lattice.md)"
+                "at least: the healing after a rupture adds about 3x that per block that "
+                "sticks (docs/lattice.md)"
             )
         if self.local_events(cfg, run):
             work.steps += 2.0 * work.slips
@@ -552,10 +553,12 @@ class LatticeModel(ChainModel):
 
 
 #: The lattice's onset block-steps per slip over the chain's (``limits.onset_substeps``):
-#: 2.6, 2.9 and 3.1 on ruptures of 24 x 16, 34 x 23 and 48 x 32 blocks at v_f = 1e-4
-#: (dx = 0.1, gamma = 0.3, step 0.05) while the rupture runs (each connected part of the
-#: onsets' patch on its own sub-steps; docs/lattice_vw_cost.json); the healing after it
-#: costs more (docs/lattice.md, "Velocity weakening on the lattice").
-LATTICE_ONSET_GAIN = 2.9
+#: 0.66, 0.73 and 0.78 on ruptures of 24 x 16, 34 x 23 and 48 x 32 blocks at v_f = 1e-4
+#: (dx = 0.1, gamma = 0.3, step 0.05) while the rupture runs (the onsets' patch split
+#: into groups of one stiffness class, each on its own sub-steps; the chain's per-slip
+#: count was measured before that split, when a patch took the sub-steps of its
+#: stiffest block; docs/lattice_vw_cost.json); the healing after it costs about 3x that
+#: per block that sticks (docs/lattice.md, "Velocity weakening on the lattice").
+LATTICE_ONSET_GAIN = 0.72
 
 MODEL = LatticeModel()

@@ -805,8 +805,10 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
             n_parts += 1;
         }
         parts.truncate(n_parts);
-        let mut coupled = vec![false; n_parts];
-        for (i, (on, c)) in parts.iter_mut().zip(coupled.iter_mut()).enumerate() {
+        // per group: does it see a sliding block of the runs, the other groups it sees
+        let mut runs_adj = vec![false; n_parts];
+        let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n_parts];
+        for (i, on) in parts.iter_mut().enumerate() {
             on.resize();
             on.kt.clear();
             for (k, &p) in on.blocks.iter().enumerate() {
@@ -815,14 +817,33 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 self.u0[p] = self.st.u[p];
                 self.w0[p] = self.st.w[p];
             }
-            // does the group see a sliding block outside it (then they are iterated)?
-            *c = on.blocks.iter().any(|&p| {
-                self.st.real_neighbours(p).any(|r| {
-                    self.st.sliding(r) && patch.binary_search(&r).map_or(true, |q| comp[q] != i)
-                })
-            });
+            for &p in &on.blocks {
+                for r in self.st.real_neighbours(p) {
+                    if !self.st.sliding(r) {
+                        continue;
+                    }
+                    match patch.binary_search(&r) {
+                        Ok(q) if comp[q] != i => {
+                            if !adj[i].contains(&comp[q]) {
+                                adj[i].push(comp[q]);
+                            }
+                        }
+                        Ok(_) => {}
+                        Err(_) => runs_adj[i] = true,
+                    }
+                }
+            }
         }
+        // (a group that sees a sliding block outside it is iterated with it)
+        let coupled: Vec<bool> = (0..n_parts)
+            .map(|i| runs_adj[i] || !adj[i].is_empty())
+            .collect();
         let any_coupled = coupled.iter().any(|&c| c);
+        let r2 = (h / spacing) * (h / spacing);
+        // the groups to step in the next pass: all in the first; then those whose inputs
+        // changed by more than PASS_TOL / r2 since they were stepped (what they read
+        // would change their motion by r2 times that)
+        let mut dirty = vec![true; n_parts];
         for &p in &patch {
             self.st.remove_from_runs(p);
         }
@@ -832,12 +853,13 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
         // per group, its mid and end values of the last pass
         let mut prev: Vec<(Vec<f64>, Vec<f64>)> = vec![(Vec::new(), Vec::new()); n_parts];
         loop {
-            let mut change = 0.0f64;
+            // the largest change of a group that the runs see
+            let mut change_runs = 0.0f64;
             for i in 0..n_parts {
-                if coarse_done && !coupled[i] {
-                    // (it reads no sliding block outside it: the same as before)
+                if !dirty[i] {
                     continue;
                 }
+                dirty[i] = false;
                 let mut on = std::mem::take(&mut parts[i]);
                 {
                     let (st, blk, u0, w0, a0) =
@@ -920,10 +942,19 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 if coarse_done {
                     // the runs and the other groups saw the last pass's values: they are
                     // off by about (h/dx)^2 times the change of this pass
+                    let mut change = 0.0f64;
                     for k in 0..on.blocks.len() {
                         change = change
                             .max((on.mid[k] - pm[k]).abs())
                             .max((on.u[k] - pe[k]).abs());
+                    }
+                    if change * r2 > PASS_TOL {
+                        for &j in &adj[i] {
+                            dirty[j] = true;
+                        }
+                        if runs_adj[i] {
+                            change_runs = change_runs.max(change);
+                        }
                     }
                 }
                 pm.clone_from(&on.mid);
@@ -931,11 +962,28 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 parts[i] = on;
             }
             if coarse_done {
-                let feedback = change * (h / spacing) * (h / spacing);
-                if !any_coupled || feedback <= PASS_TOL || passes >= MAX_PASSES {
+                // (the first pass was at the loose tolerance, read the groups after it
+                // and the runs from their Taylor polynomials: every coupled group is
+                // stepped again after it, below)
+                let runs_stale = change_runs * r2 > PASS_TOL;
+                if !any_coupled || passes >= MAX_PASSES || (!runs_stale && !dirty.contains(&true)) {
                     break;
                 }
+                if !runs_stale {
+                    passes += 1;
+                    continue;
+                }
+                // the runs read changed values: step them again; what that changes in
+                // the groups next to them is r2 times what it changes in the runs,
+                // about r2 times change_runs
+                for i in 0..n_parts {
+                    if runs_adj[i] && change_runs * r2 * r2 > PASS_TOL {
+                        dirty[i] = true;
+                    }
+                }
                 self.restore_runs();
+            } else {
+                dirty.copy_from_slice(&coupled);
             }
             self.st.ext.clear();
             for on in &parts {
