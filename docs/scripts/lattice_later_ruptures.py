@@ -237,14 +237,7 @@ def stall_lines(dx, scale, seed, thresholds=STALL_THRESHOLDS):
     the stress met at the meeting lines (phi_0 + v t_r)."""
     from scipy.spatial import cKDTree
 
-    size, v, sigma = fbl.L * scale, fbl.V_LOAD / scale, fbl.SIGMA * scale
-    n = int(round(size / dx))
-    x = np.arange(n) * dx
-    xx, yy = np.meshgrid(x, x)
-    target = fbl.field(xx, yy, size=size, sigma=sigma, centres=centres(seed))
-    la = bk.Lattice((n, n), bk.Params(gamma=fbl.GAMMA, v=v, dx=dx),
-                    u0=fbl.displacement(target, dx), boundary="periodic",
-                    events="local")  # fmt: skip
+    la, n, size, v, target = square_lattice(dx, scale, seed)
     c0 = time.process_time()
     slips = la.run(t_end=(T_SWEEP + T_PULSE) * scale, progress=False).slips
     cpu = time.process_time() - c0
@@ -330,12 +323,10 @@ def stall_lines_table(out):
     return lines
 
 
-def window_times(scale, t_end=None):
-    tw = [(T_SWEEP + k * WINDOW) * scale for k in range(1, N_WINDOWS + 1)]
-    return [q for q in tw if t_end is None or q <= t_end + 1e-9]
-
-
-def lattice_run(dx, scale, seed, t_end):
+def square_lattice(dx, scale, seed):
+    """The loaded square of side ``fbl.L * scale`` at dx, its bumps from ``seed``: the
+    periodic lattice (local events) at the stress field's u0, loaded at
+    ``fbl.V_LOAD / scale``; returns (lattice, n, size, v, target stress)."""
     size, v, sigma = fbl.L * scale, fbl.V_LOAD / scale, fbl.SIGMA * scale
     n = int(round(size / dx))
     x = np.arange(n) * dx
@@ -344,6 +335,16 @@ def lattice_run(dx, scale, seed, t_end):
     la = bk.Lattice((n, n), bk.Params(gamma=fbl.GAMMA, v=v, dx=dx),
                     u0=fbl.displacement(target, dx), boundary="periodic",
                     events="local")  # fmt: skip
+    return la, n, size, v, target
+
+
+def window_times(scale, t_end=None):
+    tw = [(T_SWEEP + k * WINDOW) * scale for k in range(1, N_WINDOWS + 1)]
+    return [q for q in tw if t_end is None or q <= t_end + 1e-9]
+
+
+def lattice_run(dx, scale, seed, t_end):
+    la, n, size, v, target = square_lattice(dx, scale, seed)
     t_snap = (T_SWEEP + T_PULSE) * scale
     c0 = time.process_time()
     first_cycle = la.run(t_end=t_snap, progress=False)
