@@ -959,6 +959,10 @@ def main(argv: list[str] | None = None) -> None:
 
 def _main(argv: list[str], _signals, process: bool) -> None:
     _signals.install_early()  # (again: `python -m bkwaves`, or main() called from code)
+    if process and hasattr(signal, "SIGXFSZ"):
+        # a file past `ulimit -f` is then a failed write (EFBIG: kept, one line), like a
+        # full disk, not the death of the process by SIGXFSZ
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
     # pictures are written to files: draw off-screen unless the user chose a backend
     os.environ.setdefault("MPLBACKEND", "Agg")
     import warnings

@@ -1063,6 +1063,9 @@ class RunWriter:
             if publish:
                 try:
                     _publish(self.path, self.partial, self._replaces, remove, stop)
+                except OSError as e:
+                    e.publishing = True  # (every record is kept: the run can publish again)
+                    raise
                 except PublishStopped:
                     if on_stop is not None:
                         on_stop()
@@ -1194,75 +1197,38 @@ def _merged_nc(blocks_dir: Path):
     return ds
 
 
-def nc_chunks(nx: int, itemsize: int) -> tuple[int, int]:
-    """HDF5 chunk shape (t, x) of a variable of ``nx`` values per record: about
-    NC_CHUNK_BYTES each (whole records where they fit, else pieces of one record)."""
-    cx = max(1, min(nx, NC_CHUNK_BYTES // itemsize))
-    ct = max(1, min(4096, NC_CHUNK_BYTES // (cx * itemsize)))
-    return ct, cx
-
-
-def _copy_nc(src: Path, k: int | None = None, dst=None, merged: bool = False):
-    """The NetCDF file ``src`` (its first ``k`` records) copied by h5netcdf: to ``dst``
-    (a path), or returned as bytes. ``merged``: t unlimited and the variables chunked
-    (about NC_CHUNK_BYTES each), to append further records (:func:`_merge_nc`)."""
+def _copy_nc(src: Path, k: int | None = None) -> bytes:
+    """The NetCDF file ``src`` (its first ``k`` records) copied by h5netcdf, in memory
+    (its bytes: HDF5 never writes to a disk that may be full)."""
     import io
 
     import h5netcdf
 
-    target = io.BytesIO() if dst is None else dst
+    target = io.BytesIO()
     with h5netcdf.File(src, "r") as s, h5netcdf.File(target, "w") as f:
         f.attrs.update(dict(s.attrs))
         nt = s.dimensions["t"].size
         k = nt if k is None else min(k, nt)
         space = {d: s.dimensions[d].size for d in s.dimensions if d != "t"}
-        f.dimensions = {"t": None if merged else k, **space}
-        if merged:
-            f.resize_dimension("t", k)
+        f.dimensions = {"t": k, **space}
         for name, var in s.variables.items():
             in_t = var.dimensions[:1] == ("t",)
-            kw = {}
-            if merged and in_t:
-                item = var.dtype.itemsize
-                if len(var.dimensions) == 2:
-                    kw["chunks"] = nc_chunks(s.dimensions["x"].size, item)
-                elif len(var.dimensions) == 3:  # (t, y, x): whole records where they fit
-                    ny, nx = (space[d] for d in var.dimensions[1:])
-                    record = ny * nx * item
-                    if record <= NC_CHUNK_BYTES:
-                        kw["chunks"] = (max(1, min(4096, NC_CHUNK_BYTES // record)), ny, nx)
-                    else:  # else rows of x (pieces of a row)
-                        _, cx = nc_chunks(nx, item)
-                        kw["chunks"] = (1, max(1, min(ny, NC_CHUNK_BYTES // (cx * item))), cx)
-                else:
-                    kw["chunks"] = (max(1, min(4096, NC_CHUNK_BYTES // item)),)
-            v = f.create_variable(name, var.dimensions, var.dtype, **kw)
+            v = f.create_variable(name, var.dimensions, var.dtype)
             v[...] = var[:k] if in_t else var[...]
             v.attrs.update(dict(var.attrs))
-    return target.getvalue() if dst is None else None
+    return target.getvalue()
 
 
 def _merge_nc(blocks_dir: Path, main: Path, check) -> None:
-    """The NetCDF blocks of an unfinished run merged into one file ``main``, streamed:
-    the first block copied with t unlimited and chunked variables, the others appended
-    block by block (memory: one block), ``check()`` asked between blocks."""
-    import h5netcdf
+    """The NetCDF blocks of an unfinished run merged into one file ``main`` (memory: one
+    block), sized first and written where a failure of HDF5 cannot end this process
+    (:mod:`bkwaves._nc_publish`); ``check()`` is asked before and while it is written."""
+    from . import _nc_publish
 
     blocks = _blocks(blocks_dir)
     if not blocks:
         return
-    check()
-    _copy_nc(blocks[0][2], dst=main, merged=True)
-    with h5netcdf.File(main, "a") as f:
-        n = blocks[0][1]
-        for _, k, path in blocks[1:]:
-            check()
-            with h5netcdf.File(path, "r") as b:
-                f.resize_dimension("t", n + k)
-                for name, var in b.variables.items():
-                    if var.dimensions[:1] == ("t",):
-                        f.variables[name][n : n + k, ...] = var[...]
-            n += k
+    _nc_publish.merge(blocks, main, check)
     check()
 
 
@@ -1332,15 +1298,6 @@ def _build_final(out: Path, partial: Path, final: Path, check) -> None:
     main = final / out.name
     if out.suffix == ".nc":
         blocks_dir = partial / "snapshots"
-        need = sum(f.stat().st_size for f in blocks_dir.glob("block-*.nc"))
-        free = shutil.disk_usage(final).free
-        if free < 1.1 * need + (1 << 20):
-            # HDF5 crashes the process on a full disk (h5py, ENOSPC): check first
-            raise OSError(
-                errno.ENOSPC,
-                f"No space left on device: merging {out.name} needs {human_bytes(need)}, "
-                f"{human_bytes(free)} free",
-            )
         _merge_nc(blocks_dir, main, check)
     else:
         import zarr

@@ -937,8 +937,10 @@ def _open_writer(
 
 
 def _finish(writer, ctl, engine_obj, runner_state, give_all, interrupted) -> bool:
-    """End a run: a complete one is published; an interrupted one commits, checkpoints,
-    then adds the rows of the running event (dropped again when resuming). A signal
+    """End a run: a complete one is checkpointed at its end, then published (a failed
+    publication keeps it whole, to publish with ``--resume``); an interrupted one
+    commits, checkpoints, then adds the rows of the running event (dropped again when
+    resuming). A signal
     that arrives after the last engine chunk, or while the output is being merged, stops
     the publication before anything is renamed: the run is kept in ``OUT.partial/`` with
     a checkpoint of its end, and ``--resume`` publishes it. Returns whether the run
@@ -955,12 +957,10 @@ def _finish(writer, ctl, engine_obj, runner_state, give_all, interrupted) -> boo
         writer.close(publish=False)
         return True
     give_all()
-    published = writer.close(
-        publish=True,
-        remove=[checkpoint_path(ctl.out)],
-        stop=lambda: ctl.stop,
-        on_stop=lambda: ctl.save(engine_obj, writer, runner_state),
-    )
+    # the checkpoint of its end first: whatever befalls the publication (a full disk,
+    # HDF5 failing, a signal), the run is kept whole and --resume publishes it
+    ctl.save(engine_obj, writer, runner_state)
+    published = writer.close(publish=True, remove=[checkpoint_path(ctl.out)], stop=lambda: ctl.stop)
     return not published
 
 
@@ -1016,7 +1016,8 @@ def _write_failed(err, writer, events, t_now) -> OutputError:
 
 
 def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
-    """The one-line report of a full disk (the committed records stay in OUT.partial/)."""
+    """The one-line report of a full disk (the committed records stay in OUT.partial/;
+    when the publication of a complete run failed, every record and its checkpoint)."""
     writer.abandon()
     partial = partial_path(writer.path)
     import warnings
@@ -1025,6 +1026,26 @@ def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
 
     kept = sum(f.stat().st_size for f in partial.rglob("*") if f.is_file())
     free = shutil.disk_usage(partial).free
+    then = _continue_hint(writer)
+    import errno
+
+    # (EFBIG: a file past the size limit of `ulimit -f`: no SIGXFSZ, bkwaves ignores it)
+    full = "file size limit reached" if err.errno == errno.EFBIG else "disk full"
+    free_it = "raise the limit" if err.errno == errno.EFBIG else "free space"
+    if getattr(err, "publishing", False):
+        # the run is complete: only the merged output did not fit
+        need = getattr(err, "need", None)
+        need = f"publishing needs up to {_bytes(need)} more" if need else "publishing needs more"
+        if checkpoint_path(writer.path).exists():
+            then = f"then `bkwaves run --resume {writer.path}` publishes it"
+        else:
+            then = "then publish it with bkwaves.io.finalize"
+        return OutputFull(
+            err.errno,
+            f"{full} publishing {writer.path} (the run is complete, t = {t_now:.6g}): "
+            f"kept all {writer.count} snapshots and the catalog of {events} events in "
+            f"{partial} ({_bytes(kept)}); {need}, {_bytes(free)} free; {free_it}, {then}",
+        )
     # the figure of the warning before the run (bk.limits.check_free_space): the
     # snapshots' bytes, not the kept files extrapolated (their headers and catalog would
     # count once per snapshot)
@@ -1032,12 +1053,11 @@ def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
         warnings.simplefilter("ignore")
         planned = estimate(cfg).output_bytes
     need = f"the output needs about {_bytes(planned)} of snapshots"
-    then = _continue_hint(writer)
     return OutputFull(
         err.errno,
-        f"disk full writing {writer.path} (the run reached t = {t_now:.6g}): kept "
+        f"{full} writing {writer.path} (the run reached t = {t_now:.6g}): kept "
         f"{writer.count} snapshots and the catalog of {events} events in {partial} "
-        f"({_bytes(kept)}); {need}, {_bytes(free)} free; free space, {then}",
+        f"({_bytes(kept)}); {need}, {_bytes(free)} free; {free_it}, {then}",
     )
 
 

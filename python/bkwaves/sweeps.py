@@ -1381,18 +1381,24 @@ def _write_point_files(out: Path, key: str, summary: dict) -> list[str]:
     snapshots = summary.pop("__snapshots__", None)
     if not tables and snapshots is None:
         return []
+    from .io import _write_bytes
+
     d = points_dir(out)
     d.mkdir(exist_ok=True)
     names = []
     for name, df in tables.items():
         tmp = d / f".{key}.{name}.parquet.tmp"
-        df.to_parquet(tmp)
-        tmp.replace(d / f"{key}.{name}.parquet")
+        try:
+            df.to_parquet(tmp)
+            tmp.replace(d / f"{key}.{name}.parquet")
+        except BaseException:  # (a full disk): no torn file left behind
+            tmp.unlink(missing_ok=True)
+            raise
         names.append(f"{key}.{name}.parquet")
     if snapshots is not None:
-        tmp = d / f".{key}.nc.tmp"
-        snapshots.to_netcdf(tmp, engine="h5netcdf")
-        tmp.replace(d / f"{key}.nc")
+        # built in memory, written by Python: HDF5 meeting a full disk ends the process
+        # (SIGSEGV), a failed Python write is an OSError
+        _write_bytes(d / f"{key}.nc", snapshots.to_netcdf(engine="h5netcdf"))
         names.append(f"{key}.nc")
     return names
 
