@@ -319,7 +319,7 @@ fn bond_layout(n: usize, ends: Ends) -> (usize, usize) {
 /// bonds (bond row b holds the b-th bond of every column, nx values). Springs are
 /// finite and >= 0 (a zero bond cuts the lattice there); none given: all 1.
 pub fn lattice_bonds(props: &Properties, grid: &Grid) -> Result<(Vec<f64>, Vec<f64>)> {
-    let (nx, ny, s) = (grid.nx, grid.ny, grid.s);
+    let (nx, ny) = (grid.nx, grid.ny);
     let mut bx = vec![1.0; grid.cells()];
     let mut by = vec![1.0; grid.cells()];
     // (name, springs, blocks per line, lines, ends) of the x and the y bonds
@@ -369,9 +369,9 @@ pub fn lattice_bonds(props: &Properties, grid: &Grid) -> Result<(Vec<f64>, Vec<f
             // padded position pp along the line (0..=n + 1) -> cell of the grid
             let cell = |pp: usize| {
                 if axis == 0 {
-                    (line + 1) * s + pp
+                    grid.at_padded(pp, line + 1)
                 } else {
-                    pp * s + line + 1
+                    grid.at_padded(line + 1, pp)
                 }
             };
             let out = if axis == 0 { &mut bx } else { &mut by };
@@ -388,6 +388,15 @@ pub fn lattice_bonds(props: &Properties, grid: &Grid) -> Result<(Vec<f64>, Vec<f
             if ends == Ends::Ring {
                 // the closing bond seen from both ends
                 out[cell(1)] = out[cell(n + 1)];
+            }
+        }
+    }
+    // a bond across a seam between two strips seen from both sides: from the right
+    // block's cell (as any x bond) and from the ghost right of the left block
+    for j in 0..ny {
+        for i in 0..nx {
+            if let Some(q) = grid.seam_ghost(i, j) {
+                bx[q] = bx[grid.at(i + 1, j)];
             }
         }
     }

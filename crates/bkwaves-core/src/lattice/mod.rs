@@ -8,6 +8,7 @@
 //! sources, the integrators, event location and checkpoints are the chain's.
 
 use crate::boundary::Boundary;
+use crate::chain::geometry::grid::STRIP_WIDTH;
 use crate::chain::geometry::Grid;
 use crate::chain::medium::{Medium, Uniform};
 use crate::chain::{ChainConfig, Engine};
@@ -44,6 +45,29 @@ impl<F: Friction, M: Medium> Engine<Grid, F, M> {
         u0: &[f64],
         u_t0: Option<&[f64]>,
     ) -> Result<Self> {
+        Self::lattice_in_strips(cfg, spec, STRIP_WIDTH, friction, medium, u0, u_t0)
+    }
+
+    /// [`Engine::lattice`] with its cells in strips of at most `width` columns
+    /// (chain/geometry/grid.rs; `width` >= nx: one strip, row-major). The layout changes
+    /// no result: the same bits (lattice/tests_strips.rs), but a [`crate::chain::medium::PerBlock`]
+    /// medium must be made for the same layout ([`Grid::with_strips`]).
+    pub fn lattice_in_strips(
+        cfg: ChainConfig,
+        spec: LatticeSpec,
+        width: usize,
+        friction: F,
+        medium: M,
+        u0: &[f64],
+        u_t0: Option<&[f64]>,
+    ) -> Result<Self> {
+        if width == 0 {
+            return Err(Error::InvalidParameter {
+                name: "strip width",
+                value: 0.0,
+                allowed: ">= 1 columns",
+            });
+        }
         for (name, v) in [("nx", spec.nx), ("ny", spec.ny)] {
             if v == 0 {
                 return Err(Error::InvalidParameter {
@@ -69,7 +93,8 @@ impl<F: Friction, M: Medium> Engine<Grid, F, M> {
             spec.dy,
             (spec.x.left(), spec.x.right()),
             (spec.y.left(), spec.y.right()),
-        );
+        )
+        .with_strips(width);
         Engine::build(grid, cfg, friction, medium, spec.x.name(), u0, u_t0)
     }
 }
@@ -84,3 +109,5 @@ mod tests_frontier;
 mod tests_local;
 #[cfg(test)]
 mod tests_release;
+#[cfg(test)]
+mod tests_strips;

@@ -173,7 +173,22 @@ fn the_lists_next_to_the_runs_give_the_walks_bits() {
 
 #[test]
 fn the_grid_finds_rows_and_columns_without_dividing() {
-    for nx in [1usize, 2, 3, 5, 7, 64, 1000, 4095, 65533] {
+    // one strip (nx <= 62, or forced) and strips of several widths, the last uneven
+    for (nx, width) in [
+        (1usize, 62usize),
+        (2, 62),
+        (3, 62),
+        (5, 62),
+        (7, 62),
+        (64, 62),
+        (64, 1000),
+        (1000, 62),
+        (1000, 3),
+        (4095, 62),
+        (4095, 5000),
+        (65533, 62),
+        (65533, 70000),
+    ] {
         let g = Grid::new(
             nx,
             3,
@@ -181,13 +196,23 @@ fn the_grid_finds_rows_and_columns_without_dividing() {
             0.1,
             (Ghost::Mirror, Ghost::Mirror),
             (Ghost::Wrap, Ghost::Wrap),
-        );
-        let s = nx + 2;
+        )
+        .with_strips(width);
+        let (s, strip) = (g.s, g.strip);
+        assert_eq!(strip, s * 5);
+        if nx <= width {
+            assert_eq!((g.m, s), (1, nx + 2));
+        }
         let mut qs: Vec<usize> = (0..5000).collect();
         qs.extend([(1usize << 32) - 1, (1 << 32) - s, (1 << 32), (1 << 40) + 17]);
         qs.extend((0..2000).map(|k| (k * 2_147_483_647usize) % (1 << 32)));
         for q in qs {
-            assert_eq!(g.cell(q), (q % s, q / s), "nx = {nx}, q = {q}");
+            let (t, r) = if g.m == 1 {
+                (0, q)
+            } else {
+                (q / strip, q % strip)
+            };
+            assert_eq!(g.cell(q), (t, r % s, r / s), "nx = {nx}, q = {q}");
         }
     }
 }

@@ -4,6 +4,7 @@
 use super::tests_frontier::outcome;
 use super::*;
 use crate::boundary::{Fixed, Free, Periodic};
+use crate::chain::geometry::Geometry;
 use crate::chain::release::GRANULE;
 use crate::chain::{Chain, Trigger, TriggerKind};
 use crate::friction::Coulomb;
@@ -279,7 +280,9 @@ fn the_arrays_and_their_resident_bytes_are_listed() {
         300 + 600 * 200,
         Mode::Released,
     );
-    let cells = (nx + 2) * (ny + 2);
+    // (the padded cells: in strips, a ghost frame per strip)
+    let cells = la.geometry().cells();
+    assert_eq!(cells, 10 * 62 * (ny + 2));
     let page = 4096;
     let before = la.memory_arrays();
     let get = |v: &[(&'static str, usize, Option<usize>)], name: &str| {

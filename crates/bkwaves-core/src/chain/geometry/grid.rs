@@ -1,22 +1,76 @@
-//! The square lattice: nx x ny blocks, row-major in (nx + 2) x (ny + 2) padded cells
-//! (module docs of [`super`]); springs k_x along x (bonds `Medium::bond`, between p - 1
-//! and p) and k_y along y (`Medium::bond_y`, between p - S and p, S = nx + 2), in the
+//! The square lattice: nx x ny blocks in vertical strips of padded cells (module docs of
+//! [`super`]); springs k_x along x (bonds `Medium::bond`, between p - 1 and p) and k_y
+//! along y (`Medium::bond_y`, between p - S and p, S the strips' row stride), in the
 //! paper's variables phi = k_p u - [x bonds]/dx^2 - [y bonds]/dy^2 (docs/lattice.md).
+//!
+//! The layout. The columns are cut into m = ceil(nx / W) strips (W = [`STRIP_WIDTH`]
+//! unless chosen), w = ceil(nx / m) columns each but the last (nx - (m - 1) w columns).
+//! Every strip is a little lattice of its own: w + 2 cells a row (stride S = w + 2, the
+//! same for all strips), ny + 2 rows, its own ghost frame; strip t holds the cells
+//! [t S (ny + 2), (t + 1) S (ny + 2)), and block (i, j), t = i / w, li = i - t w, sits at
+//! t S (ny + 2) + (j + 1) S + li + 1. With nx <= W there is one strip: the row-major
+//! (nx + 2) x (ny + 2) layout, bit for bit. A run is a stretch of one row of one strip; its
+//! neighbours are p -/+ 1 and p -/+ S, whatever the strip.
+//!
+//! A ghost column between two strips stands for the neighbouring strip's edge block as a
+//! periodic ghost stands for the far side's block ([`Geometry::beyond`] gives
+//! `Beyond::Block(r)`, [`Geometry::ghost_partner`] `Some(r)`): the engine fills it with
+//! r's value before each stage as it fills a periodic ghost, so every block's force is
+//! the same arithmetic on the same values as in one strip. The lattice's own sides are
+//! the ghost columns left of strip 0 and right of strip m - 1, and the ghost rows. The
+//! cells of the last strip right of its ghost column (when it is narrower) are dead:
+//! ghosts that are nobody's neighbour.
+//!
+//! Why: a rupture's ring of sliding blocks is stepped row by row, and a row's neighbours
+//! above and below are S cells away; with rows as long as the lattice the step's working
+//! set grows with nx (docs/benchmarks.md, "Why the step is slower inside a rupture"), and
+//! a page of scratch holds a fraction of a row, so it cannot be given back behind the
+//! ring while any cell of that row is live (../release.rs). In strips both are bounded by
+//! W.
 
 use super::{beyond_of, Beyond, Geometry, Stencil};
 use crate::boundary::Ghost;
 use crate::chain::events::Hermite;
 use crate::chain::medium::Medium;
 
-/// A lattice of nx x ny blocks at spacings dx, dy with ghosts on its four sides.
+/// The widest strip by default (columns): 62 + 2 cells, 512 bytes a row of f64.
+pub const STRIP_WIDTH: usize = 62;
+
+/// ceil(2^64 / d): q / d = (q inv) >> 64 for q, d < 2^32 (Lemire, Kaser and Kurz,
+/// "Faster remainder by direct computation", 2019), without a division.
+fn inverse(d: usize) -> u64 {
+    (u64::MAX / d as u64).wrapping_add(1)
+}
+
+/// q / d by its inverse (`inverse(d)`), exact for q, d < 2^32; by dividing otherwise.
+#[inline(always)]
+fn div(q: usize, d: usize, inv: u64) -> usize {
+    const SMALL: usize = 1 << 32;
+    if q < SMALL && d < SMALL {
+        ((u128::from(inv) * q as u128) >> 64) as usize
+    } else {
+        q / d
+    }
+}
+
+/// A lattice of nx x ny blocks at spacings dx, dy with ghosts on its four sides, laid
+/// out in strips (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Grid {
     /// Blocks along x.
     pub nx: usize,
     /// Blocks along y.
     pub ny: usize,
-    /// Row stride of the padded arrays, nx + 2.
+    /// Row stride of the padded arrays, w + 2 (nx + 2 in one strip).
     pub s: usize,
+    /// Columns of every strip but the last, w.
+    pub w: usize,
+    /// Number of strips, m.
+    pub m: usize,
+    /// Columns of the last strip, nx - (m - 1) w.
+    pub last: usize,
+    /// Cells of a strip, S (ny + 2).
+    pub strip: usize,
     /// dx.
     pub dx: f64,
     /// dy.
@@ -29,13 +83,15 @@ pub struct Grid {
     pub x: (Ghost, Ghost),
     /// Ghosts beyond y = 0 and y = ny - 1.
     pub y: (Ghost, Ghost),
-    /// ceil(2^64 / s): q / s = (q inv_s) >> 64 for q, s < 2^32 (Lemire, Kaser and Kurz,
-    /// "Faster remainder by direct computation", 2019), without a division.
+    /// `inverse(s)`.
     inv_s: u64,
+    /// `inverse(strip)`.
+    inv_strip: u64,
 }
 
 impl Grid {
-    /// nx x ny blocks at spacings dx, dy, with the ghosts of each axis.
+    /// nx x ny blocks at spacings dx, dy, with the ghosts of each axis, in strips of at
+    /// most [`STRIP_WIDTH`] columns.
     pub fn new(
         nx: usize,
         ny: usize,
@@ -44,36 +100,99 @@ impl Grid {
         x: (Ghost, Ghost),
         y: (Ghost, Ghost),
     ) -> Grid {
+        Grid::in_strips(nx, ny, dx, dy, x, y, STRIP_WIDTH)
+    }
+
+    /// The same lattice in strips of at most `width` >= 1 columns (module docs; `width`
+    /// >= nx: one strip).
+    pub fn in_strips(
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        dy: f64,
+        x: (Ghost, Ghost),
+        y: (Ghost, Ghost),
+        width: usize,
+    ) -> Grid {
+        assert!(width >= 1, "a strip is at least one column wide");
+        let m = nx.div_ceil(width).max(1);
+        let w = nx.div_ceil(m);
+        // (m - 1) w < nx: m - 1 < nx / width and w <= width
+        let last = nx - (m - 1) * w;
+        let s = w + 2;
+        let strip = s * (ny + 2);
         Grid {
             nx,
             ny,
-            s: nx + 2,
+            s,
+            w,
+            m,
+            last,
+            strip,
             dx,
             dy,
             kx: 1.0 / (dx * dx),
             ky: 1.0 / (dy * dy),
             x,
             y,
-            inv_s: (u64::MAX / (nx as u64 + 2)).wrapping_add(1),
+            inv_s: inverse(s),
+            inv_strip: inverse(strip),
         }
     }
 
-    /// (column, row) of padded index q (0..=nx + 1, 0..=ny + 1).
+    /// The same lattice in strips of at most `width` columns.
+    pub fn with_strips(&self, width: usize) -> Grid {
+        Grid::in_strips(self.nx, self.ny, self.dx, self.dy, self.x, self.y, width)
+    }
+
+    /// Columns of strip t.
     #[inline(always)]
-    pub fn cell(&self, q: usize) -> (usize, usize) {
-        const SMALL: usize = 1 << 32;
-        if q < SMALL && self.s < SMALL {
-            let j = ((u128::from(self.inv_s) * q as u128) >> 64) as usize;
-            (q - j * self.s, j)
+    pub fn width(&self, t: usize) -> usize {
+        if t + 1 == self.m {
+            self.last
         } else {
-            (q % self.s, q / self.s)
+            self.w
         }
+    }
+
+    /// (strip, column in the strip, row) of padded index q (column 0..=w + 1: 0 and
+    /// width + 1 the strip's ghost columns; row 0..=ny + 1), without a division.
+    #[inline(always)]
+    pub fn cell(&self, q: usize) -> (usize, usize, usize) {
+        let (t, r) = if self.m == 1 {
+            (0, q)
+        } else {
+            let t = div(q, self.strip, self.inv_strip);
+            (t, q - t * self.strip)
+        };
+        let j = div(r, self.s, self.inv_s);
+        (t, r - j * self.s, j)
     }
 
     /// Padded index of block (i, j) (0-based).
     #[inline(always)]
     pub fn at(&self, i: usize, j: usize) -> usize {
-        (j + 1) * self.s + i + 1
+        let t = i / self.w;
+        t * self.strip + (j + 1) * self.s + (i - t * self.w) + 1
+    }
+
+    /// Padded index of the cell at padded column ip (0..=nx + 1: 0 and nx + 1 the
+    /// lattice's own ghost columns) and padded row jp (0..=ny + 1).
+    pub fn at_padded(&self, ip: usize, jp: usize) -> usize {
+        if ip == 0 {
+            jp * self.s
+        } else if ip == self.nx + 1 {
+            (self.m - 1) * self.strip + jp * self.s + self.last + 1
+        } else {
+            let (i, t) = (ip - 1, (ip - 1) / self.w);
+            t * self.strip + jp * self.s + (i - t * self.w) + 1
+        }
+    }
+
+    /// The padded index of the ghost cell right of block (i, j) of a strip's last column
+    /// when another strip follows (the cell standing for block (i + 1, j)), if any.
+    pub fn seam_ghost(&self, i: usize, j: usize) -> Option<usize> {
+        (i + 1 < self.nx && (i + 1) % self.w == 0).then(|| self.at(i, j) + 1)
     }
 }
 
@@ -157,7 +276,7 @@ impl Geometry for Grid {
     }
     #[inline(always)]
     fn cells(&self) -> usize {
-        self.s * (self.ny + 2)
+        self.m * self.strip
     }
     #[inline(always)]
     fn padded(&self, k: usize) -> usize {
@@ -165,46 +284,36 @@ impl Geometry for Grid {
     }
     #[inline(always)]
     fn index(&self, p: usize) -> usize {
-        let (i, j) = self.cell(p);
-        (j - 1) * self.nx + (i - 1)
+        let (t, c, j) = self.cell(p);
+        (j - 1) * self.nx + t * self.w + (c - 1)
     }
     fn blocks(&self) -> impl Iterator<Item = usize> + '_ {
+        // block order: row after row, each row through the strips in turn
         (0..self.ny).flat_map(move |j| {
-            let row = (j + 1) * self.s;
-            row + 1..=row + self.nx
+            (0..self.m).flat_map(move |t| {
+                let row = t * self.strip + (j + 1) * self.s;
+                row + 1..=row + self.width(t)
+            })
         })
     }
     #[inline]
     fn is_ghost(&self, q: usize) -> bool {
-        let (i, j) = self.cell(q);
-        i == 0 || i == self.nx + 1 || j == 0 || j == self.ny + 1
+        let (t, c, j) = self.cell(q);
+        c == 0 || c > self.width(t) || j == 0 || j == self.ny + 1
     }
     #[inline]
     fn beyond(&self, q: usize, p: usize) -> Beyond {
-        let (i, j) = self.cell(q);
-        if i == 0 {
-            beyond_of(self.x.0, p, q + self.nx)
-        } else if i == self.nx + 1 {
-            beyond_of(self.x.1, p, q - self.nx)
-        } else if j == 0 {
-            beyond_of(self.y.0, p, q + self.ny * self.s)
-        } else {
-            beyond_of(self.y.1, p, q - self.ny * self.s)
+        match self.side_of(q) {
+            Side::Seam(r) => Beyond::Block(r),
+            Side::Edge(g, far) => beyond_of(g, p, far),
         }
     }
     #[inline]
     fn ghost_partner(&self, q: usize) -> Option<usize> {
-        let (i, j) = self.cell(q);
-        let (g, far) = if i == 0 {
-            (self.x.0, q + self.nx)
-        } else if i == self.nx + 1 {
-            (self.x.1, q - self.nx)
-        } else if j == 0 {
-            (self.y.0, q + self.ny * self.s)
-        } else {
-            (self.y.1, q - self.ny * self.s)
-        };
-        matches!(g, Ghost::Wrap).then_some(far)
+        match self.side_of(q) {
+            Side::Seam(r) => Some(r),
+            Side::Edge(g, far) => matches!(g, Ghost::Wrap).then_some(far),
+        }
     }
     #[inline(always)]
     fn neighbours(&self, p: usize) -> [usize; 4] {
@@ -212,11 +321,12 @@ impl Geometry for Grid {
     }
     #[inline]
     fn around_run(&self, a: usize, b: usize) -> GridAround {
-        let (i, j) = self.cell(a);
+        // a run lies in one row of one strip: its ends are ghosts at the strip's columns
+        let (t, c, j) = self.cell(a);
         GridAround {
             ends: [
-                (a - 1, a, i == 1),
-                (b, b - 1, b - j * self.s == self.nx + 1),
+                (a - 1, a, c == 1),
+                (b, b - 1, c + (b - a) == self.width(t) + 1),
             ],
             k: 0,
             p: a,
@@ -227,18 +337,23 @@ impl Geometry for Grid {
         }
     }
     fn sightings(&self, r: usize) -> ([(usize, u8); 8], usize) {
-        let (i, j) = self.cell(r);
-        let (s, nx, ny) = (self.s, self.nx, self.ny);
+        // Each sighting (p, side) is the other end of one of r's four neighbour slots:
+        // r's slot towards -x (+x, -y, +y) resolves to p exactly when p's slot towards
+        // +x (-x, +y, -y) stands for r. The cases below for one slot exclude each other
+        // (along x: r's neighbour in its strip, across a seam, across a periodic side;
+        // along y: in the strip, across a periodic side), so there are at most four.
+        let (t, c, j) = self.cell(r);
+        let (s, ny, wt) = (self.s, self.ny, self.width(t));
         let mut out = [(0, 0); 8];
         let mut k = 0;
         let mut add = |p: usize, side: u8| {
             out[k] = (p, side);
             k += 1;
         };
-        if i < nx {
+        if c < wt {
             add(r + 1, 0);
         }
-        if i > 1 {
+        if c > 1 {
             add(r - 1, 1);
         }
         if j < ny {
@@ -247,12 +362,20 @@ impl Geometry for Grid {
         if j > 1 {
             add(r - s, 3);
         }
-        // periodic ghosts standing for r, next to the block on the far side
-        if i == 1 && self.x.1 == Ghost::Wrap {
-            add(r + nx - 1, 1);
+        // seam ghosts standing for r, next to the edge block of the neighbouring strip
+        if c == wt && t + 1 < self.m {
+            add(r + self.strip + 1 - self.w, 0);
         }
-        if i == nx && self.x.0 == Ghost::Wrap {
-            add(r + 1 - nx, 0);
+        if c == 1 && t > 0 {
+            add(r + self.w - 1 - self.strip, 1);
+        }
+        // periodic ghosts standing for r, next to the block on the far side
+        let across = (self.m - 1) * self.strip + self.last;
+        if c == 1 && t == 0 && self.x.1 == Ghost::Wrap {
+            add(r + across - 1, 1);
+        }
+        if c == wt && t + 1 == self.m && self.x.0 == Ghost::Wrap {
+            add(r + 1 - across, 0);
         }
         if j == 1 && self.y.1 == Ghost::Wrap {
             add(r + (ny - 1) * s, 3);
@@ -333,11 +456,14 @@ impl Geometry for Grid {
             let d = uq - up;
             0.5 * b * d * d * k
         };
+        // (a seam's bond is counted from its left block, across the seam ghost standing
+        // for the right one, as the far side's bond: in block order, the same terms in
+        // the same order as in one strip)
         for p in self.blocks() {
-            let (i, j) = self.cell(p);
+            let (t, c, j) = self.cell(p);
             coup += bond(p + 1, p, med.bond(p + 1), self.kx, true);
             coup += bond(p + s, p, med.bond_y(p + s), self.ky, true);
-            if i == 1 {
+            if c == 1 && t == 0 {
                 coup += bond(p - 1, p, med.bond(p), self.kx, false);
             }
             if j == 1 {
@@ -350,9 +476,52 @@ impl Geometry for Grid {
         self.dx.min(self.dy)
     }
     fn describe(&self) -> String {
-        format!(
+        // (one strip: as before strips, so the checkpoints of such lattices still load)
+        let mut d = format!(
             "lattice {} x {}, dy = {:e}, x {:?}, y {:?}",
             self.nx, self.ny, self.dy, self.x, self.y
-        )
+        );
+        if self.m > 1 {
+            d += &format!(
+                ", in {} strips of {} columns (the last {})",
+                self.m, self.w, self.last
+            );
+        }
+        d
+    }
+}
+
+/// What a ghost cell next to a real block is: a seam between two strips (standing for
+/// block r of the neighbouring strip), or a side of the lattice (its ghost kind and the
+/// far side's block).
+#[derive(Debug, Clone, Copy)]
+enum Side {
+    Seam(usize),
+    Edge(Ghost, usize),
+}
+
+impl Grid {
+    /// The side of ghost cell q (next to a real block: not a corner, not dead).
+    #[inline]
+    fn side_of(&self, q: usize) -> Side {
+        let (t, c, j) = self.cell(q);
+        if c == 0 {
+            if t == 0 {
+                Side::Edge(self.x.0, q + (self.m - 1) * self.strip + self.last)
+            } else {
+                Side::Seam(q + self.w - self.strip)
+            }
+        } else if c > self.width(t) {
+            debug_assert_eq!(c, self.width(t) + 1, "a dead cell is nobody's neighbour");
+            if t + 1 == self.m {
+                Side::Edge(self.x.1, q - (self.m - 1) * self.strip - self.last)
+            } else {
+                Side::Seam(q + self.strip - self.w)
+            }
+        } else if j == 0 {
+            Side::Edge(self.y.0, q + self.ny * self.s)
+        } else {
+            Side::Edge(self.y.1, q - self.ny * self.s)
+        }
     }
 }

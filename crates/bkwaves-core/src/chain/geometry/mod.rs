@@ -5,10 +5,13 @@
 //! geometry says how the padded arrays are laid out and what stands around a block:
 //!
 //! - [`Line`]: the chain, blocks 1..=n of n + 2 cells, ghosts 0 and n + 1;
-//! - [`Grid`]: the square lattice (docs/lattice.md), row-major (nx + 2) x (ny + 2)
-//!   cells, block (i, j) at p = (j + 1)(nx + 2) + i + 1: a run is a stretch of one row
-//!   (ghost columns separate the rows), its x neighbours are p -/+ 1 as in the chain,
-//!   its y neighbours p -/+ (nx + 2).
+//! - [`Grid`]: the square lattice (docs/lattice.md) in vertical strips of at most 62
+//!   columns, each strip row-major with its own ghost frame (one strip, (nx + 2) x
+//!   (ny + 2) cells, when nx <= 62; [`grid`]): a run is a stretch of one row of a strip
+//!   (ghost columns separate the rows and the strips), its x neighbours are p -/+ 1 as in
+//!   the chain, its y neighbours p -/+ S (S the strips' row stride); a ghost column
+//!   between two strips stands for the neighbouring strip's block as a periodic ghost
+//!   does for the far side's.
 //!
 //! Everything the engine asks of a geometry goes through [`Geometry`]: the blocks and
 //! their 0-based numbering, the ghosts (through [`Ghost`] per side, resolved by
@@ -84,8 +87,8 @@ pub trait Geometry: Clone + Send + Sync + std::fmt::Debug + 'static {
     /// blocks of the run). (An iterator, not a callback: the engine's loops over it
     /// inline, which a closure called per cell did not: 25 % of a loading run.)
     fn around_run(&self, a: usize, b: usize) -> Self::Around;
-    /// The real blocks p next to a cell q standing for stuck block r (q = r itself, or a
-    /// periodic ghost of r), each with the side of p that q is on: 0 left (q = p - 1),
+    /// The real blocks p next to a cell q standing for stuck block r (q = r itself, or a seam
+    /// or periodic ghost of r), each with the side of p that q is on: 0 left (q = p - 1),
     /// 1 right (q = p + 1), 2 below (the previous row), 3 above; the first `k` of the
     /// array returned as (array, k). ([`super::frontier::walk_order`].)
     fn sightings(&self, r: usize) -> ([(usize, u8); 8], usize);
@@ -120,7 +123,7 @@ pub trait Geometry: Clone + Send + Sync + std::fmt::Debug + 'static {
     fn describe(&self) -> String;
 
     /// The real block a padded cell stands for: itself, the far side's block for a
-    /// periodic ghost, None for other ghosts.
+    /// periodic or seam ghost, None for other ghosts.
     #[inline]
     fn resolve(&self, q: usize) -> Option<usize> {
         if self.is_ghost(q) {
@@ -129,7 +132,8 @@ pub trait Geometry: Clone + Send + Sync + std::fmt::Debug + 'static {
             Some(q)
         }
     }
-    /// The real block a periodic ghost cell q stands for (None for other ghosts).
+    /// The real block a periodic ghost cell q, or a ghost between two strips of a
+    /// lattice, stands for (None for other ghosts).
     fn ghost_partner(&self, q: usize) -> Option<usize>;
 }
 
