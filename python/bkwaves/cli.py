@@ -846,6 +846,19 @@ def sweep(args) -> int | None:
         )
     except (ParameterError, ConvergenceError) as e:
         _fail(e)
+    except OSError as e:
+        from ._paths import os_error_line
+        from .io import NO_SPACE
+
+        if e.errno not in NO_SPACE:
+            raise
+        # (the store holds every point written before; a point's files are whole or absent)
+        _echo(
+            f"Error: {os_error_line(e)}; the points finished before are kept; free space, "
+            "then run the same command again to compute the rest",
+            err=True,
+        )
+        return 1
     d = r.to_dict()
     if args.json_out:
         _echo(_json(d, default=str))

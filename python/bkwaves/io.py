@@ -169,6 +169,11 @@ def _write_bytes(path: Path, data) -> None:
     try:
         with open(tmp, "wb") as f:
             f.write(data)
+    except OSError as e:
+        tmp.unlink(missing_ok=True)
+        if e.filename is None:  # (a failed write names no file: the one meant is named)
+            raise OSError(e.errno, e.strerror, str(path)) from None
+        raise
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -1021,10 +1026,13 @@ class RunWriter:
 
     # --- closing -----------------------------------------------------------------------
 
-    def close(self, publish: bool = True, remove=(), stop=None, on_stop=None) -> bool:
+    def close(self, publish: bool = True, remove=(), stop=None, on_stop=None, spare=()) -> bool:
         """Commit the buffer; with ``publish`` (a complete run) merge the parts and rename
         the output and its tables onto ``OUT``, replacing an earlier output, then remove
         ``OUT.partial/`` and the files in ``remove``. Without: keep ``OUT.partial/``.
+        When the publication fails for lack of space, the files in ``spare`` (the
+        checkpoint of the run's end) are removed and it is tried once more, unless the
+        space the output needs is known and their room would not make it fit.
 
         ``stop``: a function asked between the pieces of the merge; when it returns true
         the publication is abandoned before anything is renamed (``OUT.partial/`` kept),
@@ -1040,6 +1048,8 @@ class RunWriter:
             Asked between the pieces of the merge.
         on_stop : callable, optional
             Called when ``stop`` abandons the publication.
+        spare : iterable of path, default ()
+            Files to give up for room when the publication fails for lack of space.
 
         Returns
         -------
@@ -1062,7 +1072,20 @@ class RunWriter:
             self.commit()
             if publish:
                 try:
-                    _publish(self.path, self.partial, self._replaces, remove, stop)
+                    try:
+                        _publish(self.path, self.partial, self._replaces, remove, stop)
+                    except OSError as e:
+                        spared = [Path(f) for f in spare if Path(f).exists()]
+                        # (past a file-size limit, EFBIG, other files' room is no help)
+                        if e.errno not in NO_SPACE or e.errno == errno.EFBIG or not spared:
+                            raise
+                        room = sum(f.stat().st_size for f in spared)
+                        need = getattr(e, "need", None)  # (the NetCDF's, when known)
+                        if need is not None and getattr(e, "free", 0) + room < need:
+                            raise  # not enough either way: the spared files are kept
+                        for f in spared:  # their room may be what the output lacks
+                            f.unlink()
+                        _publish(self.path, self.partial, self._replaces, remove, stop)
                 except OSError as e:
                     e.publishing = True  # (every record is kept: the run can publish again)
                     raise

@@ -959,8 +959,20 @@ def _finish(writer, ctl, engine_obj, runner_state, give_all, interrupted) -> boo
     give_all()
     # the checkpoint of its end first: whatever befalls the publication (a full disk,
     # HDF5 failing, a signal), the run is kept whole and --resume publishes it
-    ctl.save(engine_obj, writer, runner_state)
-    published = writer.close(publish=True, remove=[checkpoint_path(ctl.out)], stop=lambda: ctl.stop)
+    writer.commit()  # (a full disk here keeps the records that fit: one line)
+    ck = checkpoint_path(ctl.out)
+    try:
+        ctl.save(engine_obj, writer, runner_state)
+        spare = [ck]
+    except OSError as e:
+        if e.errno not in NO_SPACE:
+            raise
+        # no room for the checkpoint (an earlier one is kept): published all the same,
+        # the output may fit; if not, the committed records are kept, as ever
+        spare = []
+    # (the end checkpoint is given up and the publication tried again if the output
+    # lacks its room: a disk that held the output before still does)
+    published = writer.close(publish=True, remove=[ck], stop=lambda: ctl.stop, spare=spare)
     return not published
 
 
