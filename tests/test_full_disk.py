@@ -466,3 +466,82 @@ def test_a_sweep_onto_a_full_disk_is_one_line_and_the_same_command_finishes(tmp_
         assert int((mnt / f"{size}.rc2").read_text()) == 0, (mnt / f"{size}.stderr2").read_text()
         assert (mnt / f"{size}.check").read_text().split("\n")[0] == "4 [61]", size
         assert (mnt / f"{size}.notes").read_text() == "my notes"
+
+
+CHECKPOINTED = textwrap.dedent(
+    """
+    import sys, json
+    from bkwaves.config import parse_config
+    from bkwaves import _checkpoint
+    from bkwaves.runner import OutputFull, checkpoint_path, run
+    write = _checkpoint.write
+    def noted(*a, **kw):  # which write the disk refused: a checkpoint's, or a record's
+        try:
+            return write(*a, **kw)
+        except OSError:
+            print("checkpoint refused")
+            raise
+    _checkpoint.write = noted
+    cfg = parse_config(json.loads(sys.argv[2]))
+    try:  # a checkpoint after every chunk: the disk fills while one is written, or after
+        run(cfg, sys.argv[1], chunk=300, flush_every=0.0, checkpoint_every=1e-9)
+        print("done")
+    except OutputFull as e:
+        print("full", checkpoint_path(sys.argv[1]).exists())
+    """
+)
+FULL_CHECKPOINTS = textwrap.dedent(
+    """
+    set -u
+    py=$1; cfg=$2; mnt=$3; shift 3
+    for size in "$@"; do
+      d=$mnt/$size; mkdir -p $d
+      mount -t tmpfs -o size=$size tmpfs $d || exit 90
+      $py -c "$RUN" $d/o.nc "$cfg" > $d.run 2>&1
+      echo $? > $d.rc
+      mount -o remount,size=64m $d
+      $py -c "$RECOVER" $d/o.nc > $d.recovered 2>&1
+      $py -c "$SAME" $d/o.nc > $d.same 2>&1
+      umount $d
+    done
+    """
+)
+
+
+@pytest.mark.skipif(not _userns_tmpfs(), reason="needs unshare -rm to mount a small tmpfs")
+def test_a_disk_that_fills_between_checkpoints_keeps_the_last_one(tmp_path, reference):
+    """Checkpoints after every engine chunk onto a disk that fills mid-run: the last
+    checkpoint that was written whole is kept (a checkpoint is written under a temporary
+    name and renamed; a failed one leaves the earlier), and --resume from it finishes the
+    run equal to an uninterrupted one."""
+    mnt = tmp_path / "mnt"
+    mnt.mkdir()
+    sizes = ["128k", "256k", "400k"]
+    same = (
+        "import sys, warnings, numpy as np, bkwaves as bk\n"
+        "warnings.simplefilter('ignore')\n"
+        f"a, ca = bk.load(sys.argv[1]); b, cb = bk.load({str(reference / 'ref.nc')!r})\n"
+        "print(all(np.array_equal(a[v].values, b[v].values) for v in ('t', 'u', 'u_t'))"
+        " and ca.equals(cb))\n"
+    )
+    r = subprocess.run(
+        ["unshare", "-rm", "sh", "-c", FULL_CHECKPOINTS, "full", sys.executable]
+        + [json.dumps(SMALL), str(mnt), *sizes],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env={**os.environ, "RUN": CHECKPOINTED, "RECOVER": RECOVER, "SAME": same},
+    )
+    assert r.returncode == 0, r.stderr
+    refused = 0
+    for size in sizes:
+        assert (mnt / f"{size}.rc").read_text().strip() == "0", (mnt / f"{size}.run").read_text()
+        refused += "checkpoint refused" in (mnt / f"{size}.run").read_text()
+        said = (mnt / f"{size}.run").read_text().strip().splitlines()  # (a warning first)
+        assert said[-1] == "full True", (size, said)
+        assert (mnt / f"{size}.recovered").read_text().split()[-1:] == ["resumed"], size
+        assert (mnt / f"{size}.same").read_text().split() == ["True"], (
+            size,
+            (mnt / f"{size}.same").read_text(),
+        )
+    assert refused, "the disk never filled while a checkpoint was written"

@@ -29,6 +29,10 @@ the same run id in every file: :func:`load` never pairs snapshots with the catal
 another run. An interrupted or failed run leaves ``OUT.partial/``: :func:`load` reads
 it (up to its last committed record, saying what it dropped), ``bkwaves run --resume``
 continues it and :func:`finalize` publishes it as it is.
+
+HDF5 never writes to disk in the run's process (a write it fails ends the process by
+SIGSEGV): NetCDF blocks are built in memory and written by Python, and the merged file
+is sized first and written by Python or by a child process (:mod:`bkwaves._nc_publish`).
 """
 
 from __future__ import annotations
