@@ -525,8 +525,10 @@ RUN = Command(
     phase, keep what was computed and leave OUT.checkpoint (exit status 130 or 143): `bkwaves
     run --resume OUT` continues it, bit for bit like an uninterrupted run. Checkpoints are
     also written every 60 s of wall time (see --checkpoint-every), so that a killed run
-    resumes. A write that fails (a full disk, a folder made read-only or removed) keeps
-    what fits and the last checkpoint and says so in one line (exit status 1).
+    resumes. A write that fails (a full disk, a file past `ulimit -f`, a folder made
+    read-only or removed) keeps what fits and the last checkpoint and says so in one line
+    (exit status 1); a complete run that finds no room to be published is kept whole with
+    a checkpoint of its end, and `bkwaves run --resume OUT` publishes it.
     An event that does not end (creep, steady sliding; bounds run.max_event_slips and
     run.max_event_duration) stops the run with everything kept (exit status 3).
 
@@ -885,7 +887,8 @@ SWEEP = Command(
     finish (each as soon as it arrives). Re-running computes only the points not yet done,
     after checking that the done ones still hold the values and files they wrote (those
     that do not are computed again); Ctrl-C or SIGTERM keep every finished point (exit
-    status 130 or 143). A damaged store is reported in one line. -o is relative to the
+    status 130 or 143), and so does a full disk (one line, exit status 1). A damaged
+    store is reported in one line. -o is relative to the
     working directory, [output] path (and the default SWEEP.zarr) to the sweep file's
     folder, as in `bkwaves run`. See docs/sweeps.md for the schema.""",
     [
