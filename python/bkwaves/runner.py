@@ -1047,11 +1047,15 @@ def _disk_full(err, writer, cfg, events, t_now) -> OutputFull:
     if getattr(err, "publishing", False):
         # the run is complete: only the merged output did not fit
         need = getattr(err, "need", None)
-        need = f"publishing needs up to {_bytes(need)} more" if need else "publishing needs more"
+        need = f"publishing needs up to {_bytes(need)}" if need else "publishing needs more room"
         if checkpoint_path(writer.path).exists():
             then = f"then `bkwaves run --resume {writer.path}` publishes it"
         else:
-            then = "then publish it with bkwaves.io.finalize"
+            # (no checkpoint to resume from: every record is there, finalize publishes it)
+            then = (
+                'then publish it with bkwaves.io.finalize: python -c "import bkwaves; '
+                f"bkwaves.io.finalize('{writer.path}')\""
+            )
         return OutputFull(
             err.errno,
             f"{full} publishing {writer.path} (the run is complete, t = {t_now:.6g}): "
