@@ -1247,9 +1247,10 @@ def _copy_nc(src: Path, k: int | None = None) -> bytes:
 
 
 def _merge_nc(blocks_dir: Path, main: Path, check) -> None:
-    """The NetCDF blocks of an unfinished run merged into one file ``main`` (memory: one
-    block), sized first and written where a failure of HDF5 cannot end this process
-    (:mod:`bkwaves._nc_publish`); ``check()`` is asked before and while it is written."""
+    """The NetCDF blocks of an unfinished run merged into one file ``main`` (memory: the
+    file up to 32 MiB, else one block), sized first and written where a failure of HDF5
+    cannot end this process (:mod:`bkwaves._nc_publish`); ``check()`` is asked before
+    and while it is written."""
     from . import _nc_publish
 
     blocks = _blocks(blocks_dir)
