@@ -26,10 +26,15 @@
 //! 4. `--kernel M` (alone): the engine's RK4 step by itself (no event search, no redo)
 //!    over an M x M square of sliding blocks, against the reference over M x M;
 //!    `--kernel M,W`: the same square in the corner of a W x W grid (rows of M sliding
-//!    blocks at the stride of W, as a rupture's runs lie in a wider lattice).
+//!    blocks at the stride of W, as a rupture's runs lie in a wider lattice; in strips,
+//!    at the strips' stride, cut at their seams).
 //!
-//! cargo run --release -- [--repeat R] [--size L] [--memory N1,N2,..] [--full N,dx,gamma]
-//!     [--events local|global|both] [--give-back on|off] [--smaps]
+//! `--strips W` (before the others): the lattice's cells in strips of at most W columns
+//! (default the engine's layout: one strip up to 256 columns, strips of 62 beyond; W >=
+//! the lattice's width: one strip, row-major).
+//!
+//! cargo run --release -- [--strips W] [--repeat R] [--size L] [--memory N1,N2,..]
+//!     [--full N,dx,gamma] [--events local|global|both] [--give-back on|off] [--smaps]
 //!     [--kernel M[,W]]
 
 use bkwaves_core::boundary::Free;
@@ -313,6 +318,14 @@ fn lattice(n: usize, local: bool) -> Lattice<Coulomb> {
 /// (`Engine::set_release`; unset: the engine's default, on from 2^17 cells).
 static GIVE_BACK: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
 
+/// `--strips W`: the widest strip of the lattice's cells (columns).
+static STRIPS: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+
+/// A grid in strips of `--strips` columns if given, else in the engine's default layout.
+fn in_strips(g: bkwaves_core::chain::geometry::Grid) -> bkwaves_core::chain::geometry::Grid {
+    STRIPS.get().map_or(g, |&w| g.with_strips(w))
+}
+
 /// An n x n lattice at uniform u_+ (free edges), kicked at block `at`.
 fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize, local: bool) -> Lattice<Coulomb> {
     let spec = LatticeSpec {
@@ -329,7 +342,11 @@ fn lattice_at(n: usize, dx: f64, gamma: f64, at: usize, local: bool) -> Lattice<
     };
     let fr = Coulomb::new(gamma, f64::INFINITY).unwrap();
     let u0 = vec![U_PLUS; n * n];
-    let mut la = Lattice::lattice(cfg, spec, fr, Uniform, &u0, None).unwrap();
+    let mut la = match STRIPS.get() {
+        Some(&w) => Lattice::lattice_in_strips(cfg, spec, w, fr, Uniform, &u0, None),
+        None => Lattice::lattice(cfg, spec, fr, Uniform, &u0, None),
+    }
+    .unwrap();
     la.set_local_events(local);
     if let Some(on) = GIVE_BACK.get() {
         la.set_release(*on);
@@ -416,7 +433,9 @@ fn mean_sliding(size: usize, samples: usize) -> f64 {
 
 /// The engine's RK4 step alone (no event search, no redo) over an m x m square of
 /// sliding blocks inside a ring of stuck ones, in the corner of a grid of
-/// max(m, width) + 2 blocks a side: (block-steps per CPU second, a checksum), `steps` steps, each with the end accelerations the next one starts from.
+/// max(m, width) + 2 blocks a side, its cells in strips (`--strips`): (block-steps per CPU
+/// second, a checksum: the sum of u over the blocks in block order, the same bits in any
+/// layout), `steps` steps, each with the end accelerations the next one starts from.
 fn engine_step(m: usize, width: usize, steps: u64) -> (f64, f64) {
     use bkwaves_core::boundary::Ghost;
     use bkwaves_core::chain::geometry::{Geometry, Grid};
@@ -432,6 +451,7 @@ fn engine_step(m: usize, width: usize, steps: u64) -> (f64, f64) {
         (Ghost::Mirror, Ghost::Mirror),
         (Ghost::Mirror, Ghost::Mirror),
     );
+    let geo = in_strips(geo);
     let u0: Vec<f64> = (0..n * n)
         .map(|q| 0.6 - 1e-3 * (0.1 * q as f64).sin())
         .collect();
@@ -441,7 +461,9 @@ fn engine_step(m: usize, width: usize, steps: u64) -> (f64, f64) {
             let p = geo.at(i, j);
             st.dir[p] = 1.0;
             st.onset[p] = 1.0;
-            st.w[p] = -1e-2 * (0.1 * p as f64).cos();
+            // (of the block's index in one strip: the same start in any layout)
+            let row_major = (j + 1) * (n + 2) + i + 1;
+            st.w[p] = -1e-2 * (0.1 * row_major as f64).cos();
             st.add_to_runs(p);
         }
     }
@@ -471,7 +493,8 @@ fn engine_step(m: usize, width: usize, steps: u64) -> (f64, f64) {
         std::mem::swap(&mut a0, &mut a1);
     }
     let s = cpu_seconds() - t;
-    ((m * m) as f64 * steps as f64 / s, st.u.iter().sum::<f64>())
+    let sum = geo.blocks().map(|p| st.u[p]).sum::<f64>();
+    ((m * m) as f64 * steps as f64 / s, sum)
 }
 
 /// The events of the rounds' ruptures.
@@ -552,6 +575,11 @@ fn main() {
                 };
                 GIVE_BACK.set(on).expect("--give-back once");
             }
+            "--strips" => {
+                let w: usize = args[k + 1].parse().expect("--strips W: columns >= 1");
+                assert!(w >= 1, "--strips W: columns >= 1");
+                STRIPS.set(w).expect("--strips once");
+            }
             "--smaps" => {
                 // a flag: no value follows
                 SMAPS.set(true).expect("--smaps once");
@@ -559,7 +587,7 @@ fn main() {
                 continue;
             }
             a => panic!(
-                "unknown argument {a} (--repeat R, --size L, --memory N1,N2, --full N,dx,gamma, \
+                "unknown argument {a} (--strips W, --repeat R, --size L, --memory N1,N2, --full N,dx,gamma, \
                  --events local|global|both, --give-back on|off, --smaps, --kernel M[,W])"
             ),
         }

@@ -8,7 +8,6 @@
 //! sources, the integrators, event location and checkpoints are the chain's.
 
 use crate::boundary::Boundary;
-use crate::chain::geometry::grid::STRIP_WIDTH;
 use crate::chain::geometry::Grid;
 use crate::chain::medium::{Medium, Uniform};
 use crate::chain::{ChainConfig, Engine};
@@ -45,11 +44,12 @@ impl<F: Friction, M: Medium> Engine<Grid, F, M> {
         u0: &[f64],
         u_t0: Option<&[f64]>,
     ) -> Result<Self> {
-        Self::lattice_in_strips(cfg, spec, STRIP_WIDTH, friction, medium, u0, u_t0)
+        Self::on_grid(cfg, spec, None, friction, medium, u0, u_t0)
     }
 
     /// [`Engine::lattice`] with its cells in strips of at most `width` columns
-    /// (chain/geometry/grid.rs; `width` >= nx: one strip, row-major). The layout changes
+    /// (chain/geometry/grid.rs; `width` >= nx: one strip, row-major; by default one strip
+    /// up to 256 columns, strips of 62 beyond). The layout changes
     /// no result: the same bits (lattice/tests_strips.rs), but a [`crate::chain::medium::PerBlock`]
     /// medium must be made for the same layout ([`Grid::with_strips`]).
     pub fn lattice_in_strips(
@@ -68,6 +68,19 @@ impl<F: Friction, M: Medium> Engine<Grid, F, M> {
                 allowed: ">= 1 columns",
             });
         }
+        Self::on_grid(cfg, spec, Some(width), friction, medium, u0, u_t0)
+    }
+
+    /// The lattice in the default layout (`width` None) or in strips of `width`.
+    fn on_grid(
+        cfg: ChainConfig,
+        spec: LatticeSpec,
+        width: Option<usize>,
+        friction: F,
+        medium: M,
+        u0: &[f64],
+        u_t0: Option<&[f64]>,
+    ) -> Result<Self> {
         for (name, v) in [("nx", spec.nx), ("ny", spec.ny)] {
             if v == 0 {
                 return Err(Error::InvalidParameter {
@@ -93,8 +106,8 @@ impl<F: Friction, M: Medium> Engine<Grid, F, M> {
             spec.dy,
             (spec.x.left(), spec.x.right()),
             (spec.y.left(), spec.y.right()),
-        )
-        .with_strips(width);
+        );
+        let grid = width.map_or(grid, |w| grid.with_strips(w));
         Engine::build(grid, cfg, friction, medium, spec.x.name(), u0, u_t0)
     }
 }

@@ -173,7 +173,7 @@ fn the_lists_next_to_the_runs_give_the_walks_bits() {
 
 #[test]
 fn the_grid_finds_rows_and_columns_without_dividing() {
-    // one strip (nx <= 62, or forced) and strips of several widths, the last uneven
+    // one strip (nx <= width) and strips of several widths, the last uneven
     for (nx, width) in [
         (1usize, 62usize),
         (2, 62),

@@ -423,15 +423,16 @@ fn a_checkpoint_resumes_bit_for_bit_in_strips() {
 
 #[test]
 fn a_wide_lattice_is_in_strips_and_refuses_a_checkpoint_of_one_strip() {
-    // a lattice wider than 62 columns is in strips by default; a checkpoint of the same
-    // lattice in one strip (the layout before strips) fails with the clear error
-    let c = Case::new(70, 3, &Free, &Free);
+    // a lattice wider than 256 columns is in strips of at most 62 by default; a
+    // checkpoint of the same lattice in one strip (the layout before strips) fails with
+    // the clear error
+    let c = Case::new(300, 2, &Free, &Free);
     let fr = coulomb;
     let la = Lattice::lattice(c.cfg(), c.spec(), fr(), Uniform, &c.u0(), None).unwrap();
     let g = *la.geometry();
-    assert_eq!((g.m, g.w, g.last, g.s), (2, 35, 35, 37));
-    assert!(g.describe().contains("2 strips"), "{}", g.describe());
-    let mut one = c.build(fr(), Uniform, 70);
+    assert_eq!((g.m, g.w, g.last, g.s), (5, 60, 60, 62));
+    assert!(g.describe().contains("5 strips"), "{}", g.describe());
+    let mut one = c.build(fr(), Uniform, 300);
     assert_eq!(one.geometry().m, 1);
     assert!(!one.geometry().describe().contains("strips"));
     one.run(0.5, usize::MAX, u64::MAX).unwrap();
@@ -439,10 +440,16 @@ fn a_wide_lattice_is_in_strips_and_refuses_a_checkpoint_of_one_strip() {
     let mut la = la;
     let e = la.restore(&old).unwrap_err().to_string();
     assert!(e.contains("same blocks"), "{e}");
-    // and a lattice of at most 62 columns is in one strip: its old checkpoints load
-    let c = Case::new(62, 3, &Free, &Free);
+    // and a lattice of at most 256 columns is in one strip: its old checkpoints load
+    let c = Case::new(256, 2, &Free, &Free);
     let la = Lattice::lattice(c.cfg(), c.spec(), fr(), Uniform, &c.u0(), None).unwrap();
-    assert_eq!((la.geometry().m, la.geometry().s), (1, 64));
+    assert_eq!((la.geometry().m, la.geometry().s), (1, 258));
+    let c = Case::new(257, 2, &Free, &Free);
+    let la = Lattice::lattice(c.cfg(), c.spec(), fr(), Uniform, &c.u0(), None).unwrap();
+    assert_eq!(
+        (la.geometry().m, la.geometry().w, la.geometry().last),
+        (5, 52, 49)
+    );
 }
 
 #[test]

@@ -3,14 +3,16 @@
 //! along y (`Medium::bond_y`, between p - S and p, S the strips' row stride), in the
 //! paper's variables phi = k_p u - [x bonds]/dx^2 - [y bonds]/dy^2 (docs/lattice.md).
 //!
-//! The layout. The columns are cut into m = ceil(nx / W) strips (W = [`STRIP_WIDTH`]
-//! unless chosen), w = ceil(nx / m) columns each but the last (nx - (m - 1) w columns).
+//! The layout. A lattice of at most [`ONE_STRIP_UP_TO`] columns is one strip: the
+//! row-major (nx + 2) x (ny + 2) layout. A wider one is cut into m = ceil(nx / W) strips
+//! (W = [`STRIP_WIDTH`] unless chosen: [`Grid::with_strips`]), w = ceil(nx / m) columns
+//! each but the last (nx - (m - 1) w columns).
 //! Every strip is a little lattice of its own: w + 2 cells a row (stride S = w + 2, the
 //! same for all strips), ny + 2 rows, its own ghost frame; strip t holds the cells
 //! [t S (ny + 2), (t + 1) S (ny + 2)), and block (i, j), t = i / w, li = i - t w, sits at
-//! t S (ny + 2) + (j + 1) S + li + 1. With nx <= W there is one strip: the row-major
-//! (nx + 2) x (ny + 2) layout, bit for bit. A run is a stretch of one row of one strip; its
-//! neighbours are p -/+ 1 and p -/+ S, whatever the strip.
+//! t S (ny + 2) + (j + 1) S + li + 1 (with nx <= W one strip, row-major). A run is a
+//! stretch of one row of one strip; its neighbours are p -/+ 1 and p -/+ S, whatever the
+//! strip.
 //!
 //! A ghost column between two strips stands for the neighbouring strip's edge block as a
 //! periodic ghost stands for the far side's block ([`Geometry::beyond`] gives
@@ -22,11 +24,15 @@
 //! ghosts that are nobody's neighbour.
 //!
 //! Why: a rupture's ring of sliding blocks is stepped row by row, and a row's neighbours
-//! above and below are S cells away; with rows as long as the lattice the step's working
-//! set grows with nx (docs/benchmarks.md, "Why the step is slower inside a rupture"), and
-//! a page of scratch holds a fraction of a row, so it cannot be given back behind the
-//! ring while any cell of that row is live (../release.rs). In strips both are bounded by
-//! W.
+//! above and below are S cells away; with rows as long as the lattice the step slows as
+//! nx grows (docs/benchmarks.md, "Why the step is slower inside a rupture"), and a page of
+//! scratch holds a fraction of a row, so it cannot be given back behind the ring while any
+//! cell of that row is live (../release.rs). In strips both are bounded by W. But a seam
+//! cuts the runs that cross it, and a run costs a set-up and a scalar tail: measured
+//! (docs/benchmarks.md, "The lattice's cells in strips"), strips of 62 make the step over
+//! a sliding square 1.45 times faster in a 1024-wide lattice, 1.2 in a 512-wide one, the
+//! same at 256, and a 128-wide rupture 0.91 times as fast: hence one strip up to
+//! [`ONE_STRIP_UP_TO`] columns.
 
 use super::{beyond_of, Beyond, Geometry, Stencil};
 use crate::boundary::Ghost;
@@ -35,6 +41,9 @@ use crate::chain::medium::Medium;
 
 /// The widest strip by default (columns): 62 + 2 cells, 512 bytes a row of f64.
 pub const STRIP_WIDTH: usize = 62;
+
+/// The widest lattice kept in one strip by default (columns; module docs).
+pub const ONE_STRIP_UP_TO: usize = 256;
 
 /// ceil(2^64 / d): q / d = (q inv) >> 64 for q, d < 2^32 (Lemire, Kaser and Kurz,
 /// "Faster remainder by direct computation", 2019), without a division.
@@ -90,8 +99,8 @@ pub struct Grid {
 }
 
 impl Grid {
-    /// nx x ny blocks at spacings dx, dy, with the ghosts of each axis, in strips of at
-    /// most [`STRIP_WIDTH`] columns.
+    /// nx x ny blocks at spacings dx, dy, with the ghosts of each axis: one strip up to
+    /// [`ONE_STRIP_UP_TO`] columns, wider in strips of at most [`STRIP_WIDTH`] columns.
     pub fn new(
         nx: usize,
         ny: usize,
@@ -100,7 +109,12 @@ impl Grid {
         x: (Ghost, Ghost),
         y: (Ghost, Ghost),
     ) -> Grid {
-        Grid::in_strips(nx, ny, dx, dy, x, y, STRIP_WIDTH)
+        let width = if nx <= ONE_STRIP_UP_TO {
+            nx.max(1)
+        } else {
+            STRIP_WIDTH
+        };
+        Grid::in_strips(nx, ny, dx, dy, x, y, width)
     }
 
     /// The same lattice in strips of at most `width` >= 1 columns (module docs; `width`

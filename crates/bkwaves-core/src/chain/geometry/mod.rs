@@ -5,9 +5,9 @@
 //! geometry says how the padded arrays are laid out and what stands around a block:
 //!
 //! - [`Line`]: the chain, blocks 1..=n of n + 2 cells, ghosts 0 and n + 1;
-//! - [`Grid`]: the square lattice (docs/lattice.md) in vertical strips of at most 62
-//!   columns, each strip row-major with its own ghost frame (one strip, (nx + 2) x
-//!   (ny + 2) cells, when nx <= 62; [`grid`]): a run is a stretch of one row of a strip
+//! - [`Grid`]: the square lattice (docs/lattice.md): up to 256 columns row-major in
+//!   (nx + 2) x (ny + 2) cells, wider in vertical strips of at most 62 columns, each
+//!   row-major with its own ghost frame ([`grid`]): a run is a stretch of one row of a strip
 //!   (ghost columns separate the rows and the strips), its x neighbours are p -/+ 1 as in
 //!   the chain, its y neighbours p -/+ S (S the strips' row stride); a ghost column
 //!   between two strips stands for the neighbouring strip's block as a periodic ghost
