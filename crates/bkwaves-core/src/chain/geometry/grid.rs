@@ -433,12 +433,15 @@ impl Geometry for Grid {
         let (l, r, d, u) = (nb(p - 1), nb(p + 1), nb(p - s), nb(p + s));
         let (cl, cr) = (med.bond(p), med.bond(p + 1));
         let (cd, cu) = (med.bond_y(p), med.bond_y(p + s));
-        let own = med.loader(p) + (cl + cr) * self.kx + (cd + cu) * self.ky;
-        up.combine(own, &l.combine(cl, &r, cr), -self.kx).combine(
-            1.0,
-            &d.combine(cd, &u, cu),
-            -self.ky,
-        )
+        // phi = k_p up - f with f the force's own floats (cd d + cu u - (cd + cu) up per
+        // axis, as `force` and `Blocks::phi` sum them): a coupling across that does not
+        // vary is an exact zero, so a lattice uniform in y (or x) locates the chain's
+        // crossings to the bit, and x <-> y is a swap of two addends (docs/lattice.md,
+        // "Ties")
+        let along = l.combine(cl, &r, cr).combine(1.0, &up, -(cl + cr));
+        let across = d.combine(cd, &u, cu).combine(1.0, &up, -(cd + cu));
+        let f = along.combine(self.kx, &across, self.ky);
+        up.combine(med.loader(p), &f, -1.0)
     }
     #[inline]
     fn stiffness<M: Medium>(&self, med: &M, p: usize) -> f64 {

@@ -159,7 +159,10 @@ impl Geometry for Line {
         let k = self.k;
         let (l, r) = (nb(p - 1), nb(p + 1));
         let (cl, cr) = (med.bond(p), med.bond(p + 1));
-        up.combine(med.loader(p) + (cl + cr) * k, &l.combine(cl, &r, cr), -k)
+        // phi = k_p up - f with f the force's own floats ((cl l + cr r - (cl + cr) up) k,
+        // as `force` and `Blocks::phi` form it; the lattice's form, docs/lattice.md "Ties")
+        let lap = l.combine(cl, &r, cr).combine(1.0, &up, -(cl + cr));
+        up.combine(med.loader(p), &lap, -k)
     }
     #[inline]
     fn stiffness<M: Medium>(&self, med: &M, p: usize) -> f64 {
