@@ -74,9 +74,8 @@ def test_per_block_thresholds_masses_and_loaders_varying_along_one_axis_are_the_
     Laplacian across vanishes identically): u, u_t and every slip equal the chain's with
     the same per-block arrays to round-off (measured 2e-16), at dx along x and at dy along
     y. A lattice that read its (ny, nx) arrays transposed, or dropped a property, would
-    not. (Loaded at v > 0 the two agree to 1e-9 over 40 time units, not to the bit: the
-    lattice cuts an extra step where identical rows switch at one instant; docs/validation.md,
-    "Issue 25, item by item".)"""
+    not. (Loaded at v > 0 they are the same bits too, through hundreds of events:
+    tests/test_lattice_ties.py; docs/lattice.md, "Ties".)"""
     n, other, dx, dy, step = 24, 3, 0.25, 0.3, 0.05
     k = np.arange(n)
     u0 = 0.55 + 0.2 * np.sin(0.7 * k)
