@@ -158,40 +158,52 @@ def test_a_wall_time_bound_returns_control_without_changing_the_run():
 
 
 def test_a_cascade_at_one_instant_returns_control_without_changing_the_run():
-    """A uniform chain under loading reaches the threshold everywhere at once: its blocks
-    slip one by one at that instant, each settle going over every sliding block (n^2/2
-    block visits, no integration step in between). The wall bound was checked only
-    between steps: one engine call ran for hours at 10^6 blocks (the audit's `bkwaves run`
-    of 10^6 blocks loaded through 20 events ignored SIGINT for 10 minutes). Now a call
-    stops among those switches too (here after a few of them), and the run is the same."""
+    """Many switches at one instant with no integration step between them: n blocks
+    released at one instant, each release a source's act followed by a settle over every
+    sliding block (n^2/2 block visits). The wall bound was checked only between steps:
+    one engine call ran for hours at 10^6 blocks (the audit's `bkwaves run` of 10^6 blocks
+    loaded through 20 events ignored SIGINT for 10 minutes; there the loading queue
+    slipped a uniform chain's blocks one by one, each with a settle). Now a call stops
+    among those switches too (here after a few of them), and the run is the same. The
+    loading instant itself is one act since the blocks due at one instant slip together
+    (docs/lattice.md, "Ties"): all n slips in one call, then the settle, O(n log n)."""
     n = 3000
 
-    def go(wall):
+    def go(wall, release):
         ch = bk.Chain(n, bk.Params(gamma=0.3, v=1e-3, dx=0.1), u0=0.5)
+        if release:
+            for i in range(n):
+                ch.release(i, t=1.0)
         eng = ch._engine
         eng.set_run_limits(10**9, 1e300, 10**15)
         eng.set_chunk_wall(wall)
-        most, calls = 0, 0  # the most switches a call applied without a step
+        most, jump, calls = 0, 0, 0  # the most switches a call applied without a step
         while True:
             c0 = eng.counters()
             stop = eng.advance(1e300, 1, 2**62)
             c1 = eng.counters()
             calls += 1
+            jump = max(jump, c1["switches"] - c0["switches"])
             if c1["steps"] == c0["steps"]:
                 most = max(most, c1["switches"] - c0["switches"])
             if stop != "steps":
                 break
-        return most, calls, ch.u.copy(), ch.t, eng.catalog(), eng.ledger()
+        return (most, jump, calls), ch.u.copy(), ch.t, eng.catalog(), eng.ledger()
 
-    most0, calls0, u0, t0, cat0, led0 = go(float("inf"))
-    most1, calls1, u1, t1, cat1, led1 = go(1e-9)
-    assert calls0 == 1  # the whole event in one call (the slips, then re-sticking steps)
-    # every block slips at one instant, a few a call now (it was all n in one call)
-    assert most1 < 20 and calls1 > n / 10, (most1, calls1)
-    np.testing.assert_array_equal(u0, u1)
-    assert t0 == t1 and led0 == led1
-    for k in cat0:
-        np.testing.assert_array_equal(cat0[k], cat1[k])
+    for release in (True, False):
+        (most0, _, calls0), u0, t0, cat0, led0 = go(float("inf"), release)
+        (most1, jump1, calls1), u1, t1, cat1, led1 = go(1e-9, release)
+        assert calls0 == 1  # the whole event in one call (the slips, then re-sticking steps)
+        if release:
+            # every block slips at one instant, a few a call now (it was all n in one call)
+            assert most1 < 20 and calls1 > n / 10, (most1, calls1)
+        else:
+            # the loading instant: all n blocks slip in the call that reaches it
+            assert jump1 >= n and calls1 > 1, (jump1, calls1)
+        np.testing.assert_array_equal(u0, u1)
+        assert t0 == t1 and led0 == led1
+        for k in cat0:
+            np.testing.assert_array_equal(cat0[k], cat1[k])
 
 
 # --------------------------------------------------------------------------- start-up
