@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from small_run import SMALL, SMALL_TOML
 
 import bkwaves as bk
 from bkwaves import _nc_publish, io
@@ -28,21 +29,6 @@ from bkwaves.config import parse_config
 from bkwaves.io import partial_path
 from bkwaves.runner import checkpoint_path, resume, run
 
-SMALL = {
-    "model": "chain",
-    "params": {"gamma": 0.3, "v": 0.0, "dx": 0.05},
-    "domain": {"blocks": 200},
-    "initial": {"kind": "uniform", "value": 0.6},
-    "triggers": [{"block": 0, "kind": "kick", "velocity": 2.0}],
-    "run": {"t_end": 30.0},
-    "output": {"snapshot_every": 0.5},
-}
-SMALL_TOML = (
-    'model = "chain"\n[params]\ngamma = 0.3\nv = 0.0\ndx = 0.05\n[domain]\nblocks = 200\n'
-    '[initial]\nkind = "uniform"\nvalue = 0.6\n'
-    '[[triggers]]\nblock = 0\nkind = "kick"\nvelocity = 2.0\n'
-    "[run]\nt_end = 30.0\n[output]\nsnapshot_every = 0.5\n"
-)
 #: bytes of the 61 snapshots of SMALL (u, u_t: 8 bytes a block, sliding: 1)
 SMALL_DATA = 61 * 200 * 17
 
