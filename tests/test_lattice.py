@@ -18,8 +18,9 @@ def test_a_front_along_x_on_a_lattice_periodic_in_y_is_the_chain():
     ch.kick(0, -2.0)
     t_chain = ch.run(t_end=5.0, progress=False).first_slip_times()
     # the global cut, as the chain's: the same arithmetic, so the same times to
-    # round-off (local events, the lattice's default, agree to the step's accuracy:
-    # tests/test_lattice_local.py)
+    # round-off (3.5e-14 here from block 1 on, not explained: loaded lattices uniform in
+    # y are the chain to the bit, tests/test_lattice_ties.py; local events, the
+    # lattice's default, agree to the step's accuracy: tests/test_lattice_local.py)
     la = bk.Lattice((n, ny), _params(), u0=0.6, boundary=("free", "periodic"), events="global")
     for j in range(ny):
         la.kick((0, j), -2.0)
@@ -150,7 +151,7 @@ def test_a_point_rupture_tends_to_the_planar_speeds_from_below():
     # at dx/sqrt(2)); D = (c_planar - c) R > 0 is the eikonal coefficient
     r = bk.lattice.rupture(0.6, 0.45, 0.2, 48, check=False)
     assert r.arrival.shape == (48, 48)
-    np.testing.assert_allclose(r.arrival, r.arrival.T, atol=1e-11)
+    assert np.array_equal(r.arrival, r.arrival.T, equal_nan=True)  # x <-> y: exact
     for k in ("x", "diagonal"):
         c0, d = r.fits[k]
         assert abs(c0 - r.planar[k]) < 0.01 * r.planar[k], (k, c0, r.planar)
@@ -223,7 +224,7 @@ def test_a_disc_of_radius_zero_is_a_point_kick_and_a_disc_rupture_is_symmetric()
     assert ok.sum() > 21 and np.isfinite(point).sum() < ok.sum()
     for other in (t[::-1], t[:, ::-1], t.T):
         assert np.array_equal(np.isfinite(other), ok)
-        assert np.max(np.abs(other[ok] - t[ok])) < 1e-11
+        assert np.array_equal(other[ok], t[ok])  # reflections and x <-> y: exact
 
 
 def test_per_bond_springs_shapes_checkpoints_and_errors(tmp_path):
