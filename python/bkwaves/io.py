@@ -32,7 +32,7 @@ continues it and :func:`finalize` publishes it as it is.
 
 HDF5 never writes to disk in the run's process (a write it fails ends the process by
 SIGSEGV): NetCDF blocks are built in memory and written by Python, and the merged file
-is sized first and written by Python or by a child process (:mod:`bkwaves._nc_publish`).
+is sized first and written by Python or by a child process (``bkwaves._nc_publish``).
 """
 
 from __future__ import annotations
@@ -1249,7 +1249,7 @@ def _copy_nc(src: Path, k: int | None = None) -> bytes:
 def _merge_nc(blocks_dir: Path, main: Path, check) -> None:
     """The NetCDF blocks of an unfinished run merged into one file ``main`` (memory: the
     file up to 32 MiB, else one block), sized first and written where a failure of HDF5
-    cannot end this process (:mod:`bkwaves._nc_publish`); ``check()`` is asked before
+    cannot end this process (``bkwaves._nc_publish``); ``check()`` is asked before
     and while it is written."""
     from . import _nc_publish
 
