@@ -19,3 +19,47 @@ def _sigint_as_from_a_terminal():
     yield
     if old == signal.SIG_IGN:
         signal.signal(signal.SIGINT, old)
+
+
+def _stale_extension():
+    """The newest Rust source (crates/, test modules aside) changed after the compiled
+    extension of an editable install (python/bkwaves/_core*), or None. A test run against
+    an extension built from older sources checks an engine that is not the code in the
+    tree: a kicked lattice front measured against the chain with an extension built
+    before the event location's fix (docs/lattice.md, "Ties") reported a 3.5e-14
+    difference that the sources no longer had. A fresh install (.ci/run) is never
+    stale."""
+    import importlib.machinery
+    import importlib.util
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    spec = importlib.util.find_spec("bkwaves")  # (finds the package, imports nothing)
+    if spec is None or spec.origin is None:
+        return None
+    pkg = Path(spec.origin).resolve().parent
+    # the file the import takes: the first suffix in the import system's order
+    exts = [pkg / f"_core{s}" for s in importlib.machinery.EXTENSION_SUFFIXES]
+    ext = next((p for p in exts if p.exists()), None)
+    if pkg != root / "python" / "bkwaves" or ext is None:
+        return None  # installed, not built in this tree
+    built = ext.stat().st_mtime
+    sources = [*root.glob("crates/**/*.rs"), root / "Cargo.lock"]
+    sources += root.glob("crates/*/Cargo.toml")
+    newer = [
+        p
+        for p in sources
+        if p.exists()
+        and not (p.stem == "tests" or p.stem.startswith("tests_") or p.stem.endswith("_tests"))
+        and p.stat().st_mtime > built
+    ]
+    return max(newer, key=lambda p: p.stat().st_mtime).relative_to(root) if newer else None
+
+
+def pytest_configure(config):
+    stale = _stale_extension()
+    if stale is not None:
+        raise pytest.UsageError(
+            f"bkwaves._core is older than {stale}: rebuild it (maturin develop --release) "
+            "before testing, or the tests check an engine that is not the code in the tree"
+        )
