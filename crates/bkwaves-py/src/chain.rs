@@ -457,6 +457,26 @@ impl ChainEngine {
         Ok(d)
     }
 
+    /// Where the onsets' block-steps went (a law with a stiff onset: chain/onset.rs):
+    /// {steps (with a patch), group_passes, turned_block_steps (plain steps thrown away as
+    /// a block turned stiff in them), and per cause of the patch's integration (first,
+    /// growth, redo up to an event): integrations_*, group_block_steps_*,
+    /// loose_block_steps_* (the groups' first, loose passes), runs_block_steps_*}.
+    fn onset_stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.inner.onset_stats();
+        let d = PyDict::new(py);
+        d.set_item("steps", s.steps)?;
+        d.set_item("group_passes", s.group_passes)?;
+        d.set_item("turned_block_steps", s.turned_block_steps)?;
+        for (k, cause) in ["first", "growth", "redo"].iter().enumerate() {
+            d.set_item(format!("integrations_{cause}"), s.integrations[k])?;
+            d.set_item(format!("group_block_steps_{cause}"), s.group_block_steps[k])?;
+            d.set_item(format!("loose_block_steps_{cause}"), s.loose_block_steps[k])?;
+            d.set_item(format!("runs_block_steps_{cause}"), s.runs_block_steps[k])?;
+        }
+        Ok(d)
+    }
+
     /// The whole state as bytes (restored bit for bit by `restore`).
     fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, pyo3::types::PyBytes> {
         pyo3::types::PyBytes::new(py, &self.inner.checkpoint())

@@ -534,16 +534,16 @@ class LatticeModel(ChainModel):
         work.slips *= ny
         if work.onset_block_steps:
             # every row's slips have their onsets (the row's count was per row), at
-            # 0.66-0.78x the chain's per slip while a rupture runs (the plane's patch is
+            # 0.58-0.74x the chain's per slip while a rupture runs (the plane's patch is
             # split into groups of one stiffness class, each on its own sub-steps); the
             # plane's healing after it (hundreds of blocks near rest at once) costs
-            # about 3x that per block that sticks, not counted (docs/lattice.md,
+            # about 2x that per block that sticks, not counted (docs/lattice.md,
             # "Velocity weakening on the lattice")
             work.onset_block_steps *= ny * LATTICE_ONSET_GAIN
             work.notes = [x for x in work.notes if "onsets' sub-steps" not in x]
             work.notes.append(
                 f"~{work.onset_block_steps:.2g} block-steps in the onsets' sub-steps, "
-                "at least: the healing after a rupture adds about 3x that per block that "
+                "at least: the healing after a rupture adds about 2x that per block that "
                 "sticks (docs/lattice.md)"
             )
         if self.local_events(cfg, run):
@@ -553,12 +553,14 @@ class LatticeModel(ChainModel):
 
 
 #: The lattice's onset block-steps per slip over the chain's (``limits.onset_substeps``):
-#: 0.66, 0.73 and 0.78 on ruptures of 24 x 16, 34 x 23 and 48 x 32 blocks at v_f = 1e-4
+#: 0.58, 0.67 and 0.74 on ruptures of 24 x 16, 34 x 23 and 48 x 32 blocks at v_f = 1e-4
 #: (dx = 0.1, gamma = 0.3, step 0.05) while the rupture runs (the onsets' patch split
-#: into groups of one stiffness class, each on its own sub-steps; the chain's per-slip
-#: count was measured before that split, when a patch took the sub-steps of its
-#: stiffest block; docs/lattice_vw_cost.json); the healing after it costs about 3x that
-#: per block that sticks (docs/lattice.md, "Velocity weakening on the lattice").
-LATTICE_ONSET_GAIN = 0.72
+#: into groups of one stiffness class, each on its own sub-steps, taking the blocks that
+#: will be stiff in a step at its start, a redo up to an event seeded by the integration
+#: it cuts short; the chain's per-slip count was measured when a patch took the
+#: sub-steps of its stiffest block; docs/lattice_vw_cost.json); the healing after it
+#: costs about 2x that per block that sticks (docs/lattice.md, "Velocity weakening on
+#: the lattice").
+LATTICE_ONSET_GAIN = 0.66
 
 MODEL = LatticeModel()

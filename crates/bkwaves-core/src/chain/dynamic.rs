@@ -8,7 +8,9 @@ use super::energy::Ledger;
 use super::geometry::{Geometry, Grid};
 use super::integrator::Method;
 use super::medium::{Ends, Medium, PerBlock, Properties, Uniform};
-use super::{Chain, ChainConfig, Counters, Engine, LocalStats, Snapshots, Stop, Trigger};
+use super::{
+    Chain, ChainConfig, Counters, Engine, LocalStats, OnsetStats, Snapshots, Stop, Trigger,
+};
 use crate::boundary::{Boundary, Ghost};
 use crate::error::Result;
 use crate::friction::{Friction, FrictionSpec};
@@ -64,6 +66,8 @@ pub trait DynChain: Send + Sync + std::fmt::Debug {
     fn local_events_unavailable(&self) -> Option<&'static str>;
     /// See [`Engine::local_stats`].
     fn local_stats(&self) -> LocalStats;
+    /// See [`Engine::onset_stats`].
+    fn onset_stats(&self) -> OnsetStats;
     /// See [`Chain::checkpoint`].
     fn checkpoint(&self) -> Vec<u8>;
     /// See [`Chain::restore`].
@@ -156,6 +160,9 @@ impl<G: Geometry, F: Friction, M: Medium> DynChain for Engine<G, F, M> {
     }
     fn local_stats(&self) -> LocalStats {
         Engine::local_stats(self)
+    }
+    fn onset_stats(&self) -> OnsetStats {
+        Engine::onset_stats(self)
     }
     fn checkpoint(&self) -> Vec<u8> {
         Engine::checkpoint(self)

@@ -49,6 +49,7 @@ use events::{Hermite, SlipQueue};
 use geometry::{Beyond, Geometry, Line};
 use integrator::{Method, Simd, Stepper};
 pub use local_events::LocalStats;
+pub use onset::OnsetStats;
 #[cfg(test)]
 pub(crate) use local_events::Plain;
 use medium::{Blocks, Medium, Uniform};
@@ -1549,6 +1550,7 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         self.check_solved(t0)?;
         if self.stiff && self.onset_patch(h, true) {
             // a block came into the stiff range in the step (about to stick): redo it
+            self.onset.stats.turned_block_steps += self.st.n_active as u64;
             self.restore_runs();
             return self.onset_step(t0, h, t_cap);
         }

@@ -57,6 +57,16 @@
 //! class, fall into one group, and each row takes the chain's sub-steps
 //! (tests/test_lattice_vw.py).
 //!
+//! A step's patch takes the blocks that will be stiff in the step, as their start state
+//! tells ([`LOOKAHEAD_A`]): a block of the runs that turns stiff in the step grows the
+//! patch after it, and the step is integrated again. A step cut at an event (the earliest
+//! rest of a patch block, or any switch elsewhere) is integrated again up to it; that redo
+//! starts from the dense output of the integration it cuts short: the groups' stage values
+//! at the new midpoint and end seed the runs' step in place of a first, loose pass, then
+//! every group is stepped at the full tolerance and they are iterated as above (a group
+//! not yet stepped is read from that dense output too). The counts of each are in
+//! [`OnsetStats`] (docs/lattice.md, "Velocity weakening on the lattice").
+//!
 //! The patch includes the stiff block's sliding neighbours because the stiff block's
 //! acceleration jumps from 0 to ~1 within a time ~ v_f ln(1/r), inside a step: a
 //! neighbour stepped with H would sample that kink at three points only (an error
@@ -88,14 +98,51 @@ pub(crate) const GROWTH: f64 = 4.0;
 /// ~100 sub-steps times (h/dx)^2 h: far below [`PASS_TOL`] at 32, which halves the
 /// sub-steps that the time shift limits, since those scale like tol^(1/5)).
 pub(crate) const FIRST_PASS_LOOSE: f64 = 32.0;
+/// The patch at a step's start takes the blocks that will be stiff in the step as far
+/// as their start state tells: at the least speed their start acceleration takes them to
+/// in the step, with this many times that acceleration (it changes in the step: by a few
+/// per cent for a block slowing down towards rest, by up to twice for one pushed away
+/// from it; the time shift goes like its cube in the 1/s tail). A block missed grows the
+/// patch after the step, which is then integrated again: on the 48 x 32 rupture healing
+/// (docs/lattice.md) 1.0 left 256 growths in 2255 steps, 1.25 leaves 30.
+pub(crate) const LOOKAHEAD_A: f64 = 1.25;
 /// The most passes (patch, runs) per step.
 pub(crate) const MAX_PASSES: usize = 6;
+
+/// Where the onsets' work went (counters for diagnosis: not part of a checkpoint; zero
+/// when no law has a stiff onset). A step with a patch integrates the patch and the runs
+/// once for the step (cause 0), again each time the patch grows (cause 1: a block of the
+/// runs turned stiff in the step) and again up to the earliest event (cause 2).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct OnsetStats {
+    /// Steps taken with a patch.
+    pub steps: u64,
+    /// Integrations of the patch and the runs, per cause (first, growth, redo).
+    pub integrations: [u64; 3],
+    /// Block-steps of the patch's groups' sub-steps, per cause.
+    pub group_block_steps: [u64; 3],
+    /// Of those, the block-steps of the groups' first (loose) passes, per cause.
+    pub loose_block_steps: [u64; 3],
+    /// Block-steps of the runs' steps inside the integrations, per cause.
+    pub runs_block_steps: [u64; 3],
+    /// Block-steps of plain steps thrown away because a block turned stiff in them.
+    pub turned_block_steps: u64,
+    /// Groups stepped, summed over the integrations' passes.
+    pub group_passes: u64,
+}
 
 /// The patch of one step and its integration (reused from step to step).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Onset {
+    /// What the onsets did so far (the patch's own, not its parts').
+    pub stats: OnsetStats,
+    /// The cause of the integration under way (an index of [`OnsetStats`]' arrays).
+    cause: usize,
     /// The patch blocks (padded indices, sorted); empty when the last step had none.
     pub blocks: Vec<usize>,
+    /// The groups of the integration before the last (a redo up to an event starts from
+    /// their dense output: [`Engine::onset_pass`]).
+    seed: Vec<Onset>,
     /// The patch's connected components (no block of one is a neighbour of a block of
     /// another), each integrated with its own sub-steps: the whole patch's state, dense
     /// output, books and rests are theirs (the fields below, in the patch, are the
@@ -609,7 +656,19 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                         (s0.abs().min(s1.abs()), a)
                     }
                 } else {
-                    (s1, self.a_start[p])
+                    // what the block will be in the step, not only at its start (a block
+                    // of the runs that turns stiff in the step grows the patch, and the
+                    // step is integrated again): at the least speed its start
+                    // acceleration takes it to in the step (s_t = -u_tt), at LOOKAHEAD_A
+                    // times that acceleration
+                    let a = self.a_start[p];
+                    let s2 = s1 - a * h;
+                    let am = LOOKAHEAD_A * a.abs();
+                    if s1 * s2 <= 0.0 {
+                        (0.0, am)
+                    } else {
+                        (s1.abs().min(s2.abs()), am)
+                    }
                 };
                 if is_stiff(&self.st, &self.blk, p, s, a, h, step, spacing) {
                     fast.push(p);
@@ -679,12 +738,15 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
     /// stiff in the step, events located (the patch's rests on its own dense output) and
     /// the step redone up to the earliest.
     pub(super) fn onset_step(&mut self, t0: f64, mut h: f64, t_cap: f64) -> super::Result<()> {
-        let mut integ = self.onset_pass(t0, h);
+        self.onset.stats.steps += 1;
+        self.onset_cause(0);
+        let mut integ = self.onset_pass(t0, h, false);
         let mut rounds = 0;
         while rounds < 8 && self.onset_grow(h) {
             rounds += 1;
             self.restore_runs();
-            integ = self.onset_pass(t0, h);
+            self.onset_cause(1);
+            integ = self.onset_pass(t0, h, false);
         }
         let (mut cands, mut events) = (
             std::mem::take(&mut self.scratch.cands),
@@ -709,7 +771,8 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
         if s < 1.0 {
             self.restore_runs();
             h *= s;
-            integ = self.onset_pass(t0, h);
+            self.onset_cause(2);
+            integ = self.onset_pass(t0, h, true);
         }
         self.finish_step(t0, h, t_cap, integ, events, None)
     }
@@ -717,7 +780,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
     /// Integrate the patch and the runs over [t0, t0 + h] (module docs), leaving every
     /// sliding block at t0 + h, the start values in u0, w0, the end accelerations in
     /// a_end; returns the step's energy flows.
-    fn onset_pass(&mut self, t0: f64, h: f64) -> StepIntegrals {
+    fn onset_pass(&mut self, t0: f64, h: f64, seeded: bool) -> StepIntegrals {
         let spacing = self.st.geo.spacing();
         let step = self.cfg.step;
         let v = self.cfg.v;
@@ -731,7 +794,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
             .iter()
             .map(|&p| {
                 let (s0, a) = (v - self.st.w[p], self.a_start[p]);
-                let s1 = s0 + a * h;
+                let s1 = s0 - a * h;
                 let s = if s0 * s1 <= 0.0 {
                     0.0
                 } else {
@@ -773,6 +836,11 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
         // own sub-steps, stiffest first. A group reads the runs, stuck blocks and the
         // other groups (their dense output, or their Taylor polynomial before their first
         // pass), and they are iterated as the patch and the runs are
+        if seeded {
+            // the last integration's groups seed this one (their buffers are reused)
+            std::mem::swap(&mut self.onset.parts, &mut self.onset.seed);
+        }
+        let seed = std::mem::take(&mut self.onset.seed);
         let mut parts = std::mem::take(&mut self.onset.parts);
         let mut comp = vec![usize::MAX; patch.len()];
         let mut n_parts = 0;
@@ -839,6 +907,46 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
             .map(|i| runs_adj[i] || !adj[i].is_empty())
             .collect();
         let any_coupled = coupled.iter().any(|&c| c);
+        // a redo up to an event (seeded): the groups' stage values as the last
+        // integration's dense output gives them at the new midpoint and end, in place of a
+        // first pass at the loose tolerance: the runs are stepped with them, then every
+        // group at the full tolerance, and they are iterated as below (a group not yet
+        // stepped is read from that dense output too)
+        let mut seed_of = Vec::new();
+        let mut seed_val = Vec::new();
+        let mut seeded = seeded && any_coupled;
+        if seeded {
+            seed_of.resize(patch.len(), usize::MAX);
+            for (j, g) in seed.iter().enumerate() {
+                for &p in &g.blocks {
+                    if let Ok(q) = patch.binary_search(&p) {
+                        seed_of[q] = j;
+                    }
+                }
+            }
+            for (q, &p) in patch.iter().enumerate() {
+                let g = seed.get(seed_of[q]);
+                let at = |t: f64| g.and_then(|g| g.dense(p, t)).map(|x| x.0);
+                match (at(t0 + 0.5 * h), at(t0 + h)) {
+                    (Some(m), Some(e)) => seed_val.push((m, e)),
+                    _ => {
+                        seeded = false;
+                        break;
+                    }
+                }
+            }
+        }
+        if seeded {
+            // (a group's first planned sub-step, as in another pass over the step)
+            for on in parts.iter_mut() {
+                let q = patch.binary_search(&on.blocks[0]).expect("a patch block");
+                let g = &seed[seed_of[q]];
+                if g.first.0 == t0 && g.first_blocks == on.blocks {
+                    on.first = g.first;
+                    on.first_blocks.clone_from(&g.first_blocks);
+                }
+            }
+        }
         let r2 = (h / spacing) * (h / spacing);
         // the groups to step in the next pass: all in the first; then those whose inputs
         // changed by more than PASS_TOL / r2 since they were stepped (what they read
@@ -855,8 +963,18 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
         loop {
             // the largest change of a group that the runs see
             let mut change_runs = 0.0f64;
+            if seeded && !coarse_done {
+                for (i, on) in parts.iter_mut().enumerate() {
+                    for (k, &p) in on.blocks.iter().enumerate() {
+                        let q = patch.binary_search(&p).expect("a patch block");
+                        (on.mid[k], on.u[k]) = seed_val[q];
+                    }
+                    prev[i].0.clone_from(&on.mid);
+                    prev[i].1.clone_from(&on.u);
+                }
+            }
             for i in 0..n_parts {
-                if !dirty[i] {
+                if !dirty[i] || (seeded && !coarse_done) {
                     continue;
                 }
                 dirty[i] = false;
@@ -864,7 +982,8 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 {
                     let (st, blk, u0, w0, a0) =
                         (&self.st, &self.blk, &self.u0, &self.w0, &self.a_start);
-                    let (parts, patch, comp) = (&parts, &patch, &comp);
+                    let (parts, patch, comp, seed, seed_of) =
+                        (&parts, &patch, &comp, &seed, &seed_of);
                     // the group of the patch holding real block r, if not this one
                     let other = |r: usize| -> Option<&Onset> {
                         let q = patch.binary_search(&r).ok()?;
@@ -878,6 +997,12 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                         if let Some(g) = other(r) {
                             if let Some((u, _)) = g.dense(r, t) {
                                 return u;
+                            }
+                            if seeded {
+                                let q = patch.binary_search(&r).expect("a patch block");
+                                if let Some((u, _)) = seed[seed_of[q]].dense(r, t) {
+                                    return u;
+                                }
                             }
                             return u0[r] + tau * (w0[r] + 0.5 * tau * a0[r]);
                         }
@@ -937,7 +1062,14 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                         &mut on, st, blk, t0, h, step, spacing, loose, outside, nb_limit,
                     );
                 }
-                self.counters.block_steps += on.substeps * on.blocks.len() as u64;
+                let bs = on.substeps * on.blocks.len() as u64;
+                self.counters.block_steps += bs;
+                let c = self.onset.cause;
+                self.onset.stats.group_block_steps[c] += bs;
+                self.onset.stats.group_passes += 1;
+                if coupled[i] && !coarse_done {
+                    self.onset.stats.loose_block_steps[c] += bs;
+                }
                 let (pm, pe) = &mut prev[i];
                 if coarse_done {
                     // the runs and the other groups saw the last pass's values: they are
@@ -982,6 +1114,8 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                     }
                 }
                 self.restore_runs();
+            } else if seeded {
+                dirty.fill(true);
             } else {
                 dirty.copy_from_slice(&coupled);
             }
@@ -992,6 +1126,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
                 }
             }
             self.st.ext_t1 = t0 + h;
+            self.onset.stats.runs_block_steps[self.onset.cause] += self.st.n_active as u64;
             self.do_step(t0, h, false);
             coarse = self.rk.books(&self.st, &self.blk, &self.w0, h);
             coarse_done = true;
@@ -1026,6 +1161,7 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
         self.onset.rest_who = rest_who;
         self.onset.books = b;
         self.onset.parts = parts;
+        self.onset.seed = seed;
         self.onset.blocks = patch;
         self.rk
             .accel_only(&mut self.st, &self.blk, t0 + h, &mut self.a_end);
@@ -1034,6 +1170,17 @@ impl<G: Geometry, F: Friction, M: Medium> super::Engine<G, F, M> {
             dry: coarse.dry + b.dry,
             visc: coarse.visc + b.visc,
         }
+    }
+
+    /// The cause of the next integration (counted in [`OnsetStats`]).
+    fn onset_cause(&mut self, cause: usize) {
+        self.onset.cause = cause;
+        self.onset.stats.integrations[cause] += 1;
+    }
+
+    /// What the onsets did so far.
+    pub fn onset_stats(&self) -> OnsetStats {
+        self.onset.stats
     }
 
     /// u and u_t of block p at time t if it is in the last step's patch.
