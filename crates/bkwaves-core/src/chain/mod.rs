@@ -49,10 +49,10 @@ use events::{Hermite, SlipQueue};
 use geometry::{Beyond, Geometry, Line};
 use integrator::{Method, Simd, Stepper};
 pub use local_events::LocalStats;
-pub use onset::OnsetStats;
 #[cfg(test)]
 pub(crate) use local_events::Plain;
 use medium::{Blocks, Medium, Uniform};
+pub use onset::OnsetStats;
 use sources::{Cause, Source, View};
 use state::State;
 use step_control::StepControl;
