@@ -21,23 +21,27 @@ def _sigint_as_from_a_terminal():
         signal.signal(signal.SIGINT, old)
 
 
-def _stale_extension():
+def _stale_extension(root=None, pkg=None):
     """The newest Rust source (crates/, test modules aside) changed after the compiled
     extension of an editable install (python/bkwaves/_core*), or None. A test run against
     an extension built from older sources checks an engine that is not the code in the
     tree: a kicked lattice front measured against the chain with an extension built
     before the event location's fix (docs/lattice.md, "Ties") reported a 3.5e-14
     difference that the sources no longer had. A fresh install (.ci/run) is never
-    stale."""
+    stale. ``root`` (the repository) and ``pkg`` (the directory bkwaves is imported from)
+    default to this tree and the package the import system finds
+    (tests/test_stale_extension.py passes others)."""
     import importlib.machinery
     import importlib.util
     from pathlib import Path
 
-    root = Path(__file__).resolve().parent.parent
-    spec = importlib.util.find_spec("bkwaves")  # (finds the package, imports nothing)
-    if spec is None or spec.origin is None:
-        return None
-    pkg = Path(spec.origin).resolve().parent
+    root = Path(__file__).resolve().parent.parent if root is None else Path(root)
+    if pkg is None:
+        spec = importlib.util.find_spec("bkwaves")  # (finds the package, imports nothing)
+        if spec is None or spec.origin is None:
+            return None
+        pkg = Path(spec.origin).resolve().parent
+    pkg = Path(pkg)
     # the file the import takes: the first suffix in the import system's order
     exts = [pkg / f"_core{s}" for s in importlib.machinery.EXTENSION_SUFFIXES]
     ext = next((p for p in exts if p.exists()), None)
