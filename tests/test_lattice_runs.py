@@ -518,3 +518,37 @@ def test_the_anisotropy_is_a_start_up_excess_over_the_planar_deficit():
     fine, planar_fine = _aspect_excess(0.05, 2.0)
     assert planar_fine == pytest.approx(planar / 2, rel=0.05)
     assert 0.5 < (fine - planar_fine) / excess[2.0] < 0.65  # 0.0148 / 0.0252
+
+
+def _start_up_e(dx, tau, k_kick):
+    """E = excess t/dx of a corner-kicked rupture at dy = dx/1.5 (as
+    docs/scripts/lattice_anisotropy.py --collapse) at t = tau dx with the kick k_kick dx:
+    the time and the kick in the lattice's own units held fixed as dx changes."""
+    dy, t = dx / 1.5, tau * dx
+    nx = int(round((1.3 * (t + 4 * dx) + 8 * dx) / dx))
+    la = bk.Lattice((nx, int(round(1.5 * nx))), bk.Params(gamma=0.45, v=0.0, dx=dx), 0.6, dy=dy)
+    la.kick((0, 0), -k_kick * dx)
+    a = la.run(t_end=t + 4 * dx, progress=False).first_slip_times()
+    r = bk.lattice.Rupture(0.6, 0.45, dx, dy, (nx, 0), a, {}, {}, {}, (0, 0))
+    planar = bk.front_speed(0.6, dx=dx, gamma=0.45) / bk.front_speed(0.6, dx=dy, gamma=0.45)
+    return (r.aspect(t) * dx / dy - planar) * t / dx
+
+
+def test_the_start_up_is_the_lattice_problem_in_its_own_units():
+    """docs/lattice.md, "The start-up in the lattice's units": with u = u_+ + dx^2 U and
+    t = dx tau the lattice's equations lose dx but for the loader (dx^2 U) and the drag
+    (gamma dx U_tau) terms, so E = excess t/dx is a function G(tau, K) of tau = t/dx and
+    the kick K = kick/dx, plus O(dx): at fixed (tau, K) E moves by half as much at each
+    halving of dx (0.2516, 0.2437, 0.2400 at tau = 10, K = 20), while with the kick held
+    in the model's units (K doubling at each halving) it would move by ~0.07 per halving
+    (G's slope 0.10 per e-fold of K)."""
+    e = [_start_up_e(dx, 10, 20) for dx in (0.1, 0.05, 0.025)]
+    d1, d2 = e[0] - e[1], e[1] - e[2]
+    assert 0.005 < d1 < 0.011 and 0.35 < d2 / d1 < 0.6, e
+    # the kick's own law: doubling K at fixed tau and dx raises E by 0.06-0.08
+    up = _start_up_e(0.05, 10, 40) - e[1]
+    assert 0.06 < up < 0.08, up
+    # and tau's: doubling tau at fixed K lowers it (the eikonal's -(D_x - D_y)/c^2 per
+    # e-fold at large tau; -0.034 per e-fold between tau = 10 and 20 at K = 20)
+    down = _start_up_e(0.05, 20, 20) - e[1]
+    assert -0.03 < down < -0.02, down

@@ -30,7 +30,15 @@ spacings). And
     python docs/scripts/lattice_anisotropy.py --kicks
 
 adds the excess at dx = 0.1 and 0.05 with the corner block kicked by 1, 2, 4, 8 instead
-of 2 (a few seconds): the excess is the start-up's, it grows with the kick.
+of 2 (a few seconds): the excess is the start-up's, it grows with the kick. And
+
+    python docs/scripts/lattice_anisotropy.py --collapse
+
+adds E = excess t/dx at a fixed t/dx (tau = 10, 20, 40, 80) and kick/dx (K = 10, 20, 40,
+80) for dx = 0.1, 0.05, 0.025, 0.0125 (10 s): the lattice's equations in the units u =
+u_+ + dx^2 U, t = dx tau keep dx only in the loader and drag terms, so E tends to a
+function G(tau, K) like dx; G through the two finest spacings, and its slopes in ln tau
+and ln K (docs/lattice.md, "The start-up in the lattice's own units").
 
     nice -n 5 python docs/scripts/lattice_anisotropy.py
 """
@@ -114,53 +122,143 @@ def fit(rows):
     return fits
 
 
-path = Path(__file__).resolve().parents[1] / "lattice_anisotropy.json"
-if "--fit" in sys.argv or "--kicks" in sys.argv:
-    doc = json.loads(path.read_text())
-    doc = doc if isinstance(doc, dict) else {"rows": doc}
-    if "--fit" in sys.argv:
-        doc["fits"] = fit(doc["rows"])
-    if "--kicks" in sys.argv:
-        doc["kicks"] = []
-        for dx in (0.1, 0.05):
-            cx = bk.front_speed(U_PLUS, dx=dx, gamma=GAMMA)
-            cy = bk.front_speed(U_PLUS, dx=dx / RATIO, gamma=GAMMA)
-            for kick in (1.0, 2.0, 4.0, 8.0):
-                ax, ay, _, _ = quadrant(dx, kick=kick)
-                d = devs(ax, ay, dx)
-                row = {"dx": dx, "kick": kick}
-                row.update({f"excess_{t}": d[t] - (cx / cy - 1.0) for t in TIMES})
-                doc["kicks"].append(row)
+TAUS = (10, 20, 40, 80)
+KS = (10, 20, 40, 80)
+COLLAPSE_SPACINGS = (0.1, 0.05, 0.025, 0.0125)
+
+
+def collapse():
+    """The excess at a fixed t/dx and kick/dx for each spacing (module docs): the rows,
+    then per (tau, K) the limit dx -> 0 (linear in dx through the finest two) and the
+    slopes of that limit G in ln tau and ln K."""
+    rows = []
+    for tau in TAUS:
+        for k in KS:
+            for dx in COLLAPSE_SPACINGS:
+                t, kick = tau * dx, k * dx
+                if t + 4 * dx > T_END:
+                    continue
+                # (the front is at most 1.25 t out: a quadrant a few blocks wider is
+                # the same bits as a larger one, the blocks ahead of the front inert)
+                width = min(WIDTH, 1.3 * (t + 4 * dx) + 8 * dx)
+                dy = dx / RATIO
+                nx = int(round(width / dx))
+                ny = int(round(nx * RATIO))
+                p = bk.Params(gamma=GAMMA, v=0.0, dx=dx)
+                la = bk.Lattice((nx, ny), p, u0=U_PLUS, dy=dy)
+                la.kick((0, 0), -kick)
+                a = la.run(t_end=t + 4 * dx, progress=False).first_slip_times()
+                dev = extent(a[0], t) / extent(a[:, 0], t) * dx / dy - 1.0
+                cx = bk.front_speed(U_PLUS, dx=dx, gamma=GAMMA)
+                cy = bk.front_speed(U_PLUS, dx=dy, gamma=GAMMA)
+                excess = dev - (cx / cy - 1.0)
+                row = {
+                    "tau": tau,
+                    "K": k,
+                    "dx": dx,
+                    "t": t,
+                    "kick": kick,
+                    "size": [nx, ny],
+                    "dev": dev,
+                    "excess": excess,
+                    "E": excess * t / dx,
+                }
+                rows.append(row)
                 print(row, flush=True)
-    path.write_text(json.dumps(doc, indent=1) + "\n")
-    sys.exit(0)
-out = []
-for dx in SPACINGS:
-    dy = dx / RATIO
-    ax, ay, size, cpu = quadrant(dx)
-    cx = bk.front_speed(U_PLUS, dx=dx, gamma=GAMMA)
-    cy = bk.front_speed(U_PLUS, dx=dy, gamma=GAMMA)
-    row = {"dx": dx, "dy": dy, "size": list(size), "cpu": cpu, "c_x": cx, "c_y": cy}
-    row["planar"] = cx / cy - 1.0
-    d, dc = devs(ax, ay, dx), devs(ax, ay, dx, cubic=True)
-    for t in TIMES:
-        row[f"aspect_{t}"] = (d[t] + 1.0) * dy / dx
-        row[f"dev_{t}"] = d[t]
-        row[f"excess_{t}"] = d[t] - row["planar"]
-        row[f"dev_cubic_{t}"] = dc[t]
-    if dx >= 0.05:
-        bx, by, _, _ = quadrant(dx, step=bk.chain.DEFAULT_STEP / 2)
-        for t, v in devs(bx, by, dx).items():
-            row[f"dev_step_{t}"] = v
-    if dx in (0.1, 0.05):
-        sx, sy, small, _ = quadrant(dx, width=3.4)
-        n = min(sx.size, ax.size)
-        m = min(sy.size, ay.size)
-        same = np.array_equal(sx[:n], ax[:n], equal_nan=True)
-        row["smaller_quadrant"] = list(small)
-        row["smaller_quadrant_same_bits"] = bool(
-            same and np.array_equal(sy[:m], ay[:m], equal_nan=True)
-        )
-    out.append(row)
-    print(row, flush=True)
-    path.write_text(json.dumps(out, indent=1) + "\n")  # (after each spacing)
+    limits = {}
+    for tau in TAUS:
+        for k in KS:
+            e = sorted(
+                (r["dx"], r["E"])
+                for r in rows
+                if r["tau"] == tau and r["K"] == k and math.isfinite(r["E"])
+            )
+            if len(e) >= 2:
+                (d1, e1), (d2, e2) = e[0], e[1]
+                limits[(tau, k)] = e1 - d1 * (e2 - e1) / (d2 - d1)
+    slopes = {"dG_dln_tau": {}, "dG_dln_K": {}}
+    for tau, tau2 in zip(TAUS[:-1], TAUS[1:], strict=True):
+        for k in KS:
+            if (tau, k) in limits and (tau2, k) in limits:
+                s = (limits[(tau2, k)] - limits[(tau, k)]) / math.log(tau2 / tau)
+                slopes["dG_dln_tau"][f"{tau}-{tau2}, K {k}"] = s
+    for k, k2 in zip(KS[:-1], KS[1:], strict=True):
+        for tau in TAUS:
+            if (tau, k) in limits and (tau, k2) in limits:
+                s = (limits[(tau, k2)] - limits[(tau, k)]) / math.log(k2 / k)
+                slopes["dG_dln_K"][f"tau {tau}, {k}-{k2}"] = s
+    return {
+        "rows": rows,
+        "G_limit": [{"tau": tau, "K": k, "G": g} for (tau, k), g in limits.items()],
+        **slopes,
+    }
+
+
+def main():
+    path = Path(__file__).resolve().parents[1] / "lattice_anisotropy.json"
+    if any(a in sys.argv for a in ("--fit", "--kicks", "--collapse")):
+        doc = json.loads(path.read_text())
+        doc = doc if isinstance(doc, dict) else {"rows": doc}
+        if "--fit" in sys.argv:
+            doc["fits"] = fit(doc["rows"])
+        if "--kicks" in sys.argv:
+            doc["kicks"] = kicks()
+        if "--collapse" in sys.argv:
+            doc["collapse"] = collapse()
+        path.write_text(json.dumps(doc, indent=1) + "\n")
+        return
+    spacings(path)
+
+
+def kicks():
+    """The excess at dx = 0.1 and 0.05 with the corner block kicked by 1, 2, 4, 8."""
+    out = []
+    for dx in (0.1, 0.05):
+        cx = bk.front_speed(U_PLUS, dx=dx, gamma=GAMMA)
+        cy = bk.front_speed(U_PLUS, dx=dx / RATIO, gamma=GAMMA)
+        for kick in (1.0, 2.0, 4.0, 8.0):
+            ax, ay, _, _ = quadrant(dx, kick=kick)
+            d = devs(ax, ay, dx)
+            row = {"dx": dx, "kick": kick}
+            row.update({f"excess_{t}": d[t] - (cx / cy - 1.0) for t in TIMES})
+            out.append(row)
+            print(row, flush=True)
+    return out
+
+
+def spacings(path):
+    """The table of docs/lattice.md: one row per spacing, written after each."""
+    out = []
+    for dx in SPACINGS:
+        dy = dx / RATIO
+        ax, ay, size, cpu = quadrant(dx)
+        cx = bk.front_speed(U_PLUS, dx=dx, gamma=GAMMA)
+        cy = bk.front_speed(U_PLUS, dx=dy, gamma=GAMMA)
+        row = {"dx": dx, "dy": dy, "size": list(size), "cpu": cpu, "c_x": cx, "c_y": cy}
+        row["planar"] = cx / cy - 1.0
+        d, dc = devs(ax, ay, dx), devs(ax, ay, dx, cubic=True)
+        for t in TIMES:
+            row[f"aspect_{t}"] = (d[t] + 1.0) * dy / dx
+            row[f"dev_{t}"] = d[t]
+            row[f"excess_{t}"] = d[t] - row["planar"]
+            row[f"dev_cubic_{t}"] = dc[t]
+        if dx >= 0.05:
+            bx, by, _, _ = quadrant(dx, step=bk.chain.DEFAULT_STEP / 2)
+            for t, v in devs(bx, by, dx).items():
+                row[f"dev_step_{t}"] = v
+        if dx in (0.1, 0.05):
+            sx, sy, small, _ = quadrant(dx, width=3.4)
+            n = min(sx.size, ax.size)
+            m = min(sy.size, ay.size)
+            same = np.array_equal(sx[:n], ax[:n], equal_nan=True)
+            row["smaller_quadrant"] = list(small)
+            row["smaller_quadrant_same_bits"] = bool(
+                same and np.array_equal(sy[:m], ay[:m], equal_nan=True)
+            )
+        out.append(row)
+        print(row, flush=True)
+        path.write_text(json.dumps(out, indent=1) + "\n")  # (after each spacing)
+
+
+if __name__ == "__main__":
+    main()
