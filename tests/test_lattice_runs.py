@@ -552,3 +552,51 @@ def test_the_start_up_is_the_lattice_problem_in_its_own_units():
     # e-fold at large tau; -0.034 per e-fold between tau = 10 and 20 at K = 20)
     down = _start_up_e(0.05, 20, 20) - e[1]
     assert -0.03 < down < -0.02, down
+
+
+@pytest.mark.parametrize("suffix", [".nc", ".zarr"])
+def test_the_y_coordinate_says_how_it_is_scaled_across(tmp_path, suffix):
+    """y = j dy with dy = sqrt(k_p/k_y): the output's y says so, not x's scale (session
+    35: the y coordinate carried "x' = (x/a) sqrt(k_p/k_c)", wrong for dy != dx); the
+    coordinates are the blocks' positions i dx and j dy."""
+    xr = pytest.importorskip("xarray")
+    doc = _with(_with(LOADING, "domain.dy", 0.3), "run.t_end", 1.0)
+    out = tmp_path / f"la{suffix}"
+    bk.run(doc, out)
+    ds = xr.open_dataset(out, engine="zarr" if suffix == ".zarr" else None)
+    assert ds["u"].dims == ("t", "y", "x")
+    assert ds["x"].attrs["scale"].startswith("x' = (x/a) sqrt(k_p/k_c)")
+    assert ds["y"].attrs["scale"].startswith("y' = (y/a) sqrt(k_p/k_y)")
+    assert ds["y"].attrs["long_name"] == "position across" and ds["y"].attrs["units"] == "1"
+    np.testing.assert_allclose(ds["x"].values, 0.2 * np.arange(16), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(ds["y"].values, 0.3 * np.arange(12), rtol=0, atol=1e-15)
+    ds.close()
+
+
+def test_the_help_says_what_the_lattice_runs_and_draws(tmp_path):
+    """`bkwaves run --help` said friction laws other than Coulomb run in the chain only,
+    and `bkwaves plot --help` named no planar picture (session 35): a lattice config with
+    velocity weakening runs with that law, and the help says so and names the maps."""
+    import subprocess
+    import sys
+    import textwrap
+
+    def helptext(cmd):
+        p = subprocess.run(
+            [sys.executable, "-m", "bkwaves", cmd, "--help"], capture_output=True, text=True
+        )
+        assert p.returncode == 0, p.stderr
+        return " ".join(p.stdout.split())
+
+    doc = _with(
+        _with(LOADING, "friction", {"law": "velocity_weakening", "v_f": 1.0}), "run.t_end", 1.0
+    )
+    bk.run(doc, tmp_path / "vw.nc")
+    ds, _ = bk.io.load_tables(tmp_path / "vw.nc")
+    assert '"velocity_weakening"' in ds.attrs["friction_law"]
+    text = helptext("run")
+    assert "chain only" not in text
+    assert "run in the chain and the lattice" in text
+    plot = helptext("plot")
+    for name in ("slip map", "arrival-time contours", "catalog on a map"):
+        assert name in plot, textwrap.shorten(plot, 300)

@@ -189,3 +189,74 @@ def test_plane_arrival_map_picks_the_largest_complete_rupture():
     assert _largest(cat.drop(columns="complete"))["id"] == 1
     assert _largest(cat.assign(moment=np.nan)) is None
     assert _largest(cat.iloc[:0]) is None
+
+
+def _plane(nx=20, ny=16, dx=0.5):
+    import xarray as xr
+
+    return xr.Dataset(coords={"x": dx * np.arange(nx), "y": dx * np.arange(ny), "t": [0.0]})
+
+
+@pytest.mark.parametrize("corner", [(0, 0), (19, 0), (0, 15), (19, 15), (18, 14)])
+def test_plane_arrival_map_keeps_the_hypocentre_clear_of_its_legend(corner):
+    """A rupture that starts in a corner (session 35: the legend sat in the upper right
+    and hid the star of a rupture started at (8.2, 7.4) of a 9.4 x 7.8 lattice): the
+    legend goes to the corner farthest from the hypocentre, so the star is not under it."""
+    from bkwaves._plot_plane import arrival_map
+
+    ds = _plane()
+    i0, j0 = corner
+    ii, jj = np.meshgrid(np.arange(20), np.arange(16))
+    arr = pd.DataFrame(
+        {
+            "rupture": 0,
+            "x": 0.5 * ii.ravel(),
+            "y": 0.5 * jj.ravel(),
+            "t": np.hypot(ii - i0, jj - j0).ravel() * 0.4,
+        }
+    )
+    ru = pd.DataFrame({"id": [0], "x_start": [0.5 * i0], "y_start": [0.5 * j0], "moment": [1.0]})
+    ax = arrival_map(ds, {"ruptures": ru, "arrivals": arr}, "a test run")
+    fig = ax.figure
+    fig.canvas.draw()
+    box = ax.get_legend().get_window_extent()
+    star = ax.transData.transform((0.5 * i0, 0.5 * j0))
+    assert not box.expanded(1.2, 1.2).contains(*star), (corner, box, star)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
+def test_plane_catalog_map_markers_are_proportional_to_area_and_one_start_has_no_scale():
+    """The catalog map says "marker area ~ slipped area": the markers' areas are (above
+    the least one) proportional to the ruptures' areas (they were 8 + 160 sqrt(A/A_max),
+    a square root); ruptures all starting at t = 0 get no colour bar (its range was made
+    up: -0.1 to 0.1) and the time in the title."""
+    import matplotlib.pyplot as plt
+
+    from bkwaves._plot_plane import MIN_MARKER, catalog_map
+
+    ds = _plane()
+    area = np.array([0.25, 2.0, 8.0, 50.0])
+    ru = pd.DataFrame(
+        {
+            "id": range(4),
+            "x_start": [1.0, 3.0, 5.0, 7.0],
+            "y_start": [1.0, 2.0, 3.0, 4.0],
+            "area": area,
+            "t_start": [0.0, 1.0, 2.0, 4.0],
+        }
+    )
+    ax = catalog_map(ds, {"ruptures": ru}, "a test run")
+    sizes = ax.collections[0].get_sizes()
+    big = sizes > MIN_MARKER
+    assert big.sum() >= 2
+    ratio = sizes[big] / area[big]
+    np.testing.assert_allclose(ratio, ratio[0], rtol=1e-12)
+    assert len(ax.figure.axes) == 2  # the colour bar of the start times
+    plt.close(ax.figure)
+    one = ru.iloc[:1].assign(t_start=0.0)
+    ax = catalog_map(ds, {"ruptures": one}, "a test run")
+    assert len(ax.figure.axes) == 1
+    assert "all starting at t = 0" in ax.get_title()
+    plt.close(ax.figure)

@@ -17,6 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+#: the catalog map's marker areas (pt^2): the largest rupture's, and the least
+MAX_MARKER, MIN_MARKER = 200.0, 6.0
+
 
 def _unit(df, col) -> str:
     u = str((df.attrs.get("units", {}) if df is not None else {}).get(col, "") or "")
@@ -151,7 +154,7 @@ def arrival_map(ds, tables, title: str):
     hx, hy = _hypocentre(row)
     if hx is not None:
         ax.plot([hx], [hy], "*", color="C0", mec="w", ms=11, ls="none", label="hypocentre")
-        ax.legend(fontsize=7, loc="upper right")
+        ax.legend(fontsize=7, loc=_far_corner(hx, hy, x, y))
     ax.set_xlim(x[0], x[-1])
     ax.set_ylim(y[0], y[-1])
     name = "rupture" if what == "ruptures" else "event"
@@ -159,6 +162,14 @@ def arrival_map(ds, tables, title: str):
         title + f"\narrival times of the largest {name} ({name} {int(row[key])})", fontsize=8
     )
     return ax
+
+
+def _far_corner(hx: float, hy: float, x, y) -> str:
+    """The legend's corner farthest from the hypocentre (hx, hy) on the grid (x, y): a
+    legend in a fixed corner hid the star of a rupture that started there."""
+    fx = (hx - x[0]) / (x[-1] - x[0]) if x[-1] > x[0] else 0.5
+    fy = (hy - y[0]) / (y[-1] - y[0]) if y[-1] > y[0] else 0.5
+    return ("lower" if fy > 0.5 else "upper") + (" left" if fx > 0.5 else " right")
 
 
 def _hypocentre(row):
@@ -169,8 +180,9 @@ def _hypocentre(row):
 
 
 def catalog_map(ds, tables, title: str):
-    """The catalog on a map: each event's (rupture's) hypocentre, its area as the marker
-    size and its start time as the colour."""
+    """The catalog on a map: each event's (rupture's) hypocentre, a marker of area
+    proportional to its slipped area (at least ``MIN_MARKER`` pt^2) and its start time as
+    the colour (one colour and the time in the title when all start at once)."""
     what = "ruptures" if "ruptures" in tables else "events"
     cat = tables.get(what)
     if cat is None or not len(cat):
@@ -183,17 +195,22 @@ def catalog_map(ds, tables, title: str):
     x, y = ds["x"].values, ds["y"].values
     area = cat["area"].to_numpy(dtype=float) if "area" in cat else np.ones(len(cat))
     big = np.nanmax(area) if np.isfinite(area).any() and np.nanmax(area) > 0 else 1.0
-    size = 8 + 160 * np.sqrt(np.nan_to_num(area) / big)
-    sc = ax.scatter(
-        cat[xs], cat[ys], s=size, c=cat["t_start"], cmap="viridis", edgecolors="k", linewidths=0.4
-    )
-    cb = fig.colorbar(sc, ax=ax)
-    cb.set_label("start time" + _unit(cat, "t_start"))
+    size = np.maximum(MAX_MARKER * np.nan_to_num(area) / big, MIN_MARKER)
+    t0 = cat["t_start"].to_numpy(dtype=float)
+    once = np.isfinite(t0).any() and np.nanmin(t0) == np.nanmax(t0)
+    colour = {"color": "C0"} if once else {"c": t0, "cmap": "viridis"}
+    sc = ax.scatter(cat[xs], cat[ys], s=size, edgecolors="k", linewidths=0.4, **colour)
+    when = ""
+    if once:  # a colour bar of one value spans made-up times around it (t < 0 for t = 0)
+        when = f", all starting at t = {np.nanmin(t0):.4g}" + _unit(cat, "t_start")
+    else:
+        cb = fig.colorbar(sc, ax=ax)
+        cb.set_label("start time" + _unit(cat, "t_start"))
     ax.set_xlim(*_pad(x))
     ax.set_ylim(*_pad(y))
     ax.set_title(
         title + f"\n{len(cat)} {what[:-1] if len(cat) == 1 else what}: hypocentres, marker "
-        "area ~ slipped area",
+        f"area ~ slipped area{when}",
         fontsize=8,
     )
     return ax

@@ -539,9 +539,10 @@ RUN = Command(
     An initial state over the static threshold (e.g. [initial] value = 1.5): the
     chain's blocks where u - Lap u/dx^2 >= 1 slide from t = 0 (a chain can be
     overloaded); the free-boundary model refuses u >= 1, naming the key (its field is the
-    stress of stuck blocks). [friction] laws other than coulomb run in the chain only. Snapshots
-    every dt are taken at t_k = k dt, the last one at t_end when t_end is a multiple of
-    dt (to 1e-9 dt).
+    stress of stuck blocks). [friction] laws other than coulomb run in the chain and the
+    lattice; the free boundary models refuse them, naming the key. Snapshots every dt
+    are taken at t_k = k dt, the last one at t_end when t_end is a multiple of dt (to
+    1e-9 dt).
 
     Before any work the run's time, memory and output are estimated from what the engine
     will do: a run that cannot fit (engine state beyond the RAM, output beyond 1 TiB) is
@@ -610,7 +611,12 @@ PLOT_COMMAND = Command(
     "plot",
     plot,
     "The standard pictures of a run: space-time diagrams, profiles, trajectories, catalog.",
-    "The standard pictures of a run: space-time diagrams, profiles, trajectories, catalog.",
+    "The standard pictures of a run: space-time diagrams, profiles, trajectories, catalog;\n"
+    "for a planar run (dims (t, y, x): a lattice, the planar free boundary) the slip map,\n"
+    "the arrival-time contours of the largest rupture, the catalog on a map and the\n"
+    "stress at the last snapshot (run_slip_map.png, run_arrivals.png,\n"
+    "run_catalog_map.png, run_stress.png for run.nc), and the catalog's\n"
+    "size-frequency and frequency-magnitude plots.",
     [
         opt("out", type=Path, metavar="OUT", help="A run output (.nc or .zarr)."),
         opt(

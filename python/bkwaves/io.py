@@ -442,7 +442,7 @@ class RunWriter:
     coord_units : tuple of str, default ("1", "1")
         Units of x and t ("1": dimensionless).
     coord_attrs : tuple of dict, default ({}, {})
-        More attributes of x and t.
+        More attributes of x and t, and optionally of y (default: x's).
     overwrite : bool, default False
         Replace an existing output (only files bkwaves wrote).
     resume_count : int, optional
@@ -496,7 +496,8 @@ class RunWriter:
             units, long_name, dtype, *more = spec
             self.variables[name] = (units, long_name, np.dtype(dtype), dict(*more))
         self.x_units, self.t_units = coord_units
-        self.x_attrs, self.t_attrs = (dict(a) for a in coord_attrs)
+        self.x_attrs, self.t_attrs = (dict(a) for a in coord_attrs[:2])
+        self.y_attrs = dict(coord_attrs[2]) if len(coord_attrs) > 2 else self.x_attrs
         self.block_bytes = int(block_bytes)
         self.flush_every = float(flush_every)
         self.count = 0  # committed records
@@ -749,7 +750,7 @@ class RunWriter:
         if name == "t":
             return {"units": self.t_units, "long_name": "time", **self.t_attrs}
         if name == "y":
-            return {"units": self.x_units, "long_name": "position across", **self.x_attrs}
+            return {"units": self.x_units, "long_name": "position across", **self.y_attrs}
         along = "position along the chain" if self.y is None else "position along the slip"
         return {"units": self.x_units, "long_name": along, **self.x_attrs}
 

@@ -270,6 +270,9 @@ class _StopRequest:
 _SCALES = {
     "t": "t' = t sqrt(k_p/m) (paper eq. dimless)",
     "x": "x' = (x/a) sqrt(k_p/k_c) (paper eq. dimless)",
+    # a planar model's across (the lattice's y' = j dy, dy = sqrt(k_p/k_y))
+    "y": "y' = (y/a) sqrt(k_p/k_y) (paper eq. dimless; k_y the spring across, k_c unless dy "
+    "is given)",
     "slip": "displacement in units of (f_r - f_s)/k_p",
     "u_t": "du/dt' (t' = t sqrt(k_p/m), paper eq. dimless)",
     "moment": MOMENT_SCALE,
@@ -305,9 +308,10 @@ class _Units:
         return ("m", "s") if self.si else ("1", "1")
 
     def coord_attrs(self):
+        """More attributes of x, t and y (how each is scaled)."""
         if self.si:
-            return ({}, {})
-        return ({"scale": _SCALES["x"]}, {"scale": _SCALES["t"]})
+            return ({}, {}, {})
+        return ({"scale": _SCALES["x"]}, {"scale": _SCALES["t"]}, {"scale": _SCALES["y"]})
 
     def rate_spec(self):
         """Units and extra attributes of u_t."""
