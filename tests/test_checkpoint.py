@@ -177,3 +177,50 @@ def test_an_archive_with_a_pickled_array_is_refused_without_running_it(tmp_path)
     with pytest.raises(bk.ParameterError, match="not a bkwaves chain checkpoint"):
         bk.Chain.load(path)
     assert not marker.exists()
+
+
+@pytest.mark.parametrize("kind", ["chain", "lattice"])
+@pytest.mark.parametrize(
+    "change",
+    [{"shape": "x"}, {"shape": [3]}, {"params": None}, {"params": 1.0}, {"fixed": 0.5}, "drop"],
+)
+def test_a_checkpoint_whose_record_was_edited_is_refused_in_one_line(tmp_path, kind, change):
+    """A header of the right format, version and kind whose record is not one bkwaves
+    wrote (session 35: a lattice checkpoint with meta shape = "x" raised "ValueError: not
+    enough values to unpack", a missing key a KeyError): a ParameterError naming the file."""
+    p = bk.Params(gamma=0.45, v=0.01, dx=0.1)
+    model = bk.Lattice((5, 4), p, u0=0.5) if kind == "lattice" else bk.Chain(5, p, u0=0.5)
+    path = tmp_path / "c.npz"
+    model.save(path)
+    with np.load(path, allow_pickle=False) as z:
+        arrays = {k: z[k] for k in z.files}
+    header = json.loads(arrays["header"].tobytes())
+    if kind == "chain" and change != "drop" and "shape" in change:
+        change = {"n": change["shape"]}  # the chain's size
+    if change == "drop":
+        header["meta"].pop("params")
+    else:
+        header["meta"].update(change)
+    arrays["header"] = np.frombuffer(json.dumps(header).encode(), dtype=np.uint8)
+    with open(path, "wb") as f:
+        np.savez(f, **arrays)
+    cls = bk.Lattice if kind == "lattice" else bk.Chain
+    with pytest.raises(bk.ParameterError) as e:
+        cls.load(path)
+    assert str(path) in str(e.value) and "\n" not in str(e.value)
+
+
+def test_a_checkpoint_that_cannot_be_written_names_the_users_path(tmp_path):
+    """Lattice.save into a missing folder or under a file (session 35: the error named
+    the temporary file, "x.npz.tmp", that the user never asked for); nothing is left."""
+    la = bk.Lattice((5, 4), bk.Params(gamma=0.45, v=0.0, dx=0.1), u0=0.5)
+    (tmp_path / "a_file").write_text("mine")
+    for where, err in (
+        (tmp_path / "missing" / "x.npz", FileNotFoundError),
+        (tmp_path / "a_file" / "x.npz", NotADirectoryError),
+    ):
+        with pytest.raises(err) as e:
+            la.save(where)
+        assert str(e.value).endswith(f"'{where}'") and ".tmp" not in str(e.value)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file"]
+    assert (tmp_path / "a_file").read_text() == "mine"

@@ -46,7 +46,11 @@ def write(path, kind: str, meta: dict, arrays: dict[str, np.ndarray]) -> Path:
         payload[name] = a
     tmp = path.with_name(path.name + ".tmp")
     try:
-        with open(tmp, "wb") as f:
+        f = open(tmp, "wb")
+    except OSError as e:  # (a missing folder, a read-only one): named by the user's path
+        raise type(e)(e.errno, e.strerror, str(path)) from None
+    try:
+        with f:
             np.savez(f, **payload)
         tmp.replace(path)
     except BaseException:  # (a full disk, a signal): the earlier checkpoint stays
@@ -108,6 +112,21 @@ def read(path, kind: str, writer: str) -> tuple[dict, dict[str, np.ndarray]]:
     if header.get("kind") != kind:
         raise ParameterError(f"{path} is a {header.get('kind')} checkpoint, not {what}")
     return header["meta"], arrays
+
+
+def rebuild(build, meta: dict, arrays: dict, path, kind: str):
+    """``build(meta, arrays, path)``, a model rebuilt from a checkpoint's record: a header
+    whose record is not one bkwaves wrote (a key missing, a value of another type) is
+    refused in one line naming the file, not with the KeyError or TypeError it causes."""
+    try:
+        return build(meta, arrays, path)
+    except ParameterError:
+        raise
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError) as e:
+        what = f"{type(e).__name__}: {e}"
+        raise ParameterError(
+            f"{path} is a damaged {kind} checkpoint (its record does not rebuild one: {what})"
+        ) from None
 
 
 def restore_engine(engine, arrays: dict, path) -> None:

@@ -600,7 +600,7 @@ class Chain:
         from . import _checkpoint
 
         meta, arrays = _checkpoint.read(path, "chain", "Chain.save")
-        return Chain._from_record(meta, arrays, path)
+        return _checkpoint.rebuild(Chain._from_record, meta, arrays, path, "chain")
 
     # --- triggers ------------------------------------------------------------------
     def kick(self, block: int, du_t: float, t: float = 0.0) -> Chain:

@@ -552,7 +552,7 @@ class Lattice(Chain):
         from . import _checkpoint
 
         meta, arrays = _checkpoint.read(path, "lattice", "Lattice.save")
-        return Lattice._from_record(meta, arrays, path)
+        return _checkpoint.rebuild(Lattice._from_record, meta, arrays, path, "lattice")
 
     # --- triggers --------------------------------------------------------------------
     def kick(self, block, du_t: float, t: float = 0.0) -> Lattice:
