@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import copy
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -600,3 +601,48 @@ def test_the_help_says_what_the_lattice_runs_and_draws(tmp_path):
     plot = helptext("plot")
     for name in ("slip map", "arrival-time contours", "catalog on a map"):
         assert name in plot, textwrap.shorten(plot, 300)
+
+
+@pytest.mark.parametrize("shape", [[1, 12], [12, 1], [2, 2]])
+def test_plot_draws_a_lattice_of_one_row_or_column(tmp_path, shape):
+    """`bkwaves plot` of a lattice of a single row or column (session 35: the arrival map's
+    contours raised "TypeError: Input z must be at least a (2, 2) shaped array" and no
+    picture was written): its four maps, each readable (figure_checks), the arrival map
+    the blocks' arrival times themselves."""
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    from figure_checks import figure_problems
+
+    import bkwaves.plot
+
+    doc = {
+        "model": "lattice",
+        "params": {"gamma": 0.45, "v": 0.0, "dx": 0.1},
+        "domain": {"shape": shape},
+        "initial": {"kind": "uniform", "value": 0.7},
+        "triggers": [{"time": 0.0, "block": [0, 0], "kind": "kick", "velocity": 2.0}],
+        "run": {"t_end": 3.0},
+        "output": {"snapshot_every": 1.0, "arrivals": True},
+    }
+    out = tmp_path / "la.nc"
+    bk.run(doc, out)
+    problems, save, drawn = {}, bkwaves.plot.save, {}
+
+    def checked_save(ax, path):
+        problems[Path(path).name] = figure_problems(ax.figure)
+        drawn[Path(path).name] = ax
+        return save(ax, path)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(bkwaves.plot, "save", checked_save)
+        files = bkwaves.plot.plot_run(out, tmp_path)
+    names = {f.name for f in files}
+    for kind in ("slip_map", "arrivals", "catalog_map", "stress"):
+        assert f"la_{kind}.png" in names, names
+    assert not {k: v for k, v in problems.items() if v}, problems
+    # the arrival map colours each block by its first slip time (the arrivals table)
+    arr = bk.io.load_tables(out)[1]["arrivals"]
+    mesh = drawn["la_arrivals.png"].collections[0]
+    values = np.sort(np.ma.compressed(mesh.get_array()))
+    if min(shape) == 1:
+        np.testing.assert_array_equal(values, np.sort(arr["t"].to_numpy()))

@@ -38,6 +38,11 @@ def _map_axes(ds, figsize=(6.0, 4.6)):
     ax.set_xlabel("x (along the slip)" + _coord_unit(ds))
     ax.set_ylabel("y (across)" + _coord_unit(ds))
     ax.set_aspect("equal")
+    # few ticks: a map of a few blocks is small and its labels long (-0.025, 0.075)
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(MaxNLocator(nbins=5))
     return fig, ax
 
 
@@ -144,19 +149,39 @@ def arrival_map(ds, tables, title: str):
     levels = np.linspace(np.nanmin(grid), np.nanmax(grid), 12)
     if not levels[-1] > levels[0]:
         return None
-    filled = ax.contourf(x, y, np.ma.masked_invalid(grid), levels=levels, cmap="magma_r")
-    lines = ax.contour(
-        x, y, np.ma.masked_invalid(grid), levels=levels[1:-1:2], colors="k", linewidths=0.6
-    )
-    ax.clabel(lines, fontsize=6, fmt="%.3g")
+    if min(grid.shape) < 2:  # a single row or column: no contours, its blocks coloured
+        from .plot import _edges
+
+        ex, ey = _edges(x), _edges(y)
+        filled = ax.pcolormesh(ex, ey, np.ma.masked_invalid(grid), cmap="magma_r", shading="flat")
+        limits = (ex[0], ex[-1]), (ey[0], ey[-1])
+    else:
+        limits = (x[0], x[-1]), (y[0], y[-1])
+        filled = ax.contourf(x, y, np.ma.masked_invalid(grid), levels=levels, cmap="magma_r")
+        lines = ax.contour(
+            x, y, np.ma.masked_invalid(grid), levels=levels[1:-1:2], colors="k", linewidths=0.6
+        )
+        ax.clabel(lines, fontsize=6, fmt="%.3g")
     cb = fig.colorbar(filled, ax=ax)
     cb.set_label("arrival time" + t_unit)
     hx, hy = _hypocentre(row)
     if hx is not None:
-        ax.plot([hx], [hy], "*", color="C0", mec="w", ms=11, ls="none", label="hypocentre")
+        # (not clipped: a rupture kicked on an edge block has its star on the frame)
+        ax.plot(
+            [hx],
+            [hy],
+            "*",
+            color="C0",
+            mec="w",
+            ms=11,
+            ls="none",
+            label="hypocentre",
+            clip_on=False,
+            zorder=5,
+        )
         ax.legend(fontsize=7, loc=_far_corner(hx, hy, x, y))
-    ax.set_xlim(x[0], x[-1])
-    ax.set_ylim(y[0], y[-1])
+    ax.set_xlim(*limits[0])
+    ax.set_ylim(*limits[1])
     name = "rupture" if what == "ruptures" else "event"
     ax.set_title(
         title + f"\narrival times of the largest {name} ({name} {int(row[key])})", fontsize=8
