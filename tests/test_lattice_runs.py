@@ -646,3 +646,44 @@ def test_plot_draws_a_lattice_of_one_row_or_column(tmp_path, shape):
     values = np.sort(np.ma.compressed(mesh.get_array()))
     if min(shape) == 1:
         np.testing.assert_array_equal(values, np.sort(arr["t"].to_numpy()))
+
+
+@pytest.mark.parametrize("dy", [100.0, 1e-3])
+def test_plot_of_a_plane_of_extreme_spacings_shows_every_block_that_slipped(tmp_path, dy):
+    """dy = 1e3 dx and 1e-2 dx (session 35): drawn to scale the maps were a line (x tick
+    labels on top of each other), and at dy = 100 the rupture runs along its kicked row
+    only, which the arrival map's filled contours did not draw at all (an empty frame).
+    Now a map far from square is stretched and its y label says so, and the arrival map
+    colours every block that slipped with its arrival time."""
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    from figure_checks import figure_problems
+    from matplotlib.collections import QuadMesh
+
+    from bkwaves import _plot_plane
+
+    doc = {
+        "model": "lattice",
+        "params": {"gamma": 0.45, "v": 0.0, "dx": 0.1},
+        "domain": {"shape": [10, 10], "dy": dy},
+        "initial": {"kind": "uniform", "value": 0.7},
+        "triggers": [{"time": 0.0, "block": [5, 5], "kind": "kick", "velocity": 2.0}],
+        "run": {"t_end": 1.0},
+        "output": {"snapshot_every": 0.5, "arrivals": True},
+    }
+    out = tmp_path / "la.nc"
+    bk.run(doc, out)
+    ds, tables = bk.io.load_tables(out)
+    arr = tables["arrivals"]
+    ax = _plot_plane.arrival_map(ds, tables, "a test run")
+    fig = ax.figure
+    fig.canvas.draw()
+    assert not figure_problems(fig)
+    box = ax.get_window_extent()
+    assert 1 / 6 <= box.height / box.width <= 6
+    assert "not to the scale of x" in ax.get_ylabel()
+    (mesh,) = [c for c in ax.collections if isinstance(c, QuadMesh)]
+    shown = np.ma.compressed(mesh.get_array())
+    np.testing.assert_array_equal(np.sort(shown), np.sort(arr["t"].to_numpy()))
+    if dy == 100.0:  # the rupture along the kicked row: the filled contours drew nothing
+        assert set(arr["j"]) == {5} and len(arr) == 10

@@ -19,6 +19,9 @@ import numpy as np
 
 #: the catalog map's marker areas (pt^2): the largest rupture's, and the least
 MAX_MARKER, MIN_MARKER = 200.0, 6.0
+#: a map is drawn to scale when its height over its width lies within 1/MAX_ASPECT and
+#: MAX_ASPECT
+MAX_ASPECT = 6.0
 
 
 def _unit(df, col) -> str:
@@ -34,10 +37,16 @@ def _coord_unit(ds) -> str:
 def _map_axes(ds, figsize=(6.0, 4.6)):
     import matplotlib.pyplot as plt
 
+    from .plot import _edges
+
     fig, ax = plt.subplots(figsize=figsize, layout="constrained")
     ax.set_xlabel("x (along the slip)" + _coord_unit(ds))
-    ax.set_ylabel("y (across)" + _coord_unit(ds))
-    ax.set_aspect("equal")
+    wide, tall = (float(np.ptp(_edges(ds[c].values))) for c in ("x", "y"))
+    if 1 / MAX_ASPECT <= tall / wide <= MAX_ASPECT:
+        ax.set_aspect("equal")
+        ax.set_ylabel("y (across)" + _coord_unit(ds))
+    else:  # to scale, a plane of dy = 1e3 dx would be a line: y stretched, and said so
+        ax.set_ylabel("y (across; not to the scale of x)" + _coord_unit(ds))
     # few ticks: a map of a few blocks is small and its labels long (-0.025, 0.075)
     from matplotlib.ticker import MaxNLocator
 
@@ -116,7 +125,7 @@ def _largest(cat):
 
 def arrival_map(ds, tables, title: str):
     """Arrival (first slip) times of the largest complete rupture (the largest of all when
-    none is complete): filled contours, the contour
+    none is complete): each block coloured by the band of its arrival time, the contour
     lines labelled, its hypocentre marked. From the arrivals table when it has a rupture
     column (the free boundary model's; a lattice's written with ``arrivals = true``);
     else the largest event's, from the arrivals or the slips per event (a lattice run
@@ -149,15 +158,19 @@ def arrival_map(ds, tables, title: str):
     levels = np.linspace(np.nanmin(grid), np.nanmax(grid), 12)
     if not levels[-1] > levels[0]:
         return None
-    if min(grid.shape) < 2:  # a single row or column: no contours, its blocks coloured
-        from .plot import _edges
+    # every block that slipped, coloured by its arrival in the contours' bands (filled
+    # contours drew nothing where the blocks that slipped form a line: one row of a
+    # lattice of weak springs across, or a lattice of one row or column)
+    from matplotlib.colors import BoundaryNorm
 
-        ex, ey = _edges(x), _edges(y)
-        filled = ax.pcolormesh(ex, ey, np.ma.masked_invalid(grid), cmap="magma_r", shading="flat")
-        limits = (ex[0], ex[-1]), (ey[0], ey[-1])
-    else:
-        limits = (x[0], x[-1]), (y[0], y[-1])
-        filled = ax.contourf(x, y, np.ma.masked_invalid(grid), levels=levels, cmap="magma_r")
+    from .plot import _edges
+
+    ex, ey = _edges(x), _edges(y)
+    norm = BoundaryNorm(levels, 256)
+    filled = ax.pcolormesh(
+        ex, ey, np.ma.masked_invalid(grid), cmap="magma_r", norm=norm, shading="flat"
+    )
+    if min(grid.shape) >= 2 and np.isfinite(grid).sum() >= 4:
         lines = ax.contour(
             x, y, np.ma.masked_invalid(grid), levels=levels[1:-1:2], colors="k", linewidths=0.6
         )
@@ -180,8 +193,8 @@ def arrival_map(ds, tables, title: str):
             zorder=5,
         )
         ax.legend(fontsize=7, loc=_far_corner(hx, hy, x, y))
-    ax.set_xlim(*limits[0])
-    ax.set_ylim(*limits[1])
+    ax.set_xlim(ex[0], ex[-1])
+    ax.set_ylim(ey[0], ey[-1])
     name = "rupture" if what == "ruptures" else "event"
     ax.set_title(
         title + f"\narrival times of the largest {name} ({name} {int(row[key])})", fontsize=8
