@@ -687,3 +687,24 @@ def test_plot_of_a_plane_of_extreme_spacings_shows_every_block_that_slipped(tmp_
     np.testing.assert_array_equal(np.sort(shown), np.sort(arr["t"].to_numpy()))
     if dy == 100.0:  # the rupture along the kicked row: the filled contours drew nothing
         assert set(arr["j"]) == {5} and len(arr) == 10
+
+
+def test_plot_draws_no_slip_map_where_nothing_slipped(tmp_path):
+    """A lattice at rest (no trigger, v = 0; session 35): the slip map was a uniform 0
+    under a colour bar from -0.1 to 0.1 (made-up slips); now it is left out, as bkwaves
+    plot leaves out a blank space-time panel, and the stress map is drawn."""
+    pytest.importorskip("matplotlib").use("Agg")
+    import bkwaves.plot
+
+    doc = {
+        "model": "lattice",
+        "params": {"gamma": 0.45, "v": 0.0, "dx": 0.1},
+        "domain": {"shape": [8, 6]},
+        "initial": {"kind": "uniform", "value": 0.7},
+        "run": {"t_end": 1.0},
+        "output": {"snapshot_every": 0.5},
+    }
+    out = tmp_path / "rest.nc"
+    bk.run(doc, out)
+    names = {f.name for f in bkwaves.plot.plot_run(out, tmp_path)}
+    assert names == {"rest_stress.png"}, names

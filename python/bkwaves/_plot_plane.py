@@ -96,8 +96,8 @@ def _slip(ds, tables):
 
 def slip_map(ds, tables, title: str):
     slip, unit = _slip(ds, tables)
-    if slip is None:
-        return None
+    if slip is None or not np.nan_to_num(slip).any():
+        return None  # no slip ended: a blank map under a made-up colour scale says nothing
     fig, ax = _map_axes(ds)
     x, y = ds["x"].values, ds["y"].values
     from .plot import _edges
