@@ -274,14 +274,23 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         let mut live = std::mem::take(&mut self.release.live);
         let mut dead = std::mem::take(&mut self.release.dead);
         live.clear();
-        // the runs and the cells next to them: the same offsets for every block of a run
-        for &(a, b) in &self.st.runs {
-            live.push((a, b));
-            for q in self.st.geo.neighbours(a) {
-                live.push((q, q + (b - a)));
+        // the runs and the cells next to them: the same offsets for every block of a run,
+        // so each of the five stretches pushed (the runs, then the runs shifted to each
+        // neighbour) is in order already, and the stable sort merges them (it finds
+        // ordered stretches) instead of sorting the whole anew (issue 25: at 512 x 512
+        // the unstable sort was 0.4 % of the rupture's time)
+        let runs = &self.st.runs;
+        live.extend_from_slice(runs);
+        if let Some(&(a0, _)) = runs.first() {
+            for q0 in self.st.geo.neighbours(a0) {
+                let d = q0.wrapping_sub(a0);
+                for &(a, b) in runs {
+                    let q = a.wrapping_add(d);
+                    live.push((q, q + (b - a)));
+                }
             }
         }
-        live.sort_unstable();
+        live.sort();
         let touched = &mut self.st.touched;
         for &(lo, hi) in &live {
             touched.mark_range(lo, hi.min(cells));
