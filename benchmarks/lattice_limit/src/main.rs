@@ -29,13 +29,16 @@
 //!    blocks at the stride of W, as a rupture's runs lie in a wider lattice; in strips,
 //!    at the strips' stride, cut at their seams).
 //!
+//! 5. `--shape S` (alone, after `--size`): the rupture's runs and the stuck cells and
+//!    ghosts next to them, averaged over S equally spaced times (global cut).
+//!
 //! `--strips W` (before the others): the lattice's cells in strips of at most W columns
 //! (default the engine's layout: one strip up to 256 columns, strips of 62 beyond; W >=
 //! the lattice's width: one strip, row-major).
 //!
 //! cargo run --release -- [--strips W] [--repeat R] [--size L] [--memory N1,N2,..]
 //!     [--full N,dx,gamma] [--events local|global|both] [--give-back on|off] [--smaps]
-//!     [--kernel M[,W]]
+//!     [--kernel M[,W]] [--shape S]
 
 use bkwaves_core::boundary::Free;
 use bkwaves_core::chain::cells::CellVec;
@@ -431,6 +434,36 @@ fn mean_sliding(size: usize, samples: usize) -> f64 {
     sum / samples as f64
 }
 
+/// The runs and the cells next to them over the quadrant's rupture (`--shape S`: S
+/// equally spaced times of a run of its own, global cut), summed over the samples:
+/// runs, blocks in runs, live stuck cells and ghosts next to the runs, list entries.
+fn shape(size: usize, samples: usize) {
+    let mut la = lattice(size, false);
+    let t_end = rupture_end(size);
+    let mut sum = [0usize; 5];
+    for k in 1..=samples {
+        la.run(t_end * k as f64 / samples as f64, usize::MAX, u64::MAX)
+            .unwrap();
+        let s = la.shape();
+        for (x, y) in sum
+            .iter_mut()
+            .zip([s.runs, s.in_runs, s.stuck, s.ghosts, s.listed])
+        {
+            *x += y;
+        }
+    }
+    let [runs, blocks, stuck, ghosts, listed] = sum.map(|x| x as f64 / samples as f64);
+    println!(
+        "shape of the {size} x {size} rupture (global cut, mean of {samples} times): {runs:.0} \
+         runs of {:.1} blocks ({blocks:.0} sliding in runs); next to them {stuck:.0} stuck \
+         cells and {ghosts:.0} ghosts ({:.3} and {:.3} per block in a run; {listed:.0} list \
+         entries)",
+        blocks / runs,
+        stuck / blocks,
+        ghosts / blocks
+    );
+}
+
 /// The engine's RK4 step alone (no event search, no redo) over an m x m square of
 /// sliding blocks inside a ring of stuck ones, in the corner of a grid of
 /// max(m, width) + 2 blocks a side, its cells in strips (`--strips`): (block-steps per CPU
@@ -549,6 +582,13 @@ fn main() {
                 }
                 return;
             }
+            "--shape" => {
+                // the rupture's runs and the cells next to them, then nothing else
+                let n: usize = args[k + 1].parse().expect("--shape S: samples >= 1");
+                assert!(n >= 1, "--shape S: samples >= 1");
+                shape(size, n);
+                return;
+            }
             "--full" => {
                 let v: Vec<&str> = args[k + 1].split(',').collect();
                 let bad = "--full N,dx,gamma";
@@ -588,7 +628,7 @@ fn main() {
             }
             a => panic!(
                 "unknown argument {a} (--strips W, --repeat R, --size L, --memory N1,N2, --full N,dx,gamma, \
-                 --events local|global|both, --give-back on|off, --smaps, --kernel M[,W])"
+                 --events local|global|both, --give-back on|off, --smaps, --kernel M[,W], --shape S)"
             ),
         }
         k += 2;
