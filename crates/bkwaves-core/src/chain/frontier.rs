@@ -244,3 +244,71 @@ pub fn run_of(runs: &[(usize, usize)], p: usize) -> Option<(usize, usize)> {
     let k = runs.partition_point(|r| r.0 <= p);
     (k > 0 && runs[k - 1].1 > p).then(|| runs[k - 1])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::boundary::Ghost;
+    use crate::chain::geometry::Grid;
+
+    #[test]
+    fn a_compaction_leaves_the_lists_in_the_cells_order() {
+        // nine tenths of the blocks of a 40 x 40 lattice in strips of 9 join the runs in a
+        // scrambled order (a multiplicative walk over the blocks): entries come in no
+        // order, and a compaction must leave both lists sorted by cell
+        let g = Grid::in_strips(
+            40,
+            40,
+            0.1,
+            0.1,
+            (Ghost::Mirror, Ghost::Mirror),
+            (Ghost::Mirror, Ghost::Mirror),
+            9,
+        );
+        let mut dir = vec![0.0; g.cells()];
+        let mut fr = Frontier::new(g.cells(), true);
+        let blocks: Vec<usize> = g.blocks().collect();
+        let n = blocks.len();
+        let (mut compactions, mut k) = (0, 1usize);
+        let mut checked = 0;
+        for _ in 0..n * 9 / 10 {
+            k = k * 7 % (n + 1); // 7 generates the units mod 1601 (prime)
+            let p = blocks[k - 1];
+            if dir[p] != 0.0 {
+                continue;
+            }
+            dir[p] = 1.0;
+            let dead = fr.dead;
+            fr.enter(&g, &dir, p);
+            // (only a compaction lowers the count of dead entries)
+            if fr.dead < dead {
+                compactions += 1;
+                checked = checked.max(fr.stuck.len().min(fr.ghosts.len()));
+                assert!(fr.stuck.is_sorted(), "stuck list out of order");
+                assert!(
+                    fr.ghosts.iter().map(|e| e.0).is_sorted(),
+                    "ghost list out of order"
+                );
+            }
+        }
+        assert!(
+            compactions >= 1 && checked >= 20,
+            "{compactions} compactions, {checked}"
+        );
+        // and the lists still hold exactly the live cells
+        let mut live: Vec<usize> = fr.stuck(&dir).collect();
+        live.sort_unstable();
+        let mut want: Vec<usize> = blocks
+            .iter()
+            .copied()
+            .filter(|&q| {
+                dir[q] == 0.0
+                    && g.neighbours(q)
+                        .iter()
+                        .any(|&r| !g.is_ghost(r) && dir[r] != 0.0)
+            })
+            .collect();
+        want.sort_unstable();
+        assert_eq!(live, want);
+    }
+}
