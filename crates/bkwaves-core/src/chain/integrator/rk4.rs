@@ -5,10 +5,8 @@
 //! a second buffer (two stage buffers, used in turn): no per-block branch and no
 //! reduction, so the compiler vectorises it. Stage 1 (at the start state, whose
 //! accelerations the last step left) only saves the state and sets stage 2's values;
-//! stage 2 starts the sums; the last stage writes the new state and the viscous book's
-//! RK4-weighted power per block, and one more pass its accelerations (the next step's
-//! stage 1) and, when the engine asks, the blocks that may have come to rest in the step
-//! (`RestFound`). When every sliding block slides forward the
+//! stage 2 starts the sums; the last stage writes the new state, and one more pass its
+//! accelerations (the next step's stage 1). When every sliding block slides forward the
 //! stages do not read the direction (it is passed as the constant 1: the same bits).
 //! On x86-64 CPUs with AVX2 or AVX-512F the
 //! step, the accelerations and the books run as code compiled for them ([`Simd`],
