@@ -282,7 +282,7 @@ pub fn rest_candidates(
         Simd::Avx512 => unsafe { rest_candidates_avx512(dir, w0, w1, a0, a1, v, h, out) },
         #[cfg(target_arch = "x86_64")]
         Simd::Avx2 => unsafe { rest_candidates_avx2(dir, w0, w1, a0, a1, v, h, out) },
-        _ => rest_candidates_body::<false>(dir, w0, w1, a0, a1, v, h, out),
+        _ => rest_candidates_body(dir, w0, w1, a0, a1, v, h, out),
     }
 }
 
@@ -299,7 +299,7 @@ unsafe fn rest_candidates_avx2(
     h: f64,
     out: &mut Vec<usize>,
 ) {
-    rest_candidates_body::<false>(dir, w0, w1, a0, a1, v, h, out)
+    rest_candidates_body(dir, w0, w1, a0, a1, v, h, out)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -315,15 +315,12 @@ unsafe fn rest_candidates_avx512(
     h: f64,
     out: &mut Vec<usize>,
 ) {
-    rest_candidates_body::<false>(dir, w0, w1, a0, a1, v, h, out)
+    rest_candidates_body(dir, w0, w1, a0, a1, v, h, out)
 }
 
-/// The body of [`rest_candidates`] (also run by RK4's end-accelerations pass, while the
-/// run's u_t and accelerations are at hand). `FWD`: every sliding block slides forward
-/// (dir = 1, which is then not read: the same candidates).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn rest_candidates_body<const FWD: bool>(
+fn rest_candidates_body(
     dir: &[f64],
     w0: &[f64],
     w1: &[f64],
@@ -355,8 +352,7 @@ pub(crate) fn rest_candidates_body<const FWD: bool>(
     for (g, (((d, w0), w1), (m0, m1))) in groups {
         let mut b = [0.0; G];
         for l in 0..G {
-            let d = if FWD { 1.0 } else { d[l] };
-            b[l] = bound(d, w0[l], w1[l], m0[l], m1[l]);
+            b[l] = bound(d[l], w0[l], w1[l], m0[l], m1[l]);
         }
         // one test per group: does any lane hold a candidate (the lanes' tests or-ed
         // without a branch)
@@ -366,8 +362,7 @@ pub(crate) fn rest_candidates_body<const FWD: bool>(
         }
     }
     for i in m..n {
-        let d = if FWD { 1.0 } else { dir[i] };
-        if candidate(bound(d, w0[i], w1[i], a0[i], a1[i])) {
+        if candidate(bound(dir[i], w0[i], w1[i], a0[i], a1[i])) {
             out.push(i);
         }
     }

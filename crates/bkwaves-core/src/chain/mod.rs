@@ -1067,28 +1067,21 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
         let v = self.cfg.v;
         let mut best = f64::INFINITY;
         who.clear();
-        // the blocks that may come to rest in the step (a vectorised cheap test), found
-        // by the step itself when it was asked to (integrate_step)
-        let found = self.rk.rest_found(h, self.st.runs.len());
-        for (k, &(a, b)) in self.st.runs.iter().enumerate() {
-            let run_cands = if let Some((c, offs)) = found {
-                &c[offs[k]..offs[k + 1]]
-            } else {
-                cands.clear();
-                events::rest_candidates(
-                    self.simd,
-                    &self.st.dir[a..b],
-                    &self.w0[a..b],
-                    &self.st.w[a..b],
-                    &self.a_start[a..b],
-                    &self.a_end[a..b],
-                    v,
-                    h,
-                    cands,
-                );
-                &cands[..]
-            };
-            for &i in run_cands {
+        for &(a, b) in &self.st.runs {
+            // the blocks that may come to rest in the step (a vectorised cheap test)
+            cands.clear();
+            events::rest_candidates(
+                self.simd,
+                &self.st.dir[a..b],
+                &self.w0[a..b],
+                &self.st.w[a..b],
+                &self.a_start[a..b],
+                &self.a_end[a..b],
+                v,
+                h,
+                cands,
+            );
+            for &i in cands.iter() {
                 let p = a + i;
                 if skip.contains(&p) {
                     continue;
@@ -1553,8 +1546,6 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
                 return self.onset_step(t0, h, t_cap);
             }
         }
-        // (the step finds the rest search's candidates for detect)
-        self.rk.want_rest();
         self.do_step(t0, h, false);
         self.check_solved(t0)?;
         if self.stiff && self.onset_patch(h, true) {
@@ -1571,7 +1562,6 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             if d > c.tol && h > c.h_min {
                 // too long: redo it at the fixed step
                 h = c.h_min.min(t_cap - t0);
-                self.rk.want_rest();
                 self.do_step(t0, h, true);
                 d = self.step_indicator(h);
             }

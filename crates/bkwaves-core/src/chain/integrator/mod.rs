@@ -204,34 +204,20 @@ pub(crate) fn stage_accel<G: Geometry, F: Friction, M: Medium, const FWD: bool>(
     sw: &[f64],
     acc: &mut [f64],
 ) {
-    for &(a, b) in &st.runs {
-        stage_accel_run::<G, F, M, FWD>(st, fr, su, sw, acc, a, b);
-    }
-}
-
-/// [`stage_accel`] over the run of blocks a..b.
-#[inline(always)]
-pub(crate) fn stage_accel_run<G: Geometry, F: Friction, M: Medium, const FWD: bool>(
-    st: &State<G>,
-    fr: &Blocks<F, M>,
-    su: &[f64],
-    sw: &[f64],
-    acc: &mut [f64],
-    a: usize,
-    b: usize,
-) {
     let v = st.v;
-    let len = b - a;
-    let sten = st.geo.stencil(su, a, b);
-    let (sw, dir, th) = (&sw[a..b], &st.dir[a..b], &st.onset[a..b]);
-    let acc = &mut acc[a..b];
-    assert!(sw.len() == len && dir.len() == len);
-    assert!(th.len() == len && acc.len() == len);
-    for i in 0..len {
-        let d = if FWD { 1.0 } else { dir[i] };
-        let p = a + i;
-        let f = sten.force(&fr.med, p, i);
-        acc[i] = fr.accel(p, sten.centre(i), f, v - sw[i], d, th[i]);
+    for &(a, b) in &st.runs {
+        let len = b - a;
+        let sten = st.geo.stencil(su, a, b);
+        let (sw, dir, th) = (&sw[a..b], &st.dir[a..b], &st.onset[a..b]);
+        let acc = &mut acc[a..b];
+        assert!(sw.len() == len && dir.len() == len);
+        assert!(th.len() == len && acc.len() == len);
+        for i in 0..len {
+            let d = if FWD { 1.0 } else { dir[i] };
+            let p = a + i;
+            let f = sten.force(&fr.med, p, i);
+            acc[i] = fr.accel(p, sten.centre(i), f, v - sw[i], d, th[i]);
+        }
     }
 }
 
@@ -438,22 +424,6 @@ impl Stepper {
         acc: &mut [f64],
     ) {
         accel_at_blocks(st, fr, t, blocks, acc)
-    }
-    /// Find the rest search's candidates in the next step, if the method can (RK4, in
-    /// its end-accelerations pass): see [`Stepper::rest_found`].
-    pub fn want_rest(&mut self) {
-        if let Stepper::Rk4(m) = self {
-            m.want_rest()
-        }
-    }
-    /// The rest search's candidates of the last step, if it found them and was of
-    /// length h over `runs` runs: per run k the offsets in the run
-    /// `cands[offs[k]..offs[k + 1]]` (the sets of [`super::events::rest_candidates`]).
-    pub fn rest_found(&self, h: f64, runs: usize) -> Option<(&[usize], &[usize])> {
-        match self {
-            Stepper::Rk4(m) => m.rest_found(h, runs),
-            Stepper::Midpoint(_) => None,
-        }
     }
     /// Whether the last step solved its equations (an explicit method always does; the
     /// midpoint rule when its fixed-point iteration converged).

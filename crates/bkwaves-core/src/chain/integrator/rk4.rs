@@ -14,11 +14,9 @@
 //! same bits).
 
 use super::{
-    accel_only_at_state, fill_neighbours, lane_sum, stage_accel, stage_accel_run, Integrator, Simd,
-    StepIntegrals,
+    accel_only_at_state, fill_neighbours, lane_sum, stage_accel, Integrator, Simd, StepIntegrals,
 };
 use crate::chain::cells::CellVec;
-use crate::chain::events::rest_candidates_body;
 use crate::chain::geometry::{Geometry, Stencil};
 use crate::chain::medium::{Blocks, Medium};
 use crate::chain::state::State;
@@ -45,24 +43,6 @@ pub struct Rk4 {
     kept: (bool, bool),
     /// The vector code the kernels run (the widest this CPU has).
     simd: Simd,
-    /// The rest search's candidates of the last step, found in its end-accelerations
-    /// pass when the engine asked for them.
-    rest: RestFound,
-}
-
-/// The blocks that may come to rest in a step ([`crate::chain::events::rest_candidates`]
-/// of every run), found by the step's end-accelerations pass, where the new u_t and
-/// accelerations are at hand, rather than by a pass of their own that reads them again.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct RestFound {
-    /// Find them in the next step (asked for each step whose events are located).
-    want: bool,
-    /// The length of the step they belong to (None: the last step did not find them).
-    h: Option<f64>,
-    /// The candidates' offsets in their runs, run after run.
-    cands: Vec<usize>,
-    /// Where each run's candidates start in `cands` (one more entry than runs).
-    offs: Vec<usize>,
 }
 
 impl Rk4 {
@@ -110,22 +90,7 @@ impl Rk4 {
             vw: CellVec::new(n + 2, 0.0),
             kept: (true, true),
             simd: Simd::detect(),
-            rest: RestFound::default(),
         }
-    }
-
-    /// Find the rest search's candidates in the next step (its end-accelerations pass).
-    pub(crate) fn want_rest(&mut self) {
-        self.rest.want = true;
-    }
-
-    /// The rest search's candidates of the last step if it found them and was of length
-    /// h over `runs` runs: per run, the offsets in the run, in order (the same sets as
-    /// [`crate::chain::events::rest_candidates`]).
-    pub(crate) fn rest_found(&self, h: f64, runs: usize) -> Option<(&[usize], &[usize])> {
-        let r = &self.rest;
-        let same = r.h.is_some_and(|x| x.to_bits() == h.to_bits());
-        (same && r.offs.len() == runs + 1).then_some((&r.cands[..], &r.offs[..]))
     }
 }
 
@@ -234,9 +199,7 @@ fn last_stage<
     books: [&mut [f64]; 2],
     h6: f64,
     t1: f64,
-    a0: &[f64],
     a1: &mut [f64],
-    rest: &mut RestFound,
 ) {
     let [w2, w3] = ws;
     let [bu, bd] = books;
@@ -283,24 +246,7 @@ fn last_stage<
         }
     }
     fill_neighbours(st, nu, t1);
-    if !std::mem::take(&mut rest.want) {
-        rest.h = None;
-        stage_accel::<G, F, M, FWD>(st, fr, nu, &st.w, a1);
-        return;
-    }
-    // the end accelerations, and run by run, while its u_t and accelerations are at
-    // hand, the blocks that may have come to rest in the step (events.rs)
-    let (v, h) = (st.v, 6.0 * h6);
-    rest.cands.clear();
-    rest.offs.clear();
-    rest.offs.push(0);
-    for &(a, b) in &st.runs {
-        stage_accel_run::<G, F, M, FWD>(st, fr, nu, &st.w, a1, a, b);
-        let (dir, w0, w1) = (&st.dir[a..b], &w0[a..b], &st.w[a..b]);
-        rest_candidates_body::<FWD>(dir, w0, w1, &a0[a..b], &a1[a..b], v, h, &mut rest.cands);
-        rest.offs.push(rest.cands.len());
-    }
-    rest.h = Some(h);
+    stage_accel::<G, F, M, FWD>(st, fr, nu, &st.w, a1);
 }
 
 impl Rk4 {
@@ -396,7 +342,6 @@ impl Rk4 {
             vw,
             bu,
             bd,
-            rest,
             ..
         } = self;
         let hh = 0.5 * h;
@@ -452,9 +397,7 @@ impl Rk4 {
             [bu, bd],
             h / 6.0,
             t1,
-            a0,
             a1,
-            rest,
         );
     }
 
@@ -814,80 +757,6 @@ mod tests {
             (books.visc - plain).abs() <= 1e-14 * plain,
             "{books:?} {plain}"
         );
-    }
-
-    #[test]
-    fn the_rest_candidates_found_by_the_step_are_those_of_the_rest_search() {
-        // states from grid_state with u_t scrambled (some blocks at v exactly, one NaN,
-        // all forward or both directions): the candidates the step finds in its end
-        // accelerations pass, run by run, against events::rest_candidates on the step's
-        // (w0, w1, a0, a1), with every vector code; found only when asked, for that h
-        use crate::chain::events::rest_candidates;
-        let fr = Blocks {
-            fr: Coulomb::new(0.3, 0.5).unwrap(),
-            med: Uniform,
-        };
-        let mut x = 0x2545f4914f6cdd1du64;
-        let mut rnd = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        let (t0, h) = (0.3, 0.02);
-        let mut total = 0;
-        for case in 0..24 {
-            let mut st0 = grid_state();
-            let len = st0.u.len();
-            let v = st0.v;
-            for &(a, b) in &st0.runs.clone() {
-                for p in a..b {
-                    if case % 2 == 1 {
-                        st0.dir[p] = 1.0;
-                    }
-                    // near rest (within reach of a step), or at v exactly
-                    st0.w[p] = match (p + case) % 9 {
-                        0 => v,
-                        _ => v + 0.05 * rnd(),
-                    };
-                }
-            }
-            if case % 3 == 0 {
-                let p = st0.runs[1].0;
-                st0.w[p] = f64::NAN;
-            }
-            for simd in Simd::available() {
-                let mut st = st0.clone();
-                let mut rk = Rk4::new(len - 2);
-                rk.simd = simd;
-                let (mut a0, mut u0, mut w0, mut a1) = (
-                    vec![0.0; len],
-                    vec![0.0; len],
-                    vec![0.0; len],
-                    vec![0.0; len],
-                );
-                rk.accel_only(&mut st, &fr, t0, &mut a0);
-                rk.step(&mut st, &fr, t0, h, &a0, &mut u0, &mut w0, &mut a1, false);
-                let runs = st.runs.len();
-                assert!(rk.rest_found(h, runs).is_none(), "not asked for");
-                rk.want_rest();
-                rk.step(&mut st, &fr, t0, h, &a0, &mut u0, &mut w0, &mut a1, true);
-                assert!(rk.rest_found(0.5 * h, runs).is_none(), "another h");
-                let (cands, offs) = rk.rest_found(h, runs).expect("found");
-                for (k, &(a, b)) in st.runs.iter().enumerate() {
-                    let mut want = Vec::new();
-                    let (d, w1) = (&st.dir[a..b], &st.w[a..b]);
-                    let (w0, a0, a1) = (&w0[a..b], &a0[a..b], &a1[a..b]);
-                    rest_candidates(simd, d, w0, w1, a0, a1, v, h, &mut want);
-                    assert_eq!(&cands[offs[k]..offs[k + 1]], &want[..], "{case} {simd:?}");
-                }
-                total += cands.len();
-                // a step not asked for forgets them
-                rk.step(&mut st, &fr, t0, h, &a0, &mut u0, &mut w0, &mut a1, true);
-                assert!(rk.rest_found(h, runs).is_none());
-            }
-        }
-        assert!(total > 100, "{total}");
     }
 
     #[test]
