@@ -285,6 +285,11 @@ impl<G: Geometry, F: Friction, M: Medium> Engine<G, F, M> {
             for q0 in self.st.geo.neighbours(a0) {
                 let d = q0.wrapping_sub(a0);
                 for &(a, b) in runs {
+                    // (both geometries' neighbours are p plus fixed offsets: -/+ 1 and
+                    // -/+ S, the one row stride of all strips)
+                    debug_assert!(
+                        (self.st.geo.neighbours(a).into_iter()).any(|q| q == a.wrapping_add(d))
+                    );
                     let q = a.wrapping_add(d);
                     live.push((q, q + (b - a)));
                 }
